@@ -1,0 +1,61 @@
+# The two commands: `make demo` and `make test`. Each installs missing Debian packages,
+# configures, builds and runs. Other targets are conveniences for developers.
+SHELL := /bin/bash
+BUILD_DIR ?= build
+JOBS ?= 2
+CMAKE_FLAGS ?=
+
+PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchmark-dev \
+  libboost-random-dev libboost-math-dev libglm-dev zlib1g-dev libtomlplusplus-dev \
+  nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev
+
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+.PHONY: all deps build build-asan demo test test-release test-asan bench format clean
+
+all: build
+
+deps:
+	@missing=$$(for p in $(PACKAGES); do \
+	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing missing Debian packages:" $$missing; \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get update -qq && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
+	fi
+
+$(BUILD_DIR)/release/build.ninja: | deps
+	cmake -S . -B $(BUILD_DIR)/release -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+
+$(BUILD_DIR)/asan/build.ninja: | deps
+	cmake -S . -B $(BUILD_DIR)/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DBURRLAB_SANITIZE=ON $(CMAKE_FLAGS)
+
+build: deps $(BUILD_DIR)/release/build.ninja
+	cmake --build $(BUILD_DIR)/release -j $(JOBS)
+
+build-asan: deps $(BUILD_DIR)/asan/build.ninja
+	cmake --build $(BUILD_DIR)/asan -j $(JOBS)
+
+demo: build
+	$(BUILD_DIR)/release/runner/burrlab demo
+
+test-release: build
+	cd $(BUILD_DIR)/release && ctest --output-on-failure -j $(JOBS)
+
+test-asan: build-asan
+	cd $(BUILD_DIR)/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS)
+
+# The whole suite: optimised build first, then the same tests under ASan+UBSan; the last
+# lines are ctest's summary of the sanitizer run.
+test: test-release test-asan
+
+bench: build
+	$(BUILD_DIR)/release/runner/burrlab sim bench
+
+format:
+	git ls-files '*.cc' '*.h' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD_DIR)

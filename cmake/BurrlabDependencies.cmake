@@ -1,0 +1,12 @@
+# Third-party packages, all from Debian 12's archive (the Makefile installs them).
+find_package(Boost 1.74 REQUIRED COMPONENTS random)  # Boost::random, Boost::headers
+find_package(glm REQUIRED)                           # glm::glm
+find_package(ZLIB REQUIRED)                          # ZLIB::ZLIB, gzip-encoded NRRD volumes
+find_package(tomlplusplus 3 REQUIRED)                # tomlplusplus::tomlplusplus
+find_package(nlohmann_json 3.11 REQUIRED)            # nlohmann_json::nlohmann_json
+find_package(CLI11 REQUIRED)                         # CLI11::CLI11
+find_package(fmt REQUIRED)                           # fmt::fmt
+if(BURRLAB_BUILD_TESTS)
+  find_package(GTest REQUIRED)                       # GTest::gtest GTest::gtest_main
+  find_package(benchmark REQUIRED)                   # benchmark::benchmark
+endif()

@@ -1,0 +1,1 @@
+// sim commands: being written

@@ -8,18 +8,21 @@ namespace burrlab::sim {
 
 Result<Volume> Volume::Create(int nx, int ny, int nz, double voxel_mm) {
   if (nx <= 0 || ny <= 0 || nz <= 0) {
-    return Error{"volume extents must be positive, got " + std::to_string(nx) + "x" +
-                 std::to_string(ny) + "x" + std::to_string(nz)};
+    return Error{"volume extents must be positive, got " + std::to_string(nx) +
+                 "x" + std::to_string(ny) + "x" + std::to_string(nz)};
   }
   if (nx > kMaxVolumeExtent || ny > kMaxVolumeExtent || nz > kMaxVolumeExtent) {
-    return Error{"volume extent above the limit of " + std::to_string(kMaxVolumeExtent) +
-                 " voxels per axis: " + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
-                 std::to_string(nz)};
+    return Error{"volume extent above the limit of " +
+                 std::to_string(kMaxVolumeExtent) +
+                 " voxels per axis: " + std::to_string(nx) + "x" +
+                 std::to_string(ny) + "x" + std::to_string(nz)};
   }
-  const std::size_t count = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) *
+  const std::size_t count = static_cast<std::size_t>(nx) *
+                            static_cast<std::size_t>(ny) *
                             static_cast<std::size_t>(nz);
   if (count > kMaxVolumeVoxels) {
-    return Error{"volume of " + std::to_string(count) + " voxels is above the limit of " +
+    return Error{"volume of " + std::to_string(count) +
+                 " voxels is above the limit of " +
                  std::to_string(kMaxVolumeVoxels)};
   }
   if (!std::isfinite(voxel_mm) || voxel_mm <= 0.0) {
@@ -40,7 +43,8 @@ Result<Volume> Volume::Create(int nx, int ny, int nz, double voxel_mm) {
 double Volume::MaterialMm3() const {
   std::uint64_t sum = 0;
   for (std::uint8_t o : occupancy_) sum += o;
-  return static_cast<double>(sum) / kSolidOccupancy * voxel_mm_ * voxel_mm_ * voxel_mm_;
+  return static_cast<double>(sum) / kSolidOccupancy * voxel_mm_ * voxel_mm_ *
+         voxel_mm_;
 }
 
 }  // namespace burrlab::sim

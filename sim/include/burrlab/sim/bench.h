@@ -1,6 +1,7 @@
-// The simulator benchmark behind `burrlab sim bench`: the burr slides at 10 mm/s immersed a
-// quarter of its radius in a solid half-space (drilling erodes as it goes), and every step
-// (force + erosion) is timed. Reports median, p99 and max microseconds per step.
+// The simulator benchmark behind `burrlab sim bench`: the burr slides at 10
+// mm/s immersed a quarter of its radius in a solid half-space (drilling erodes
+// as it goes), and every step (force + erosion) is timed. Reports median, p99
+// and max microseconds per step.
 #ifndef BURRLAB_SIM_BENCH_H_
 #define BURRLAB_SIM_BENCH_H_
 
@@ -13,9 +14,9 @@ namespace burrlab::sim {
 struct BenchCase {
   MomentMethod method = MomentMethod::kOctree;
   double radius_mm = 3.0;
-  bool drill = false;        // spinning and eroding (true) or probing (false)
+  bool drill = false;  // spinning and eroding (true) or probing (false)
   double voxel_mm = 0.3;
-  int steps = 3000;          // timed steps (1 kHz: 3 s of sliding)
+  int steps = 3000;  // timed steps (1 kHz: 3 s of sliding)
 };
 
 struct BenchCaseResult {

@@ -1,7 +1,8 @@
-// The virtual calibration rig of dissertation ch. 8: a spinning burr descends vertically
-// into a flat sample while a PID-style loop holds the contact force constant, as on the
-// real robot arm (fig. 8.5). Yields the displacement-time trace and the steady penetration
-// velocity, measured once the burr is more than a third of its radius inside (§8.6).
+// The virtual calibration rig of dissertation ch. 8: a spinning burr descends
+// vertically into a flat sample while a PID-style loop holds the contact force
+// constant, as on the real robot arm (fig. 8.5). Yields the displacement-time
+// trace and the steady penetration velocity, measured once the burr is more
+// than a third of its radius inside (§8.6).
 #ifndef BURRLAB_SIM_DESCENT_H_
 #define BURRLAB_SIM_DESCENT_H_
 
@@ -14,35 +15,39 @@
 namespace burrlab::sim {
 
 struct DescentOptions {
-  Material material;               // sample material
-  double force_n = 2.0;            // force held by the controller
-  double radius_mm = 3.0;          // burr radius
-  double spindle_rad_s = 2094.0;   // burr spin (MINICRAFT MB150, about 20 000 rpm)
-  double voxel_mm = 0.3;           // voxel size of the virtual sample
-  double duration_s = 60.0;        // simulated time after contact
-  std::uint64_t seed = 1;          // erosion random stream
-  double dt_s = 1e-3;              // control and simulation period
-  double kp_mm_per_n_s = 4.0;      // velocity command per newton of force error
-  double ki_mm_per_n_s2 = 8.0;     // integral gain
-  double kd_mm_per_n = 0.0;        // derivative gain
-  double filter_hz = 100.0;        // force measurement bandwidth (rig: ~100 Hz, §8.5)
-  double max_speed_mm_s = 5.0;     // arm speed limit (also the approach speed)
-  double trace_period_s = 0.01;    // trace sampling period
+  Material material;       // sample material
+  double force_n = 2.0;    // force held by the controller
+  double radius_mm = 3.0;  // burr radius
+  double spindle_rad_s =
+      2094.0;                 // burr spin (MINICRAFT MB150, about 20 000 rpm)
+  double voxel_mm = 0.3;      // voxel size of the virtual sample
+  double duration_s = 120.0;  // longest simulated time after contact
+  double steady_window_s =
+      10.0;                // stop once the burr has been > R/3 inside this long
+  std::uint64_t seed = 1;  // erosion random stream
+  double dt_s = 1e-3;      // control and simulation period
+  double kp_mm_per_n_s = 4.0;   // velocity command per newton of force error
+  double ki_mm_per_n_s2 = 8.0;  // integral gain
+  double kd_mm_per_n = 0.0;     // derivative gain
+  double filter_hz = 100.0;  // force measurement bandwidth (rig: ~100 Hz, §8.5)
+  double max_speed_mm_s = 5.0;   // arm speed limit (also the approach speed)
+  double trace_period_s = 0.01;  // trace sampling period
 
   // Names the first bad field.
   Status Validate() const;
 };
 
 struct DescentSample {
-  double t_s = 0.0;            // time since the start of the approach
-  double depth_mm = 0.0;       // lowest point of the burr below the original surface
-  double force_n = 0.0;        // measured (filtered) vertical contact force
+  double t_s = 0.0;       // time since the start of the approach
+  double depth_mm = 0.0;  // lowest point of the burr below the original surface
+  double force_n = 0.0;   // measured (filtered) vertical contact force
   double velocity_mm_s = 0.0;  // commanded descent velocity
 };
 
 struct DescentResult {
   double steady_velocity_mm_s = 0.0;  // slope of depth vs time once depth > R/3
-  bool steady_reached = false;        // depth passed R/3 with enough time left to measure
+  bool steady_reached =
+      false;  // depth passed R/3 with enough time left to measure
   double final_depth_mm = 0.0;
   double removed_mm3 = 0.0;
   std::int64_t steps = 0;

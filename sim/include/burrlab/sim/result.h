@@ -1,5 +1,6 @@
-// Result<T>: a value or a one-line error message, returned across library boundaries
-// instead of throwing (STYLE.md: no exception crosses a library boundary).
+// Result<T>: a value or a one-line error message, returned across library
+// boundaries instead of throwing (STYLE.md: no exception crosses a library
+// boundary).
 #ifndef BURRLAB_SIM_RESULT_H_
 #define BURRLAB_SIM_RESULT_H_
 
@@ -19,8 +20,10 @@ struct Error {
 template <typename T>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
-  Result(Error error) : v_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
+  Result(T value)
+      : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Result(Error error)
+      : v_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
 
   bool ok() const { return v_.index() == 0; }
   explicit operator bool() const { return ok(); }

@@ -1,13 +1,13 @@
-// One simulator step: collide -> force -> erode -> update moments (dissertation ch. 6-7).
-// Model is read-only; State holds every mutable value (volume, octree, random stream,
-// filter history, counters) and is allocated before the loop: Step allocates nothing,
-// does no I/O, takes no lock and throws nothing, so it may run inside the 1 kHz tick.
+// One simulator step: collide -> force -> erode -> update moments (dissertation
+// ch. 6-7). Model is read-only; State holds every mutable value (volume,
+// octree, random stream, filter history, counters) and is allocated before the
+// loop: Step allocates nothing, does no I/O, takes no lock and throws nothing,
+// so it may run inside the 1 kHz tick.
 #ifndef BURRLAB_SIM_STEP_H_
 #define BURRLAB_SIM_STEP_H_
 
-#include <cstdint>
-
 #include <boost/random/mersenne_twister.hpp>
+#include <cstdint>
 #include <glm/vec3.hpp>
 
 #include "burrlab/sim/model.h"
@@ -20,27 +20,28 @@ namespace burrlab::sim {
 
 // What the device (or a simulated hand) gives the simulator each step.
 struct Input {
-  glm::dvec3 position_mm{0.0};     // burr centre
-  glm::dvec3 velocity_mm_s{0.0};   // burr centre velocity (impact force, eq. 7.14)
-  glm::dvec3 spindle_rad_s{0.0};   // angular velocity vector; zero = probing (no friction,
-                                   // no erosion)
+  glm::dvec3 position_mm{0.0};  // burr centre
+  glm::dvec3 velocity_mm_s{
+      0.0};  // burr centre velocity (impact force, eq. 7.14)
+  glm::dvec3 spindle_rad_s{0.0};  // angular velocity vector; zero = probing (no
+                                  // friction, no erosion)
 };
 
 // What one step returns.
 struct Output {
-  glm::dvec3 force_n{0.0};         // to the device: filtered (§6.4.3) and clamped
-  glm::dvec3 model_force_n{0.0};   // F_e + F_mu + F_i before filter and clamp
-  glm::dvec3 elastic_n{0.0};       // F_e (eq. 7.3)
-  glm::dvec3 friction_n{0.0};      // F_mu (eq. 7.13 or 6.23)
-  glm::dvec3 impact_n{0.0};        // F_i (eq. 7.14)
-  glm::dvec3 normal{0.0};          // n = -m1/|m1|, zero when undefined
-  double m0_mm3 = 0.0;             // zeroth moment in the burr sphere
-  glm::dvec3 m1_mm4{0.0};          // first moment about the burr centre
-  double h_mm = 0.0;               // effective depth (eq. 7.2)
-  double removed_mm3 = 0.0;        // solid-equivalent material eroded in this step
-  std::int64_t eroded_units = 0;   // occupancy units removed in this step
-  bool clamped = false;            // |force| was limited to max_force_n
-  bool non_finite = false;         // the model produced NaN/inf: force set to zero
+  glm::dvec3 force_n{0.0};  // to the device: filtered (§6.4.3) and clamped
+  glm::dvec3 model_force_n{0.0};  // F_e + F_mu + F_i before filter and clamp
+  glm::dvec3 elastic_n{0.0};      // F_e (eq. 7.3)
+  glm::dvec3 friction_n{0.0};     // F_mu (eq. 7.13 or 6.23)
+  glm::dvec3 impact_n{0.0};       // F_i (eq. 7.14)
+  glm::dvec3 normal{0.0};         // n = -m1/|m1|, zero when undefined
+  double m0_mm3 = 0.0;            // zeroth moment in the burr sphere
+  glm::dvec3 m1_mm4{0.0};         // first moment about the burr centre
+  double h_mm = 0.0;              // effective depth (eq. 7.2)
+  double removed_mm3 = 0.0;  // solid-equivalent material eroded in this step
+  std::int64_t eroded_units = 0;  // occupancy units removed in this step
+  bool clamped = false;           // |force| was limited to max_force_n
+  bool non_finite = false;  // the model produced NaN/inf: force set to zero
 };
 
 // Warning counters, MuJoCo style: fixed fields, never reset by Step.
@@ -48,13 +49,15 @@ struct StepCounters {
   std::int64_t steps = 0;
   std::int64_t clamped = 0;
   std::int64_t non_finite = 0;
-  double removed_mm3 = 0.0;        // total material removed
+  double removed_mm3 = 0.0;  // total material removed
 };
 
 class State {
  public:
-  // Takes ownership of the volume, builds its octree and seeds the erosion stream.
-  static Result<State> Create(const Model& model, Volume volume, std::uint64_t seed);
+  // Takes ownership of the volume, builds its octree and seeds the erosion
+  // stream.
+  static Result<State> Create(const Model& model, Volume volume,
+                              std::uint64_t seed);
 
   const Volume& volume() const { return volume_; }
   const MomentOctree& octree() const { return octree_; }
@@ -69,15 +72,17 @@ class State {
   boost::random::mt19937 erosion_rng_;
   SampleEstimateHold seh_;
   StepCounters counters_;
+  double max_erosion_factor_ = 1.0;
 };
 
 // Advances the simulation by model.dt_s. `output` must not be null.
-void Step(const Model& model, State& state, const Input& input, Output* output) noexcept;
+void Step(const Model& model, State& state, const Input& input,
+          Output* output) noexcept;
 
-// Force only (no erosion, no filter): the elastic force and moments at a burr position,
-// as used by force-depth curves.
-Output EvaluateForce(const Model& model, const Volume& volume, const MomentOctree& octree,
-                     const Input& input) noexcept;
+// Force only (no erosion, no filter): the elastic force and moments at a burr
+// position, as used by force-depth curves.
+Output EvaluateForce(const Model& model, const Volume& volume,
+                     const MomentOctree& octree, const Input& input) noexcept;
 
 }  // namespace burrlab::sim
 

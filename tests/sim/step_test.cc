@@ -1,0 +1,312 @@
+// The step function: erosion statistics, determinism, no allocation, probing vs
+// drilling, friction direction (eqs. 7.13, 6.23), clamp and fault handling.
+#include "burrlab/sim/step.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <glm/geometric.hpp>
+#include <new>
+#include <numbers>
+#include <vector>
+
+#include "burrlab/sim/moments.h"
+
+// Counts heap allocations while enabled (replaces the global operator new for
+// this binary). GCC cannot see that the replaced new and delete pair up through
+// malloc/free and warns when it inlines them; the pairing is correct.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+namespace {
+std::atomic<bool> g_count_allocations{false};
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  if (g_count_allocations.load(std::memory_order_relaxed)) ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace burrlab::sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Solid below z = surface_mm (on a voxel boundary), air above.
+Volume SolidBelow(int n, int nz, double voxel_mm, int surface_k) {
+  Volume volume = Volume::Create(n, n, nz, voxel_mm).value();
+  for (int k = 0; k < surface_k; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) volume.Set(i, j, k, 255);
+  return volume;
+}
+
+Model DrillModel(double radius_mm, double alpha_per_s) {
+  Model model;
+  model.radius_mm = radius_mm;
+  model.material.alpha_per_s = alpha_per_s;
+  return model;
+}
+
+// The continuous erosion rate of eq. 7.12 over one step, computed independently
+// of the implementation: sum over voxels with centres inside the burr of alpha
+// f(r/R) w rho dt, f = 1 - (r/R)^2 and w the voxel sphere's overlap fraction.
+double ContinuousRemovalUnits(const Volume& volume, const glm::dvec3& centre,
+                              double radius, double alpha_dt) {
+  const double v = volume.voxel_mm();
+  const double eta = EqualVolumeSphereRadius(v);
+  double units = 0.0;
+  for (int k = 0; k < volume.nz(); ++k)
+    for (int j = 0; j < volume.ny(); ++j)
+      for (int i = 0; i < volume.nx(); ++i) {
+        const double d = glm::length(
+            glm::dvec3((i + 0.5) * v, (j + 0.5) * v, (k + 0.5) * v) - centre);
+        if (d >= radius || volume.At(i, j, k) == 0) continue;
+        const double overlap = LensVolume(d, radius, eta) / (v * v * v);
+        const double f = 1.0 - (d / radius) * (d / radius);
+        units += alpha_dt * volume.ErosionFactor(volume.Label(i, j, k)) * f *
+                 overlap * volume.At(i, j, k);
+      }
+  return units;
+}
+
+// Mean and standard error of the units removed by `steps` drilling steps over
+// many seeds.
+void RemovalStatistics(const Model& model, const Volume& volume,
+                       const glm::dvec3& centre, int steps, int seeds,
+                       double* mean, double* standard_error) {
+  double sum = 0.0, sum2 = 0.0;
+  Input input;
+  input.position_mm = centre;
+  input.spindle_rad_s = glm::dvec3(0.0, 0.0, 2000.0);
+  Output out;
+  for (int seed = 0; seed < seeds; ++seed) {
+    State state =
+        State::Create(model, volume, static_cast<std::uint64_t>(seed)).value();
+    double units = 0.0;
+    for (int s = 0; s < steps; ++s) {
+      Step(model, state, input, &out);
+      units += static_cast<double>(out.eroded_units);
+    }
+    sum += units;
+    sum2 += units * units;
+  }
+  *mean = sum / seeds;
+  *standard_error = std::sqrt((sum2 / seeds - *mean * *mean) / (seeds - 1));
+}
+
+TEST(Erosion, OneStepRemovesTheContinuousRateOnAverage) {
+  // Thinning path (small probabilities) and per-voxel path (large ones).
+  for (double alpha : {0.5, 60.0}) {
+    const Volume volume = SolidBelow(20, 20, 0.3, 10);
+    const Model model = DrillModel(2.0, alpha);
+    const glm::dvec3 centre(3.01, 2.97, 3.0 + 2.0 - 0.8);
+    double mean = 0.0, se = 0.0;
+    RemovalStatistics(model, volume, centre, 1, 4000, &mean, &se);
+    const double expected =
+        ContinuousRemovalUnits(volume, centre, 2.0, alpha * model.dt_s);
+    EXPECT_GT(expected, 0.5);
+    EXPECT_NEAR(mean, expected, 3.5 * se) << "alpha " << alpha << " se " << se;
+  }
+}
+
+TEST(Erosion, ManyStepsFollowTheExponentialDecayOfTheContinuousModel) {
+  // Over N steps each voxel decays as rho (1 - lambda)^N on average, the
+  // explicit Euler solution of eq. 7.12; with lambda N small that equals
+  // exp(-lambda N) to 1e-5.
+  const Volume volume = SolidBelow(20, 20, 0.3, 10);
+  const double alpha = 0.5;
+  const Model model = DrillModel(2.0, alpha);
+  const glm::dvec3 centre(3.01, 2.97, 3.0 + 2.0 - 0.8);
+  const int steps = 200;
+  double mean = 0.0, se = 0.0;
+  RemovalStatistics(model, volume, centre, steps, 300, &mean, &se);
+  // Continuous prediction: each voxel keeps rho exp(-lambda N).
+  const double v = volume.voxel_mm();
+  const double eta = EqualVolumeSphereRadius(v);
+  double expected = 0.0;
+  for (int k = 0; k < 20; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 0; i < 20; ++i) {
+        const double d = glm::length(
+            glm::dvec3((i + 0.5) * v, (j + 0.5) * v, (k + 0.5) * v) - centre);
+        if (d >= 2.0 || volume.At(i, j, k) == 0) continue;
+        const double lambda = alpha * model.dt_s * (1.0 - d * d / 4.0) *
+                              LensVolume(d, 2.0, eta) / (v * v * v);
+        expected += volume.At(i, j, k) * (1.0 - std::exp(-lambda * steps));
+      }
+  EXPECT_NEAR(mean, expected, 3.5 * se) << "se " << se;
+}
+
+TEST(Erosion, ErosionFactorScalesTheRate) {
+  Volume volume = SolidBelow(20, 20, 0.3, 10);
+  for (int k = 0; k < 10; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 0; i < 20; ++i) volume.SetLabel(i, j, k, 2);
+  volume.SetErosionFactor(2, 3.0);
+  const Model model = DrillModel(2.0, 0.5);
+  const glm::dvec3 centre(3.01, 2.97, 4.2);
+  double mean = 0.0, se = 0.0;
+  RemovalStatistics(model, volume, centre, 1, 3000, &mean, &se);
+  Volume plain = SolidBelow(20, 20, 0.3, 10);
+  const double expected =
+      3.0 * ContinuousRemovalUnits(plain, centre, 2.0, 0.5e-3);
+  EXPECT_NEAR(mean, expected, 3.5 * se);
+}
+
+TEST(Step, SameSeedGivesIdenticalVolumeAfterTenThousandDrillingSteps) {
+  const Model model = DrillModel(2.0, 2.0);
+  auto run = [&](std::uint64_t seed) {
+    State state =
+        State::Create(model, SolidBelow(48, 24, 0.3, 12), seed).value();
+    Input input;
+    input.spindle_rad_s = glm::dvec3(0.0, 0.0, 2000.0);
+    Output out;
+    for (int s = 0; s < 10000; ++s) {
+      const double t = s * 1e-3;
+      input.position_mm =
+          glm::dvec3(7.0 + 2.0 * std::sin(t), 7.0 + 2.0 * std::cos(0.7 * t),
+                     3.6 + 2.0 - 0.6);
+      Step(model, state, input, &out);
+    }
+    const Volume& v = state.volume();
+    return std::vector<std::uint8_t>(v.occupancy(), v.occupancy() + v.size());
+  };
+  const std::vector<std::uint8_t> a = run(42), b = run(42), c = run(43);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+}
+
+TEST(Step, AllocatesNothingOverTenThousandSteps) {
+  for (MomentMethod method : {MomentMethod::kOctree, MomentMethod::kMono}) {
+    for (FrictionModel friction :
+         {FrictionModel::kCheap, FrictionModel::kSurface}) {
+      Model model = DrillModel(3.0, 1.0);
+      model.method = method;
+      model.friction = friction;
+      model.max_force_n = 8.0;
+      State state =
+          State::Create(model, SolidBelow(64, 32, 0.3, 16), 1).value();
+      Input input;
+      input.spindle_rad_s = glm::dvec3(300.0, 0.0, 2000.0);
+      input.velocity_mm_s = glm::dvec3(10.0, 0.0, 0.0);
+      Output out;
+      g_allocations = 0;
+      g_count_allocations = true;
+      for (int s = 0; s < 10000; ++s) {
+        input.position_mm = glm::dvec3(3.5 + 0.001 * s, 9.6, 4.8 + 3.0 - 0.75);
+        Step(model, state, input, &out);
+      }
+      g_count_allocations = false;
+      EXPECT_EQ(g_allocations.load(), 0);
+      EXPECT_GT(state.counters().removed_mm3, 0.0);
+    }
+  }
+}
+
+TEST(Step, ProbingHasNoFrictionAndNoErosion) {
+  const Model model = DrillModel(3.0, 5.0);
+  State state = State::Create(model, SolidBelow(40, 40, 0.3, 20), 1).value();
+  const std::vector<std::uint8_t> before(
+      state.volume().occupancy(),
+      state.volume().occupancy() + state.volume().size());
+  Input input;
+  input.position_mm = glm::dvec3(6.0, 6.0, 6.0 + 3.0 - 0.75);
+  Output out;
+  for (int s = 0; s < 500; ++s) Step(model, state, input, &out);
+  EXPECT_EQ(out.removed_mm3, 0.0);
+  EXPECT_EQ(glm::length(out.friction_n), 0.0);
+  EXPECT_GT(out.elastic_n.z, 0.0);
+  EXPECT_EQ(
+      std::memcmp(before.data(), state.volume().occupancy(), before.size()), 0);
+}
+
+TEST(Friction, CheapFrictionOpposesTheSurfaceVelocityAtTheContact) {
+  Model model = DrillModel(3.0, 0.0);
+  model.sample_estimate_hold = false;
+  const Volume volume = SolidBelow(40, 40, 0.3, 20);
+  const MomentOctree tree = MomentOctree::Build(volume);
+  Input input;
+  input.position_mm = glm::dvec3(6.01, 5.98, 6.0 + 3.0 - 0.75);
+  input.spindle_rad_s = glm::dvec3(2000.0, 0.0, 0.0);  // axis along +x
+  const Output out = EvaluateForce(model, volume, tree, input);
+  // Contact below the centre moves along omega x r = x x (-z) = +y; friction is
+  // along -y.
+  EXPECT_LT(out.friction_n.y, 0.0);
+  EXPECT_NEAR(out.friction_n.x, 0.0, 1e-9);
+  EXPECT_NEAR(out.friction_n.z, 0.0, 1e-3 * std::abs(out.friction_n.y));
+  // Eq. 7.13: c_mu R^2 (h/R) |m1| / (m0 R).
+  const double expected = model.material.c_mu_n_per_mm2 * 9.0 *
+                          (out.h_mm / 3.0) * glm::length(out.m1_mm4) /
+                          (out.m0_mm3 * 3.0);
+  EXPECT_NEAR(-out.friction_n.y, expected, 1e-6 * expected);
+}
+
+TEST(Friction, SurfaceFrictionGrowsWithTheAngleBetweenNormalAndAxis) {
+  // Dissertation fig. 6.4(b): |F_mu| increases with sin(theta).
+  Model model = DrillModel(3.0, 0.0);
+  model.friction = FrictionModel::kSurface;
+  const Volume volume = SolidBelow(40, 40, 0.3, 20);
+  const MomentOctree tree = MomentOctree::Build(volume);
+  double previous = -1.0;
+  for (double theta_deg : {0.0, 30.0, 60.0, 90.0}) {
+    const double theta = theta_deg * kPi / 180.0;
+    Input input;
+    input.position_mm = glm::dvec3(6.01, 5.98, 6.0 + 3.0 - 0.75);
+    input.spindle_rad_s =
+        2000.0 * glm::dvec3(std::sin(theta), 0.0, std::cos(theta));
+    const Output out = EvaluateForce(model, volume, tree, input);
+    const double magnitude = glm::length(out.friction_n);
+    if (theta_deg == 0.0) {
+      EXPECT_LT(magnitude, 0.02 * glm::length(out.elastic_n));
+    } else {
+      EXPECT_GT(magnitude, previous) << theta_deg;
+      EXPECT_NEAR(glm::dot(out.friction_n, glm::normalize(input.spindle_rad_s)),
+                  0.0, 1e-9 + 1e-6 * magnitude);
+    }
+    previous = magnitude;
+  }
+}
+
+TEST(Step, ForceIsClampedToTheDeviceLimit) {
+  Model model = DrillModel(3.0, 0.0);
+  model.max_force_n = 1.5;
+  State state = State::Create(model, SolidBelow(40, 40, 0.3, 20), 1).value();
+  Input input;
+  input.position_mm =
+      glm::dvec3(6.0, 6.0, 6.0 + 3.0 - 2.0);  // deep: |F_e| ~ 11 N
+  Output out;
+  Step(model, state, input, &out);
+  EXPECT_TRUE(out.clamped);
+  EXPECT_NEAR(glm::length(out.force_n), 1.5, 1e-12);
+  EXPECT_GT(glm::length(out.model_force_n), 5.0);
+  EXPECT_EQ(state.counters().clamped, 1);
+}
+
+TEST(Step, NonFiniteInputGivesZeroForceAndIsCounted) {
+  const Model model = DrillModel(3.0, 0.1);
+  State state = State::Create(model, SolidBelow(16, 16, 0.3, 8), 1).value();
+  Input input;
+  input.position_mm = glm::dvec3(std::nan(""), 1.0, 1.0);
+  Output out;
+  Step(model, state, input, &out);
+  EXPECT_TRUE(out.non_finite);
+  EXPECT_EQ(glm::length(out.force_n), 0.0);
+  EXPECT_EQ(state.counters().non_finite, 1);
+}
+
+TEST(State, RejectsAnInvalidModelNamingTheField) {
+  Model model;
+  model.radius_mm = -1.0;
+  Result<State> state = State::Create(model, SolidBelow(8, 8, 0.3, 4), 1);
+  ASSERT_FALSE(state.ok());
+  EXPECT_EQ(state.error().message, "radius_mm must be positive, got -1");
+}
+
+}  // namespace
+}  // namespace burrlab::sim

@@ -1,6 +1,8 @@
 // Voxel volume storage.
 #include "burrlab/sim/volume.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <string>
 
@@ -8,26 +10,24 @@ namespace burrlab::sim {
 
 Result<Volume> Volume::Create(int nx, int ny, int nz, double voxel_mm) {
   if (nx <= 0 || ny <= 0 || nz <= 0) {
-    return Error{"volume extents must be positive, got " + std::to_string(nx) +
-                 "x" + std::to_string(ny) + "x" + std::to_string(nz)};
+    return Error{fmt::format("volume extents must be positive, got {}x{}x{}",
+                             nx, ny, nz)};
   }
   if (nx > kMaxVolumeExtent || ny > kMaxVolumeExtent || nz > kMaxVolumeExtent) {
-    return Error{"volume extent above the limit of " +
-                 std::to_string(kMaxVolumeExtent) +
-                 " voxels per axis: " + std::to_string(nx) + "x" +
-                 std::to_string(ny) + "x" + std::to_string(nz)};
+    return Error{fmt::format(
+        "volume extent above the limit of {} voxels per axis: {}x{}x{}",
+        kMaxVolumeExtent, nx, ny, nz)};
   }
   const std::size_t count = static_cast<std::size_t>(nx) *
                             static_cast<std::size_t>(ny) *
                             static_cast<std::size_t>(nz);
   if (count > kMaxVolumeVoxels) {
-    return Error{"volume of " + std::to_string(count) +
-                 " voxels is above the limit of " +
-                 std::to_string(kMaxVolumeVoxels)};
+    return Error{fmt::format("volume of {} voxels is above the limit of {}",
+                             count, kMaxVolumeVoxels)};
   }
   if (!std::isfinite(voxel_mm) || voxel_mm <= 0.0) {
-    return Error{"voxel size must be a positive finite number of mm, got " +
-                 std::to_string(voxel_mm)};
+    return Error{fmt::format(
+        "voxel size must be a positive finite number of mm, got {}", voxel_mm)};
   }
   Volume v;
   v.nx_ = nx;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <numbers>
+#include <vector>
 
 #include "burrlab/sim/force_curve.h"
 #include "burrlab/sim/octree.h"
@@ -148,6 +149,61 @@ TEST(Moments, BurrOutsideTheVolumeSeesNothing) {
   const glm::dvec3 far(-50.0, 3.0, 1e6);
   EXPECT_EQ(ComputeMomentsMono(*volume, far, 3.0).m0_mm3, 0.0);
   EXPECT_EQ(ComputeMomentsOctree(tree, *volume, far, 3.0, 0.9).m0_mm3, 0.0);
+}
+
+}  // namespace
+}  // namespace burrlab::sim
+
+namespace burrlab::sim {
+namespace {
+
+// Power of the force signal at spatial period `period_mm` (one DFT bin).
+double PowerAtPeriod(const std::vector<double>& force, double step_mm,
+                     double period_mm) {
+  double mean = 0.0;
+  for (double f : force) mean += f;
+  mean /= static_cast<double>(force.size());
+  double re = 0.0, im = 0.0;
+  for (std::size_t i = 0; i < force.size(); ++i) {
+    const double phase =
+        2.0 * kPi * static_cast<double>(i) * step_mm / period_mm;
+    re += (force[i] - mean) * std::cos(phase);
+    im += (force[i] - mean) * std::sin(phase);
+  }
+  return re * re + im * im;
+}
+
+// Dissertation fig. 6.5: sliding at depth R/4 over a flat surface, the
+// voxel-sphere force fluctuates with the lattice period along the path: v over
+// an axis-aligned plane, v sqrt(2) along the plane with normal (0, 1,
+// 1)/sqrt(2).
+TEST(Sliding, ForceFluctuationWavelengthsDifferBySqrtTwo) {
+  const double v = 0.3, radius = 1.0;
+  const PhantomGrid grid{48, 48, 48, v};
+  struct Path {
+    glm::dvec3 normal, direction;
+  };
+  const double s = 1.0 / std::sqrt(2.0);
+  const Path paths[] = {{{0, 0, 1}, {1, 0, 0}}, {{0, s, s}, {0, s, -s}}};
+  std::vector<double> ratios;
+  for (const Path& path : paths) {
+    const glm::dvec3 point(7.2, 7.2, 7.2);
+    Result<Volume> volume = MakeHalfSpace(grid, point, path.normal);
+    ASSERT_TRUE(volume.ok());
+    const MomentOctree tree = MomentOctree::Build(*volume);
+    const double step = 0.01;
+    std::vector<double> force;
+    for (double t = -2.4; t < 2.4; t += step) {
+      const glm::dvec3 centre =
+          point + 0.75 * radius * path.normal + t * path.direction;
+      const Moments m = ComputeMomentsMono(*volume, centre, radius);
+      force.push_back(std::pow(DepthFromM0(m.m0_mm3, radius) / radius, 1.5));
+    }
+    ratios.push_back(PowerAtPeriod(force, step, v) /
+                     PowerAtPeriod(force, step, v * std::sqrt(2.0)));
+  }
+  EXPECT_GT(ratios[0], 10.0);  // axis-aligned: period v dominates
+  EXPECT_LT(ratios[1], 0.1);   // oblique: period v sqrt(2) dominates
 }
 
 }  // namespace

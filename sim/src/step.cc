@@ -89,16 +89,21 @@ struct ErosionVisitor {
                  ErosionShape(b.dmin_vox / radius_vox) * kSolidOccupancy);
     if (p_max >= 0.5)
       return internal::BlockAction::kRefine;  // per-voxel draws are cheaper
-    if (p_max <= 0.0) return internal::BlockAction::kSkip;
+    if (p_max <= 0.0)
+      return internal::BlockAction::kSkip;  // f = 0 on the whole block
+    // Tiny probabilities would make the geometric skips overflow: draw per
+    // voxel.
+    if (p_max < 1e-9) return internal::BlockAction::kRefine;
     const int size = 1 << b.level;
     const int x0 = b.bx * size, y0 = b.by * size, z0 = b.bz * size;
-    const int count = size * size * size;
-    boost::random::geometric_distribution<int, double> skip(p_max);
+    const std::int64_t count = std::int64_t{size} * size * size;
+    boost::random::geometric_distribution<std::int64_t, double> skip(p_max);
     boost::random::uniform_01<double> uniform;
-    for (int n = skip(*rng); n < count; n += 1 + skip(*rng)) {
-      const int i = x0 + (n & (size - 1)),
-                j = y0 + ((n >> b.level) & (size - 1)),
-                k = z0 + (n >> (2 * b.level));
+    for (std::int64_t n = skip(*rng); n < count; n += 1 + skip(*rng)) {
+      const int cell = static_cast<int>(n);
+      const int i = x0 + (cell & (size - 1)),
+                j = y0 + ((cell >> b.level) & (size - 1)),
+                k = z0 + (cell >> (2 * b.level));
       if (!volume->Contains(i, j, k)) continue;
       const std::size_t index = volume->Index(i, j, k);
       const std::uint8_t occupancy = volume->occupancy()[index];

@@ -1,13 +1,76 @@
-// Subcommand table and dispatch (being written).
+// The top-level command table and RunCli: --version, help, dispatch, and the
+// guarantee that nothing is thrown past RunCli.
 #include "burrlab/runner/cli.h"
 
-namespace burrlab::runner {
+#include <exception>
+#include <string_view>
 
-int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  (void)args;
-  (void)out;
-  err << "burrlab: not yet implemented\n";
-  return 1;
+#include "burrlab_version.h"
+#include "command_table.h"
+#include "demo.h"
+#include "sim_commands.h"
+#include "spelling.h"
+
+namespace burrlab::runner {
+namespace {
+
+int RunTopHelp(const Args& args, std::ostream& out, std::ostream& err);
+
+// Every command of `burrlab`; later issues add run, validate, analyze, ...
+constexpr Command kCommands[] = {
+    {"demo",
+     "the simulator on the built-in materials: force-depth curves and "
+     "constant-force descents",
+     RunDemoCommand},
+    {"sim", "burr simulator tools: force-curve, descent, bench", RunSimCommand},
+    {"help", "list the commands; 'help COMMAND' shows the flags of one",
+     RunTopHelp},
+};
+
+int RunTopHelp(const Args& args, std::ostream& out, std::ostream& err) {
+  return RunHelp("burrlab", kCommands, args, out, err);
+}
+
+int RunTopLevel(const Args& args, std::ostream& out, std::ostream& err) {
+  if (!args.empty() && args[0] == "--version") {
+    if (args.size() > 1) {
+      return Fail(
+          err, "--version takes no further arguments, got '" + args[1] + "'");
+    }
+    out << "burrlab " << BURRLAB_VERSION << '\n';
+    return 0;
+  }
+  if (!args.empty() && args[0].starts_with("-") && args[0] != "-h" &&
+      args[0] != "--help") {
+    constexpr std::string_view kFlags[] = {"--help", "--version"};
+    const std::string flag = args[0].substr(0, args[0].find('='));
+    if (std::string_view suggestion = DidYouMean(flag, kFlags);
+        !suggestion.empty()) {
+      return Fail(err, "unknown flag '" + flag + "' (did you mean '" +
+                           std::string(suggestion) + "'?)");
+    }
+    return Fail(err, "unknown flag '" + flag + "' (see 'burrlab --help')");
+  }
+  return Dispatch("burrlab", kCommands, args, out, err);
+}
+
+}  // namespace
+
+int RunCli(const std::vector<std::string>& args, std::ostream& out,
+           std::ostream& err) {
+  int code = 1;
+  try {
+    code = RunTopLevel(args, out, err);
+  } catch (const std::exception& e) {
+    return Fail(err, std::string("internal error: ") + e.what());
+  } catch (...) {
+    return Fail(err, "internal error: unknown exception");
+  }
+  out.flush();
+  if (code == 0 && !out.good()) {
+    return Fail(err, "cannot write to standard output");
+  }
+  return code;
 }
 
 }  // namespace burrlab::runner

@@ -1,1 +1,238 @@
-// demo: being written
+// `burrlab demo`: force-depth curves and constant-force descents of the three
+// built-in materials, and whether the descents keep the order the
+// dissertation measured (§8.7: PVC faster than Pettigrew faster than bone).
+#include "demo.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <array>
+#include <future>
+#include <string>
+#include <vector>
+
+#include "burrlab/sim/descent.h"
+#include "burrlab/sim/force_curve.h"
+#include "burrlab/stimuli/materials.h"
+#include "flags.h"
+#include "progress.h"
+
+namespace burrlab::runner {
+namespace {
+
+constexpr double kRadiusMm = 3.0;
+constexpr int kCurvePoints = 10;  // depths 0.1 R, 0.2 R, ..., R
+constexpr std::array<double, 3> kForcesN = {3.0, 4.0, 6.0};
+// Fastest first: the order the steady velocities should keep.
+constexpr std::array<std::string_view, 3> kMaterials = {
+    "pvc_k70", "pettigrew_temporal_bone", "human_temporal_bone"};
+
+std::string Label(const stimuli::MaterialSet& set) {
+  return set.display_name.empty() ? set.name : set.display_name;
+}
+
+void PrintMaterials(const std::vector<stimuli::MaterialSet>& sets,
+                    std::ostream& out) {
+  std::size_t width = 0;
+  for (const stimuli::MaterialSet& set : sets) {
+    width = std::max(width, set.name.size());
+  }
+  out << "Built-in materials (dissertation §8.7; --material NAME):\n";
+  for (const stimuli::MaterialSet& set : sets) {
+    out << fmt::format("  {:<{}}  c_e {:>5} N/mm^2  alpha {:>5} 1/s  {}\n",
+                       set.name, width, set.material.c_e_n_per_mm2,
+                       set.material.alpha_per_s, Label(set));
+  }
+}
+
+void PrintForceCurves(
+    const std::vector<stimuli::MaterialSet>& sets,
+    const std::vector<std::vector<sim::ForceCurvePoint>>& curves,
+    const sim::ForceCurveOptions& options, std::ostream& out) {
+  out << fmt::format(
+      "\nForce-depth curves, R = {} mm, voxel {} mm, octree moments "
+      "(F = c_e R^2 (h/R)^1.5, eq. 7.3):\n\n",
+      options.radius_mm, options.voxel_mm);
+  constexpr int kDepthWidth = 8, kHWidth = 6, kForceWidth = 7, kGap = 4;
+  std::vector<int> group_widths;
+  std::string groups = fmt::format("{:<{}}", "", kDepthWidth);
+  std::string columns = fmt::format("{:>{}}", "depth mm", kDepthWidth);
+  for (const stimuli::MaterialSet& set : sets) {
+    const int width = std::max(static_cast<int>(Label(set).size()),
+                               kHWidth + 2 + kForceWidth);
+    group_widths.push_back(width);
+    groups += fmt::format("{:{}}{:>{}}", "", kGap, Label(set), width);
+    columns += fmt::format("{:{}}{:>{}}  {:>{}}", "", kGap, "h mm",
+                           width - kForceWidth - 2, "force N", kForceWidth);
+  }
+  out << groups << '\n' << columns << '\n';
+  for (std::size_t row = 0; row < curves.front().size(); ++row) {
+    std::string line =
+        fmt::format("{:>{}.2f}", curves.front()[row].depth_mm, kDepthWidth);
+    for (std::size_t m = 0; m < curves.size(); ++m) {
+      const sim::ForceCurvePoint& point = curves[m][row];
+      line += fmt::format("{:{}}{:>{}.3f}  {:>{}.3f}", "", kGap, point.h_mm,
+                          group_widths[m] - kForceWidth - 2, point.force_n,
+                          kForceWidth);
+    }
+    out << line << '\n';
+  }
+}
+
+// results[m][f]: the descent of material m (table order) at kForcesN[f].
+using DescentTable =
+    std::vector<std::array<sim::DescentResult, kForcesN.size()>>;
+
+void PrintDescents(const std::vector<stimuli::MaterialSet>& sets,
+                   const DescentTable& table,
+                   const sim::DescentOptions& options, std::ostream& out) {
+  out << fmt::format(
+      "\nConstant-force descents, R = {} mm, {} rad/s, voxel {} mm: steady "
+      "velocity, mm/s\n\n",
+      options.radius_mm, options.spindle_rad_s, options.voxel_mm);
+  std::size_t width = std::string_view("material").size();
+  for (const stimuli::MaterialSet& set : sets) {
+    width = std::max(width, Label(set).size());
+  }
+  std::string header = fmt::format("{:<{}}", "material", width);
+  for (double force_n : kForcesN) {
+    header += fmt::format("  {:>8}", fmt::format("{} N", force_n));
+  }
+  out << header << '\n';
+  for (std::size_t m = 0; m < sets.size(); ++m) {
+    std::string line = fmt::format("{:<{}}", Label(sets[m]), width);
+    for (const sim::DescentResult& result : table[m]) {
+      line += result.steady_reached
+                  ? fmt::format("  {:>8.4f}", result.steady_velocity_mm_s)
+                  : fmt::format("  {:>8}", "n/a");
+    }
+    out << line << '\n';
+  }
+  bool any_missing = false;
+  for (const auto& row : table) {
+    for (const sim::DescentResult& result : row) {
+      any_missing = any_missing || !result.steady_reached;
+    }
+  }
+  if (any_missing) {
+    out << fmt::format(
+        "n/a: the burr did not stay deeper than R/3 long enough within {} s "
+        "to measure a steady velocity\n",
+        options.duration_s);
+  }
+  out << '\n';
+  // sets are in table order (bone, Pettigrew, PVC): the order holds when each
+  // velocity exceeds the one before it.
+  for (std::size_t f = 0; f < kForcesN.size(); ++f) {
+    std::string values, missing;
+    bool holds = true;
+    for (std::size_t m = sets.size(); m-- > 0;) {
+      const sim::DescentResult& result = table[m][f];
+      if (!result.steady_reached) {
+        missing += (missing.empty() ? "" : ", ") + Label(sets[m]);
+      }
+      values += fmt::format("{}{:.4f}", values.empty() ? "" : ", ",
+                            result.steady_velocity_mm_s);
+      if (m > 0) {
+        holds = holds && result.steady_velocity_mm_s >
+                             table[m - 1][f].steady_velocity_mm_s;
+      }
+    }
+    const std::string at = fmt::format("at {} N:", kForcesN[f]);
+    if (!missing.empty()) {
+      out << fmt::format(
+          "{:<8} cannot tell whether PVC > Pettigrew > bone: no steady "
+          "descent for {}\n",
+          at, missing);
+    } else {
+      out << fmt::format("{:<8} PVC > Pettigrew > bone {} ({} mm/s)\n", at,
+                         holds ? "holds" : "does NOT hold", values);
+    }
+  }
+}
+
+}  // namespace
+
+int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "The burr simulator on the three built-in materials: force-depth "
+      "curves at R = 3 mm, then constant-force descents at 3, 4 and 6 N and "
+      "whether their steady velocities keep the order PVC > Pettigrew > "
+      "bone (dissertation §8.7).",
+      "burrlab demo"};
+  FlagSet flags(&app);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+
+  // Loaded in table order: bone, Pettigrew, PVC.
+  std::vector<stimuli::MaterialSet> sets;
+  for (auto it = kMaterials.rbegin(); it != kMaterials.rend(); ++it) {
+    Result<stimuli::MaterialSet> set = stimuli::LoadBuiltinMaterial(*it);
+    if (!set.ok()) return Fail(err, set.error().message);
+    sets.push_back(std::move(*set));
+  }
+  const int tasks = static_cast<int>(sets.size() * (1 + kForcesN.size()));
+  int done = 0;
+  ProgressBar progress(err, tasks);
+
+  sim::ForceCurveOptions curve_options;
+  curve_options.radius_mm = kRadiusMm;
+  curve_options.points = kCurvePoints;
+  curve_options.max_depth_mm = kRadiusMm;
+  std::vector<std::vector<sim::ForceCurvePoint>> curves;
+  for (const stimuli::MaterialSet& set : sets) {
+    progress.Update(done, fmt::format("force curve: {}", set.name));
+    curve_options.c_e_n_per_mm2 = set.material.c_e_n_per_mm2;
+    Result<std::vector<sim::ForceCurvePoint>> curve =
+        sim::ComputeForceCurve(curve_options);
+    if (!curve.ok()) {
+      return Fail(err, fmt::format("demo: force curve of {}: {}", set.name,
+                                   curve.error().message));
+    }
+    if (curve->size() != static_cast<std::size_t>(kCurvePoints)) {
+      return Fail(err, fmt::format("demo: force curve of {} has {} points, "
+                                   "expected {}",
+                                   set.name, curve->size(), kCurvePoints));
+    }
+    curves.push_back(std::move(*curve));
+    ++done;
+  }
+
+  // The nine descents are independent and deterministic (each has its own
+  // seeded stream), so they run in parallel; results are read in order.
+  sim::DescentOptions descent_options;
+  descent_options.radius_mm = kRadiusMm;
+  std::vector<std::future<Result<sim::DescentResult>>> futures;
+  for (const stimuli::MaterialSet& set : sets) {
+    for (double force_n : kForcesN) {
+      sim::DescentOptions options = descent_options;
+      options.material = set.material;
+      options.force_n = force_n;
+      futures.push_back(std::async(
+          std::launch::async, [options] { return sim::RunDescent(options); }));
+    }
+  }
+  DescentTable table(sets.size());
+  for (std::size_t m = 0; m < sets.size(); ++m) {
+    for (std::size_t f = 0; f < kForcesN.size(); ++f) {
+      progress.Update(
+          done, fmt::format("descent: {} at {} N", sets[m].name, kForcesN[f]));
+      Result<sim::DescentResult> result =
+          futures[m * kForcesN.size() + f].get();
+      if (!result.ok()) {
+        return Fail(err,
+                    fmt::format("demo: descent of {} at {} N: {}", sets[m].name,
+                                kForcesN[f], result.error().message));
+      }
+      table[m][f] = std::move(*result);
+      ++done;
+    }
+  }
+
+  PrintMaterials(sets, out);
+  PrintForceCurves(sets, curves, curve_options, out);
+  PrintDescents(sets, table, descent_options, out);
+  return 0;
+}
+
+}  // namespace burrlab::runner

@@ -1,1 +1,439 @@
-// sim commands: being written
+// `burrlab sim ...`: force-depth curves as CSV, the constant-force descent rig
+// of dissertation ch. 8, and the step benchmark.
+#include "sim_commands.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "burrlab/sim/bench.h"
+#include "burrlab/sim/descent.h"
+#include "burrlab/sim/force_curve.h"
+#include "burrlab/stimuli/materials.h"
+#include "flags.h"
+#include "progress.h"
+
+namespace burrlab::runner {
+namespace {
+
+// Surgical burrs are 1-5 mm; beyond 10 mm the sample volumes grow large.
+constexpr double kMaxRadiusMm = 10.0;
+
+const char* MethodName(sim::MomentMethod method) {
+  return method == sim::MomentMethod::kMono ? "mono" : "octree";
+}
+
+std::string MaterialFlagHelp() {
+  std::string names;
+  for (const std::string& name : stimuli::BuiltinMaterialNames()) {
+    names += (names.empty() ? "" : ", ") + name;
+  }
+  return names.empty() ? "built-in material set"
+                       : "built-in material set: " + names;
+}
+
+// Exactly one way of naming the material: --material NAME, or the constants
+// (--c-e, and --alpha when the command erodes).
+Status CheckMaterialChoice(const FlagSet& flags, bool erodes) {
+  const bool by_name = flags.Given("--material");
+  const bool c_e = flags.Given("--c-e");
+  const bool alpha = erodes && flags.Given("--alpha");
+  const char* constants = erodes ? "--c-e X --alpha Y" : "--c-e X";
+  if (by_name && (c_e || alpha)) {
+    return Error{fmt::format(
+        "--material and {} are mutually exclusive; give --material NAME or {}",
+        c_e ? "--c-e" : "--alpha", constants)};
+  }
+  if (!by_name && !c_e && !alpha) {
+    return Error{
+        fmt::format("no material: give --material NAME or {}", constants)};
+  }
+  if (erodes && c_e && !alpha) {
+    return Error{"--c-e needs --alpha Y, the erosion constant in 1/s"};
+  }
+  if (erodes && alpha && !c_e) {
+    return Error{"--alpha needs --c-e X, the elastic constant in N/mm^2"};
+  }
+  return {};
+}
+
+Status CheckVoxelFitsBurr(double voxel_mm, double radius_mm) {
+  if (voxel_mm > radius_mm) {
+    return Error{
+        fmt::format("--voxel-mm must be at most --radius-mm = {} mm, got '{}'",
+                    radius_mm, voxel_mm)};
+  }
+  return {};
+}
+
+int RunForceCurve(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Force against depth of a burr pressed into a flat half-space "
+      "(probing: no friction, no erosion; dissertation figs. 6.4(a), "
+      "7.1(a)). Prints CSV with the columns depth_mm,h_mm,m0_mm3,force_n.",
+      "burrlab sim force-curve"};
+  sim::ForceCurveOptions options;
+  std::string material_name;
+  int method = options.method == sim::MomentMethod::kMono ? 0 : 1;
+  FlagSet flags(&app);
+  flags.AddText("--material", MaterialFlagHelp(), &material_name)
+      ->type_name("NAME");
+  flags.AddPositive("--c-e",
+                    "elastic constant c_e, N/mm^2 (instead of --material)",
+                    "N/mm^2", &options.c_e_n_per_mm2);
+  flags
+      .AddPositive("--radius-mm", "burr radius R, mm (at most 10)", "mm",
+                   &options.radius_mm, kMaxRadiusMm)
+      ->required();
+  flags.AddPositive(
+      "--voxel-mm",
+      fmt::format("voxel size, mm (default {})", options.voxel_mm), "mm",
+      &options.voxel_mm);
+  flags.AddPositive("--max-depth-mm",
+                    "deepest immersion, mm (default R, at most 2R)", "mm",
+                    &options.max_depth_mm);
+  flags.AddInteger(
+      "--points",
+      fmt::format("samples, evenly spaced up to the deepest (default {})",
+                  options.points),
+      2, 100000, &options.points);
+  flags.AddChoice("--method",
+                  "moments from every voxel (mono) or the octree (default "
+                  "octree)",
+                  {"mono", "octree"}, &method);
+  flags.AddNonNegative(
+      "--ell-over-r",
+      fmt::format("octree accuracy scale ell as a fraction of R (default {})",
+                  options.ell_over_r),
+      "", &options.ell_over_r);
+  flags.AddDirection("--normal",
+                     "outward normal of the surface (default 0,0,1)",
+                     &options.normal);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = CheckMaterialChoice(flags, /*erodes=*/false); !s.ok()) {
+    return Fail(err, s.error().message);
+  }
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (Status s = CheckVoxelFitsBurr(options.voxel_mm, options.radius_mm);
+      !s.ok()) {
+    return Fail(err, s.error().message);
+  }
+  if (options.max_depth_mm > 2.0 * options.radius_mm) {
+    return Fail(err,
+                fmt::format("--max-depth-mm must be at most 2 x "
+                            "--radius-mm = {} mm, got '{}'",
+                            2.0 * options.radius_mm, options.max_depth_mm));
+  }
+  options.method =
+      method == 0 ? sim::MomentMethod::kMono : sim::MomentMethod::kOctree;
+  if (flags.Given("--material")) {
+    Result<stimuli::MaterialSet> set =
+        stimuli::LoadBuiltinMaterial(material_name);
+    if (!set.ok()) return Fail(err, set.error().message);
+    options.c_e_n_per_mm2 = set->material.c_e_n_per_mm2;
+  }
+  Result<std::vector<sim::ForceCurvePoint>> curve =
+      sim::ComputeForceCurve(options);
+  if (!curve.ok())
+    return Fail(err, "sim force-curve: " + curve.error().message);
+  out << "depth_mm,h_mm,m0_mm3,force_n\n";
+  for (const sim::ForceCurvePoint& point : *curve) {
+    out << fmt::format("{:.6g},{:.6g},{:.6g},{:.6g}\n", point.depth_mm,
+                       point.h_mm, point.m0_mm3, point.force_n);
+  }
+  return 0;
+}
+
+// Writes the descent trace as CSV; false when the stream failed.
+bool WriteTrace(const std::vector<sim::DescentSample>& trace,
+                std::ostream& csv) {
+  csv << "t_s,depth_mm,force_n,velocity_mm_s\n";
+  for (const sim::DescentSample& sample : trace) {
+    csv << fmt::format("{:.9g},{:.6g},{:.6g},{:.6g}\n", sample.t_s,
+                       sample.depth_mm, sample.force_n, sample.velocity_mm_s);
+  }
+  csv.flush();
+  return csv.good();
+}
+
+// "cannot write --trace file 'x': reason".
+std::string TraceError(std::string_view what, const std::string& path,
+                       int error_number) {
+  return error_number == 0
+             ? fmt::format("cannot {} --trace file '{}'", what, path)
+             : fmt::format("cannot {} --trace file '{}': {}", what, path,
+                           std::strerror(error_number));
+}
+
+int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Constant-force descent of a spinning burr into a flat sample, the "
+      "virtual calibration rig of dissertation ch. 8. Reports the steady "
+      "penetration velocity, measured once the burr is deeper than R/3 "
+      "(§8.6).",
+      "burrlab sim descent"};
+  sim::DescentOptions options;
+  std::string material_name, trace_path;
+  bool json = false;
+  FlagSet flags(&app);
+  flags.AddText("--material", MaterialFlagHelp(), &material_name)
+      ->type_name("NAME");
+  flags.AddPositive("--c-e",
+                    "elastic constant c_e, N/mm^2 (with --alpha, instead of "
+                    "--material; other constants keep the simulator defaults)",
+                    "N/mm^2", &options.material.c_e_n_per_mm2);
+  flags.AddNonNegative("--alpha", "erosion constant alpha, 1/s (with --c-e)",
+                       "1/s", &options.material.alpha_per_s);
+  flags
+      .AddPositive("--force-n", "force held by the controller, N", "N",
+                   &options.force_n)
+      ->required();
+  flags
+      .AddPositive("--radius-mm", "burr radius R, mm (at most 10)", "mm",
+                   &options.radius_mm, kMaxRadiusMm)
+      ->required();
+  flags.AddNonNegative(
+      "--spindle-rad-s",
+      fmt::format("burr spin, rad/s (default {})", options.spindle_rad_s),
+      "rad/s", &options.spindle_rad_s);
+  flags.AddPositive("--voxel-mm",
+                    fmt::format("voxel size of the sample, mm (default {})",
+                                options.voxel_mm),
+                    "mm", &options.voxel_mm);
+  flags.AddPositive(
+      "--duration-s",
+      fmt::format("longest simulated time after contact, s (default {})",
+                  options.duration_s),
+      "s", &options.duration_s);
+  flags.AddUnsigned(
+      "--seed", fmt::format("erosion random seed (default {})", options.seed),
+      &options.seed);
+  flags
+      .AddText("--trace",
+               "write the trace as CSV: t_s,depth_mm,force_n,velocity_mm_s",
+               &trace_path)
+      ->type_name("FILE.csv");
+  flags.AddSwitch("--json", "print the inputs and results as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = CheckMaterialChoice(flags, /*erodes=*/true); !s.ok()) {
+    return Fail(err, s.error().message);
+  }
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (Status s = CheckVoxelFitsBurr(options.voxel_mm, options.radius_mm);
+      !s.ok()) {
+    return Fail(err, s.error().message);
+  }
+  if (flags.Given("--trace") && trace_path.empty()) {
+    return Fail(err, "--trace needs a file name, got ''");
+  }
+  const bool by_name = flags.Given("--material");
+  if (by_name) {
+    Result<stimuli::MaterialSet> set =
+        stimuli::LoadBuiltinMaterial(material_name);
+    if (!set.ok()) return Fail(err, set.error().message);
+    options.material = set->material;
+    material_name = set->name;
+  }
+  if (Status s = options.Validate(); !s.ok()) {
+    return Fail(err, "sim descent: " + s.error().message);
+  }
+  // Open the trace before the run so a bad path fails fast.
+  std::ofstream trace;
+  if (!trace_path.empty()) {
+    errno = 0;
+    trace.open(trace_path, std::ios::out | std::ios::trunc);
+    if (!trace.is_open()) {
+      return Fail(err, TraceError("write", trace_path, errno));
+    }
+  }
+  Result<sim::DescentResult> result = sim::RunDescent(options);
+  if (!result.ok()) {
+    if (trace.is_open()) {
+      trace.close();
+      std::remove(trace_path.c_str());  // we emptied it; leave no stub
+    }
+    return Fail(err, "sim descent: " + result.error().message);
+  }
+  if (trace.is_open()) {
+    errno = 0;
+    if (!WriteTrace(result->trace, trace)) {
+      return Fail(err, TraceError("write", trace_path, errno));
+    }
+    trace.close();
+    if (trace.fail()) return Fail(err, TraceError("close", trace_path, errno));
+  }
+  if (!result->steady_reached) {
+    err << fmt::format(
+        "burrlab: warning: no steady velocity: the burr did not stay deeper "
+        "than R/3 = {:.3g} mm long enough within --duration-s {} (try a "
+        "longer --duration-s or a larger --force-n)\n",
+        options.radius_mm / 3.0, options.duration_s);
+  }
+  const sim::DescentResult& r = *result;
+  if (json) {
+    nlohmann::ordered_json j;
+    j["material"] = by_name ? nlohmann::ordered_json(material_name)
+                            : nlohmann::ordered_json(nullptr);
+    j["c_e_n_per_mm2"] = options.material.c_e_n_per_mm2;
+    j["alpha_per_s"] = options.material.alpha_per_s;
+    j["force_n"] = options.force_n;
+    j["radius_mm"] = options.radius_mm;
+    j["spindle_rad_s"] = options.spindle_rad_s;
+    j["voxel_mm"] = options.voxel_mm;
+    j["duration_s"] = options.duration_s;
+    j["seed"] = options.seed;
+    j["steady_reached"] = r.steady_reached;
+    j["steady_velocity_mm_s"] =
+        r.steady_reached ? nlohmann::ordered_json(r.steady_velocity_mm_s)
+                         : nlohmann::ordered_json(nullptr);
+    j["final_depth_mm"] = r.final_depth_mm;
+    j["removed_mm3"] = r.removed_mm3;
+    j["steps"] = r.steps;
+    j["simulated_s"] = static_cast<double>(r.steps) * options.dt_s;
+    j["trace"] = trace_path.empty() ? nlohmann::ordered_json(nullptr)
+                                    : nlohmann::ordered_json(trace_path);
+    out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
+        << '\n';
+    return 0;
+  }
+  const std::string material =
+      by_name
+          ? fmt::format("{}: c_e {} N/mm^2, alpha {} 1/s", material_name,
+                        options.material.c_e_n_per_mm2,
+                        options.material.alpha_per_s)
+          : fmt::format(
+                "c_e {} N/mm^2, alpha {} 1/s (other constants: "
+                "simulator defaults)",
+                options.material.c_e_n_per_mm2, options.material.alpha_per_s);
+  out << fmt::format("material         {}\n", material);
+  out << fmt::format(
+      "rig              {} N on a {} mm burr at {} rad/s, voxel {} mm, seed "
+      "{}\n",
+      options.force_n, options.radius_mm, options.spindle_rad_s,
+      options.voxel_mm, options.seed);
+  out << (r.steady_reached ? fmt::format("steady velocity  {:.4g} mm/s\n",
+                                         r.steady_velocity_mm_s)
+                           : std::string("steady velocity  not reached\n"));
+  out << fmt::format("final depth      {:.4g} mm\n", r.final_depth_mm);
+  out << fmt::format("removed          {:.4g} mm^3\n", r.removed_mm3);
+  out << fmt::format("simulated        {:.4g} s ({} steps)\n",
+                     static_cast<double>(r.steps) * options.dt_s, r.steps);
+  if (!trace_path.empty()) {
+    out << fmt::format("trace            {} ({} samples)\n", trace_path,
+                       r.trace.size());
+  }
+  return 0;
+}
+
+int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Times simulator steps (force + erosion): the burr slides at 10 mm/s a "
+      "quarter of its radius deep in a solid half-space. Cases: mono and "
+      "octree moments x R = 1, 2, 3, 5 mm x probe and drill. A step over "
+      "1000 us misses the 1 kHz haptic deadline.",
+      "burrlab sim bench"};
+  std::vector<sim::BenchCase> cases = sim::DefaultBenchCases();
+  int steps = cases.empty() ? 0 : cases.front().steps;
+  bool json = false;
+  FlagSet flags(&app);
+  flags.AddInteger("--steps",
+                   fmt::format("timed steps per case (default {})", steps), 1,
+                   1000000, &steps);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  for (sim::BenchCase& bench_case : cases) {
+    if (flags.Given("--steps")) bench_case.steps = steps;
+  }
+  std::vector<sim::BenchCaseResult> results;
+  {
+    ProgressBar progress(err, static_cast<int>(cases.size()));
+    for (const sim::BenchCase& bench_case : cases) {
+      progress.Update(
+          static_cast<int>(results.size()),
+          fmt::format("{} R {} mm {}", MethodName(bench_case.method),
+                      bench_case.radius_mm,
+                      bench_case.drill ? "drill" : "probe"));
+      results.push_back(sim::RunBenchCase(bench_case));
+      if (!(results.back().max_us > 0.0)) {
+        return Fail(err, fmt::format("sim bench: the {} R {} mm {} case did "
+                                     "not run",
+                                     MethodName(bench_case.method),
+                                     bench_case.radius_mm,
+                                     bench_case.drill ? "drill" : "probe"));
+      }
+    }
+  }
+  const unsigned hardware_threads = std::thread::hardware_concurrency();
+  if (json) {
+    nlohmann::ordered_json j;
+    j["steps"] = steps;
+    j["hardware_threads"] = hardware_threads;
+    j["cases"] = nlohmann::ordered_json::array();
+    for (const sim::BenchCaseResult& result : results) {
+      const sim::BenchCase& c = result.bench_case;
+      j["cases"].push_back({{"method", MethodName(c.method)},
+                            {"radius_mm", c.radius_mm},
+                            {"task", c.drill ? "drill" : "probe"},
+                            {"voxel_mm", c.voxel_mm},
+                            {"steps", c.steps},
+                            {"median_us", result.median_us},
+                            {"p99_us", result.p99_us},
+                            {"max_us", result.max_us},
+                            {"removed_mm3", result.removed_mm3}});
+    }
+    out << j.dump(2) << '\n';
+    return 0;
+  }
+  out << fmt::format(
+      "{} timed steps per case, {} hardware threads; the 1 kHz haptic tick "
+      "allows 1000 µs\n\n",
+      steps, hardware_threads);
+  out << fmt::format("{:<6}  {:>4}  {:<5}  {:>9}  {:>9}  {:>9}\n", "method",
+                     "R mm", "task", "median µs", "p99 µs", "max µs");
+  for (const sim::BenchCaseResult& result : results) {
+    const sim::BenchCase& c = result.bench_case;
+    out << fmt::format("{:<6}  {:>4}  {:<5}  {:>9.1f}  {:>9.1f}  {:>9.1f}\n",
+                       MethodName(c.method), c.radius_mm,
+                       c.drill ? "drill" : "probe", result.median_us,
+                       result.p99_us, result.max_us);
+  }
+  return 0;
+}
+
+int RunSimHelp(const Args& args, std::ostream& out, std::ostream& err);
+
+constexpr Command kSimCommands[] = {
+    {"force-curve",
+     "force against depth of a burr pressed into a flat material (CSV)",
+     RunForceCurve},
+    {"descent",
+     "constant-force descent into a flat sample: steady penetration velocity",
+     RunDescentCommand},
+    {"bench",
+     "time simulator steps: mono and octree x R = 1, 2, 3, 5 mm x probe and "
+     "drill",
+     RunBench},
+    {"help", "list the sim commands; 'sim help COMMAND' shows the flags of one",
+     RunSimHelp},
+};
+
+int RunSimHelp(const Args& args, std::ostream& out, std::ostream& err) {
+  return RunHelp("burrlab sim", kSimCommands, args, out, err);
+}
+
+}  // namespace
+
+int RunSimCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  return Dispatch("burrlab sim", kSimCommands, args, out, err);
+}
+
+}  // namespace burrlab::runner

@@ -1,5 +1,6 @@
-// The burrlab command line: one table of subcommands (name, one-line help, handler), as in
-// Ninja. main() is a thin layer over RunCli so tests drive the CLI without a process.
+// The burrlab command line: one table of subcommands (name, one-line help,
+// handler), as in Ninja. main() is a thin layer over RunCli so tests drive the
+// CLI without a process.
 #ifndef BURRLAB_RUNNER_CLI_H_
 #define BURRLAB_RUNNER_CLI_H_
 
@@ -9,9 +10,11 @@
 
 namespace burrlab::runner {
 
-// Runs `burrlab <args...>` (args excludes the program name); returns the exit code:
-// 0 success, 1 bad input or failure, 2 usage error.
-int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+// Runs `burrlab <args...>` (args excludes the program name); returns the exit
+// code: 0 success, 1 any error (reported as one "burrlab: ..." line on `err`).
+// Throws nothing.
+int RunCli(const std::vector<std::string>& args, std::ostream& out,
+           std::ostream& err);
 
 }  // namespace burrlab::runner
 

@@ -1,6 +1,7 @@
-// Material sets: named simulator parameter sets (sim::Material) read from TOML files, with
-// the source of every number. Built-in sets live in stimuli/materials/*.toml and are
-// embedded into the library at build time, so the binary needs no data folder.
+// Material sets: named simulator parameter sets (sim::Material) read from TOML
+// files, with the source of every number. Built-in sets live in
+// stimuli/materials/*.toml and are embedded into the library at build time, so
+// the binary needs no data folder.
 #ifndef BURRLAB_STIMULI_MATERIALS_H_
 #define BURRLAB_STIMULI_MATERIALS_H_
 
@@ -16,6 +17,7 @@ namespace burrlab::stimuli {
 struct MaterialSet {
   std::string name;          // identifier, e.g. "human_temporal_bone"
   std::string display_name;  // for people, e.g. "Human temporal bone"
+  std::string description;   // optional longer text, empty when absent
   std::string source;        // where the numbers come from
   sim::Material material;    // the parameters swapped into the simulator
 };
@@ -25,8 +27,8 @@ struct MaterialSet {
 Result<MaterialSet> ParseMaterial(std::string_view path, std::string_view text);
 // Reads and parses a material file from disk.
 Result<MaterialSet> LoadMaterialFile(const std::string& path);
-// A built-in material by name; an unknown name gets the list of known ones and a
-// "did you mean" suggestion.
+// A built-in material by name; an unknown name gets the list of known ones and
+// a "did you mean" suggestion.
 Result<MaterialSet> LoadBuiltinMaterial(std::string_view name);
 // Names of the built-in materials, sorted.
 std::vector<std::string> BuiltinMaterialNames();

@@ -1,0 +1,365 @@
+// The burrlab command line as a user meets it: usage, version, "did you
+// mean", one-line errors with exit code 1, and the output of the sim commands.
+#include "burrlab/runner/cli.h"
+
+#include "burrlab_version.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "burrlab/stimuli/materials.h"
+
+namespace burrlab::runner {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+struct CliRun {
+  int code = -1;
+  std::string out;
+  std::string err;
+};
+
+CliRun RunBurrlab(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  CliRun run;
+  run.code = RunCli(args, out, err);
+  run.out = out.str();
+  run.err = err.str();
+  return run;
+}
+
+// Expects exit code 1, nothing on stdout and exactly `line` on stderr.
+void ExpectError(const std::vector<std::string>& args,
+                 const std::string& line) {
+  const CliRun run = RunBurrlab(args);
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.out, "");
+  EXPECT_EQ(run.err, line + "\n");
+}
+
+std::vector<std::string> SplitLines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream stream(text);
+  for (std::string line; std::getline(stream, line);) lines.push_back(line);
+  return lines;
+}
+
+std::vector<double> SplitCsvNumbers(const std::string& line) {
+  std::vector<double> numbers;
+  std::istringstream stream(line);
+  for (std::string field; std::getline(stream, field, ',');) {
+    numbers.push_back(std::stod(field));
+  }
+  return numbers;
+}
+
+// A force curve with the constants given on the command line.
+std::vector<std::string> ForceCurve(std::vector<std::string> more) {
+  std::vector<std::string> args = {"sim", "force-curve", "--c-e",
+                                   "2",   "--radius-mm", "3"};
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
+// A short descent with the constants given on the command line.
+std::vector<std::string> Descent(std::vector<std::string> more) {
+  std::vector<std::string> args = {
+      "sim",       "descent", "--c-e",       "2.145", "--alpha",      "0.087",
+      "--force-n", "2",       "--radius-mm", "3",     "--duration-s", "2"};
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
+TEST(Cli, BareHelpFlagAndHelpCommandListEveryCommand) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{}, std::vector<std::string>{"--help"},
+        std::vector<std::string>{"help"}}) {
+    const CliRun run = RunBurrlab(args);
+    EXPECT_EQ(run.code, 0);
+    EXPECT_EQ(run.err, "");
+    EXPECT_THAT(run.out, StartsWith("usage: burrlab <command> [flags]\n"));
+    EXPECT_THAT(run.out, HasSubstr("\n  demo "));
+    EXPECT_THAT(run.out, HasSubstr("\n  sim "));
+    EXPECT_THAT(run.out, HasSubstr("\n  help "));
+  }
+}
+
+TEST(Cli, HelpOfOneCommandShowsItsFlags) {
+  const CliRun run = RunBurrlab({"help", "sim", "force-curve"});
+  EXPECT_EQ(run.code, 0);
+  EXPECT_THAT(run.out, HasSubstr("--radius-mm"));
+  EXPECT_THAT(run.out, HasSubstr("--normal"));
+}
+
+TEST(Cli, SimWithoutCommandListsTheSimCommands) {
+  const CliRun run = RunBurrlab({"sim"});
+  EXPECT_EQ(run.code, 0);
+  EXPECT_THAT(run.out, StartsWith("usage: burrlab sim <command> [flags]\n"));
+  EXPECT_THAT(run.out, HasSubstr("\n  force-curve "));
+  EXPECT_THAT(run.out, HasSubstr("\n  descent "));
+  EXPECT_THAT(run.out, HasSubstr("\n  bench "));
+}
+
+TEST(Cli, VersionPrintsNameAndVersion) {
+  const CliRun run = RunBurrlab({"--version"});
+  EXPECT_EQ(run.code, 0);
+  EXPECT_EQ(run.out, "burrlab " BURRLAB_VERSION "\n");
+  EXPECT_EQ(run.err, "");
+}
+
+TEST(Cli, MisspelledCommandGetsDidYouMean) {
+  ExpectError({"dmeo"},
+              "burrlab: unknown command 'dmeo' (did you mean 'demo'?)");
+}
+
+TEST(Cli, MisspelledSimCommandGetsDidYouMean) {
+  ExpectError({"sim", "desent"},
+              "burrlab: unknown command 'sim desent' (did you mean 'sim "
+              "descent'?)");
+}
+
+TEST(Cli, UnknownCommandWithNothingCloseGetsNoSuggestion) {
+  ExpectError({"xyzzy"},
+              "burrlab: unknown command 'xyzzy' (see 'burrlab help')");
+}
+
+TEST(Cli, MisspelledFlagGetsDidYouMean) {
+  ExpectError(ForceCurve({"--radus-mm", "2"}),
+              "burrlab: unknown flag '--radus-mm' for 'burrlab sim "
+              "force-curve' (did you mean '--radius-mm'?)");
+}
+
+TEST(Cli, UnknownMaterialReportsTheMaterialLibrarysMessage) {
+  const std::string message =
+      stimuli::LoadBuiltinMaterial("granite").error().message;
+  ExpectError(
+      {"sim", "force-curve", "--material", "granite", "--radius-mm", "3"},
+      "burrlab: " + message);
+}
+
+TEST(Cli, RepeatedFlagIsRejected) {
+  ExpectError(ForceCurve({"--radius-mm=2"}),
+              "burrlab: --radius-mm given 2 times; give it once");
+}
+
+TEST(Cli, ZeroRadiusIsRejected) {
+  ExpectError({"sim", "force-curve", "--c-e", "2", "--radius-mm", "0"},
+              "burrlab: --radius-mm must be a positive number of mm, got '0'");
+}
+
+TEST(Cli, NegativeRadiusIsRejected) {
+  ExpectError({"sim", "force-curve", "--c-e", "2", "--radius-mm", "-1"},
+              "burrlab: --radius-mm must be a positive number of mm, got '-1'");
+}
+
+TEST(Cli, RadiusAboveTenMmIsRejected) {
+  ExpectError({"sim", "force-curve", "--c-e", "2", "--radius-mm", "11"},
+              "burrlab: --radius-mm must be at most 10 mm, got '11'");
+}
+
+TEST(Cli, NanElasticConstantIsRejected) {
+  ExpectError({"sim", "force-curve", "--c-e", "nan", "--radius-mm", "3"},
+              "burrlab: --c-e must be a finite number, got 'nan'");
+}
+
+TEST(Cli, InfiniteElasticConstantIsRejected) {
+  ExpectError({"sim", "force-curve", "--c-e", "inf", "--radius-mm", "3"},
+              "burrlab: --c-e must be a finite number, got 'inf'");
+}
+
+TEST(Cli, OverflowingForceIsRejected) {
+  ExpectError({"sim", "descent", "--c-e", "2", "--alpha", "0.1", "--force-n",
+               "1e999", "--radius-mm", "3"},
+              "burrlab: --force-n must be a finite number, got '1e999'");
+}
+
+TEST(Cli, NumberWithTrailingCharactersIsRejected) {
+  ExpectError({"sim", "force-curve", "--c-e", "2", "--radius-mm", "3mm"},
+              "burrlab: --radius-mm must be a finite number, got '3mm'");
+}
+
+TEST(Cli, FewerThanTwoPointsAreRejected) {
+  ExpectError(ForceCurve({"--points", "1"}),
+              "burrlab: --points must be a whole number from 2 to 100000, got "
+              "'1'");
+}
+
+TEST(Cli, ZeroNormalIsRejected) {
+  ExpectError(ForceCurve({"--normal", "0,0,0"}),
+              "burrlab: --normal must not be the zero vector, got '0,0,0'");
+}
+
+TEST(Cli, NormalWithTwoComponentsIsRejected) {
+  ExpectError(ForceCurve({"--normal", "1,2"}),
+              "burrlab: --normal must be three comma-separated numbers X,Y,Z, "
+              "got '1,2'");
+}
+
+TEST(Cli, MaterialAndElasticConstantAreMutuallyExclusive) {
+  ExpectError(ForceCurve({"--material", "pvc_k70"}),
+              "burrlab: --material and --c-e are mutually exclusive; give "
+              "--material NAME or --c-e X");
+}
+
+TEST(Cli, ForceCurveNeedsMaterialOrElasticConstant) {
+  ExpectError({"sim", "force-curve", "--radius-mm", "3"},
+              "burrlab: no material: give --material NAME or --c-e X");
+}
+
+TEST(Cli, DescentNeedsAlphaWithElasticConstant) {
+  ExpectError(
+      {"sim", "descent", "--c-e", "2", "--force-n", "1", "--radius-mm", "3"},
+      "burrlab: --c-e needs --alpha Y, the erosion constant in 1/s");
+}
+
+TEST(Cli, MissingRequiredFlagIsOneLine) {
+  ExpectError({"sim", "force-curve", "--c-e", "2"},
+              "burrlab: --radius-mm is required (see 'burrlab sim force-curve "
+              "--help')");
+}
+
+TEST(Cli, SwitchWithValueIsRejected) {
+  ExpectError({"sim", "bench", "--json=5"},
+              "burrlab: --json takes no value, got '--json=5'");
+}
+
+TEST(ForceCurveCommand, PrintsHeaderAndOneRowPerPoint) {
+  const CliRun run = RunBurrlab(ForceCurve({"--points", "5"}));
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_EQ(run.err, "");
+  const std::vector<std::string> lines = SplitLines(run.out);
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_EQ(lines[0], "depth_mm,h_mm,m0_mm3,force_n");
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const std::vector<double> row = SplitCsvNumbers(lines[i]);
+    ASSERT_EQ(row.size(), 4u) << lines[i];
+    // Evenly spaced up to R = 3 mm.
+    EXPECT_NEAR(row[0], 0.6 * static_cast<double>(i), 1e-9);
+  }
+}
+
+TEST(ForceCurveCommand, ForceIsTheElasticLawOfTheEstimatedDepth) {
+  // F = c_e R^2 (h/R)^1.5 (eq. 7.3) with c_e = 2 N/mm^2, R = 3 mm; the CSV
+  // keeps six significant digits.
+  const CliRun run =
+      RunBurrlab(ForceCurve({"--points", "4", "--method", "mono"}));
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::vector<std::string> lines = SplitLines(run.out);
+  ASSERT_EQ(lines.size(), 5u);
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const std::vector<double> row = SplitCsvNumbers(lines[i]);
+    ASSERT_EQ(row.size(), 4u);
+    const double expected = 2.0 * 9.0 * std::pow(row[1] / 3.0, 1.5);
+    EXPECT_NEAR(row[3], expected, 1e-5 * expected + 1e-9) << lines[i];
+  }
+}
+
+TEST(ForceCurveCommand, MaterialUsesItsElasticConstant) {
+  // Waits on the built-in materials: PVC K70, c_e = 0.462 N/mm^2 (§8.7).
+  const CliRun run = RunBurrlab({"sim", "force-curve", "--material", "pvc_k70",
+                                 "--radius-mm", "3", "--points", "3"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::vector<std::string> lines = SplitLines(run.out);
+  ASSERT_EQ(lines.size(), 4u);
+  const std::vector<double> row = SplitCsvNumbers(lines.back());
+  ASSERT_EQ(row.size(), 4u);
+  const double expected = 0.462 * 9.0 * std::pow(row[1] / 3.0, 1.5);
+  EXPECT_NEAR(row[3], expected, 1e-5 * expected);
+}
+
+TEST(DescentCommand, JsonHasInputsAndResults) {
+  const CliRun run = RunBurrlab(Descent({"--seed", "7", "--json"}));
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  for (const char* key :
+       {"material", "c_e_n_per_mm2", "alpha_per_s", "force_n", "radius_mm",
+        "spindle_rad_s", "voxel_mm", "duration_s", "seed", "steady_reached",
+        "steady_velocity_mm_s", "final_depth_mm", "removed_mm3", "steps"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_TRUE(j["material"].is_null());
+  EXPECT_DOUBLE_EQ(j["c_e_n_per_mm2"].get<double>(), 2.145);
+  EXPECT_DOUBLE_EQ(j["alpha_per_s"].get<double>(), 0.087);
+  EXPECT_DOUBLE_EQ(j["force_n"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(j["radius_mm"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 2.0);
+  EXPECT_EQ(j["seed"].get<std::uint64_t>(), 7u);
+  EXPECT_GT(j["steps"].get<std::int64_t>(), 0);
+  // Two seconds after contact are too short to stay deeper than R/3 for the
+  // measurement: no steady velocity, and a warning says why.
+  EXPECT_FALSE(j["steady_reached"].get<bool>());
+  EXPECT_TRUE(j["steady_velocity_mm_s"].is_null());
+  EXPECT_THAT(run.err, StartsWith("burrlab: warning: no steady velocity"));
+  EXPECT_EQ(SplitLines(run.err).size(), 1u);
+}
+
+TEST(DescentCommand, JsonNamesTheBuiltinMaterial) {
+  // Waits on the built-in materials.
+  const CliRun run =
+      RunBurrlab({"sim", "descent", "--material", "pvc_k70", "--force-n", "2",
+                  "--radius-mm", "3", "--duration-s", "1", "--json"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["material"], "pvc_k70");
+  EXPECT_DOUBLE_EQ(j["c_e_n_per_mm2"].get<double>(), 0.462);
+  EXPECT_DOUBLE_EQ(j["alpha_per_s"].get<double>(), 0.296);
+}
+
+TEST(DescentCommand, TraceWritesCsvWithHeader) {
+  const std::string path =
+      (std::filesystem::path(testing::TempDir()) / "burrlab_cli_trace.csv")
+          .string();
+  const CliRun run = RunBurrlab(Descent({"--trace", path}));
+  ASSERT_EQ(run.code, 0) << run.err;
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::vector<std::string> lines = SplitLines(text.str());
+  ASSERT_GT(lines.size(), 10u);
+  EXPECT_EQ(lines[0], "t_s,depth_mm,force_n,velocity_mm_s");
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    ASSERT_EQ(SplitCsvNumbers(lines[i]).size(), 4u) << lines[i];
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(DescentCommand, UnwritableTraceIsOneErrorLine) {
+  const CliRun run =
+      RunBurrlab(Descent({"--trace", "/nonexistent-dir/trace.csv"}));
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.out, "");
+  EXPECT_THAT(run.err, StartsWith("burrlab: cannot write --trace file "
+                                  "'/nonexistent-dir/trace.csv'"));
+  EXPECT_EQ(SplitLines(run.err).size(), 1u);
+}
+
+TEST(BenchCommand, JsonHasEveryDefaultCase) {
+  const CliRun run = RunBurrlab({"sim", "bench", "--json", "--steps", "20"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_EQ(run.err, "");  // no progress bar unless stderr is a terminal
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["steps"], 20);
+  EXPECT_TRUE(j["hardware_threads"].is_number_integer());
+  ASSERT_EQ(j["cases"].size(), 16u);
+  for (const nlohmann::json& c : j["cases"]) {
+    EXPECT_TRUE(c["method"] == "mono" || c["method"] == "octree") << c;
+    EXPECT_TRUE(c["task"] == "probe" || c["task"] == "drill") << c;
+    EXPECT_GT(c["radius_mm"].get<double>(), 0.0);
+    EXPECT_GT(c["median_us"].get<double>(), 0.0);
+    EXPECT_GE(c["p99_us"].get<double>(), c["median_us"].get<double>());
+    EXPECT_GE(c["max_us"].get<double>(), c["p99_us"].get<double>());
+  }
+}
+
+}  // namespace
+}  // namespace burrlab::runner

@@ -5,11 +5,11 @@
 #include <exception>
 #include <string_view>
 
+#include "burrlab/sim/spelling.h"
 #include "burrlab_version.h"
 #include "command_table.h"
 #include "demo.h"
 #include "sim_commands.h"
-#include "spelling.h"
 
 namespace burrlab::runner {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "spelling.h"
+#include "burrlab/sim/spelling.h"
 
 namespace burrlab::runner {
 

@@ -11,7 +11,7 @@
 #include <system_error>
 #include <utility>
 
-#include "spelling.h"
+#include "burrlab/sim/spelling.h"
 
 namespace burrlab::runner {
 namespace {

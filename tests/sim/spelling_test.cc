@@ -1,12 +1,12 @@
 // "Did you mean": which names count as close to what was typed.
-#include "spelling.h"  // private to burrlab::runner
+#include "burrlab/sim/spelling.h"
 
 #include <gtest/gtest.h>
 
 #include <string_view>
 #include <vector>
 
-namespace burrlab::runner {
+namespace burrlab {
 namespace {
 
 const std::vector<std::string_view> kCommands = {"demo", "sim", "help"};
@@ -42,4 +42,4 @@ TEST(DidYouMean, ShortWordsNeedFewerEditsThanTheirLength) {
 }
 
 }  // namespace
-}  // namespace burrlab::runner
+}  // namespace burrlab

@@ -1,14 +1,14 @@
 // Edit distance and "did you mean" suggestions.
-#include "spelling.h"
+#include "burrlab/sim/spelling.h"
 
 #include <algorithm>
 #include <vector>
 
-namespace burrlab::runner {
+namespace burrlab {
 
+// Edits (insert, delete, replace, swap two adjacent characters) turning `a`
+// into `b`: optimal string alignment distance.
 std::size_t EditDistance(std::string_view a, std::string_view b) {
-  // d[i][j]: edits turning a[0, i) into b[0, j); three rows suffice for the
-  // adjacent swap.
   const std::size_t n = b.size();
   std::vector<std::size_t> before(n + 1), previous(n + 1), current(n + 1);
   for (std::size_t j = 0; j <= n; ++j) previous[j] = j;
@@ -28,9 +28,15 @@ std::size_t EditDistance(std::string_view a, std::string_view b) {
   return previous[n];
 }
 
+// The candidate closest to `typed` within two edits (and fewer edits than
+// `typed` has characters), else the only candidate starting with `typed`
+// (two characters or more); empty when nothing is close.
 std::string_view DidYouMean(std::string_view typed,
                             std::span<const std::string_view> candidates) {
   constexpr std::size_t kMaxEdits = 2;
+  // Long hostile keys would make the quadratic distance slow for nothing.
+  constexpr std::size_t kMaxTypedLength = 64;
+  if (typed.size() > kMaxTypedLength) return {};
   std::string_view best;
   std::size_t best_distance = kMaxEdits + 1;
   for (std::string_view candidate : candidates) {
@@ -40,12 +46,14 @@ std::string_view DidYouMean(std::string_view typed,
       best_distance = distance;
     }
   }
-  if (!best.empty()) return best;
-  if (typed.empty()) return {};
+  if (!best.empty() || typed.size() < 2) return best;
+  std::string_view prefixed;
   for (std::string_view candidate : candidates) {
-    if (candidate.starts_with(typed)) return candidate;
+    if (!candidate.starts_with(typed)) continue;
+    if (!prefixed.empty()) return {};  // ambiguous
+    prefixed = candidate;
   }
-  return {};
+  return prefixed;
 }
 
-}  // namespace burrlab::runner
+}  // namespace burrlab

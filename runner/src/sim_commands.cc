@@ -17,6 +17,7 @@
 #include "burrlab/sim/bench.h"
 #include "burrlab/sim/descent.h"
 #include "burrlab/sim/force_curve.h"
+#include "burrlab/sim/nrrd.h"
 #include "burrlab/stimuli/materials.h"
 #include "flags.h"
 #include "progress.h"
@@ -36,8 +37,16 @@ std::string MaterialFlagHelp() {
   for (const std::string& name : stimuli::BuiltinMaterialNames()) {
     names += (names.empty() ? "" : ", ") + name;
   }
-  return names.empty() ? "built-in material set"
-                       : "built-in material set: " + names;
+  return "built-in material set (" + names +
+         ") or the path of a material file (*.toml)";
+}
+
+// A material by built-in name, or from a file when the argument is a path.
+Result<stimuli::MaterialSet> LoadMaterial(const std::string& name_or_path) {
+  const bool is_path = name_or_path.ends_with(".toml") ||
+                       name_or_path.find('/') != std::string::npos;
+  return is_path ? stimuli::LoadMaterialFile(name_or_path)
+                 : stimuli::LoadBuiltinMaterial(name_or_path);
 }
 
 // Exactly one way of naming the material: --material NAME, or the constants
@@ -135,8 +144,7 @@ int RunForceCurve(const Args& args, std::ostream& out, std::ostream& err) {
   options.method =
       method == 0 ? sim::MomentMethod::kMono : sim::MomentMethod::kOctree;
   if (flags.Given("--material")) {
-    Result<stimuli::MaterialSet> set =
-        stimuli::LoadBuiltinMaterial(material_name);
+    Result<stimuli::MaterialSet> set = LoadMaterial(material_name);
     if (!set.ok()) return Fail(err, set.error().message);
     options.c_e_n_per_mm2 = set->material.c_e_n_per_mm2;
   }
@@ -236,8 +244,7 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
   }
   const bool by_name = flags.Given("--material");
   if (by_name) {
-    Result<stimuli::MaterialSet> set =
-        stimuli::LoadBuiltinMaterial(material_name);
+    Result<stimuli::MaterialSet> set = LoadMaterial(material_name);
     if (!set.ok()) return Fail(err, set.error().message);
     options.material = set->material;
     material_name = set->name;
@@ -409,6 +416,80 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+// `burrlab sim volume FILE.nrrd`: loads a CT-derived volume as the simulator
+// would and summarises it, so users can check a scan and its mapping.
+int RunVolume(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Loads an NRRD volume (raw or gzip, 8- or 16-bit) with a threshold or a "
+      "linear intensity-to-occupancy mapping and prints its extents, voxel "
+      "size and material volume.",
+      "burrlab sim volume"};
+  std::string path, range;
+  double threshold = 0.0;
+  bool json = false;
+  FlagSet flags(&app);
+  app.add_option("file", path, "the NRRD file")->required();
+  flags.AddNonNegative("--threshold",
+                       "intensity at and above which a voxel is solid",
+                       "intensity units", &threshold);
+  flags
+      .AddText("--range",
+               "LO,HI: occupancy rises linearly from 0 at LO to 255 at HI",
+               &range)
+      ->type_name("LO,HI");
+  flags.AddSwitch("--json", "print the summary as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  sim::IntensityMapping mapping;
+  if (flags.Given("--threshold") == flags.Given("--range")) {
+    return Fail(err, "give exactly one of --threshold T and --range LO,HI");
+  }
+  if (flags.Given("--threshold")) {
+    mapping.kind = sim::IntensityMapping::Kind::kThreshold;
+    mapping.threshold = threshold;
+  } else {
+    const std::size_t comma = range.find(',');
+    Result<double> low = ParseNumber("--range", range.substr(0, comma));
+    Result<double> high = comma == std::string::npos
+                              ? Result<double>(Error{})
+                              : ParseNumber("--range", range.substr(comma + 1));
+    if (!low.ok() || !high.ok() || !(*low < *high)) {
+      return Fail(
+          err,
+          fmt::format("--range must be LO,HI with LO < HI, got '{}'", range));
+    }
+    mapping.kind = sim::IntensityMapping::Kind::kLinear;
+    mapping.low = *low;
+    mapping.high = *high;
+  }
+  Result<sim::Volume> volume = sim::LoadNrrd(path, mapping);
+  if (!volume.ok()) return Fail(err, volume.error().message);
+  std::size_t occupied = 0, solid = 0;
+  for (std::size_t n = 0; n < volume->size(); ++n) {
+    occupied += volume->occupancy()[n] > 0;
+    solid += volume->occupancy()[n] == sim::kSolidOccupancy;
+  }
+  if (json) {
+    nlohmann::ordered_json j;
+    j["file"] = path;
+    j["extents"] = {volume->nx(), volume->ny(), volume->nz()};
+    j["voxel_mm"] = volume->voxel_mm();
+    j["material_mm3"] = volume->MaterialMm3();
+    j["occupied_voxels"] = occupied;
+    j["solid_voxels"] = solid;
+    out << j.dump(2) << '\n';
+    return 0;
+  }
+  out << fmt::format("file             {}\n", path);
+  out << fmt::format("extents          {} x {} x {} voxels\n", volume->nx(),
+                     volume->ny(), volume->nz());
+  out << fmt::format("voxel            {} mm\n", volume->voxel_mm());
+  out << fmt::format("material         {:.4g} mm^3 (solid-equivalent)\n",
+                     volume->MaterialMm3());
+  out << fmt::format("occupied voxels  {} ({} solid)\n", occupied, solid);
+  return 0;
+}
+
 int RunSimHelp(const Args& args, std::ostream& out, std::ostream& err);
 
 constexpr Command kSimCommands[] = {
@@ -422,6 +503,8 @@ constexpr Command kSimCommands[] = {
      "time simulator steps: mono and octree x R = 1, 2, 3, 5 mm x probe and "
      "drill",
      RunBench},
+    {"volume", "load an NRRD volume with an intensity mapping and summarise it",
+     RunVolume},
     {"help", "list the sim commands; 'sim help COMMAND' shows the flags of one",
      RunSimHelp},
 };

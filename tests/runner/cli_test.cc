@@ -2,8 +2,6 @@
 // mean", one-line errors with exit code 1, and the output of the sim commands.
 #include "burrlab/runner/cli.h"
 
-#include "burrlab_version.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -16,6 +14,7 @@
 #include <vector>
 
 #include "burrlab/stimuli/materials.h"
+#include "burrlab_version.h"
 
 namespace burrlab::runner {
 namespace {
@@ -359,6 +358,117 @@ TEST(BenchCommand, JsonHasEveryDefaultCase) {
     EXPECT_GE(c["p99_us"].get<double>(), c["median_us"].get<double>());
     EXPECT_GE(c["max_us"].get<double>(), c["p99_us"].get<double>());
   }
+}
+
+}  // namespace
+}  // namespace burrlab::runner
+
+namespace burrlab::runner {
+namespace {
+
+// A fresh folder under the system's temporary directory.
+std::filesystem::path TempDir(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      ("burrlab_cli_" + name + "_" +
+       std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+void WriteFile(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream file(path, std::ios::binary);
+  file << bytes;
+}
+
+const char kMaterialFile[] = R"(format = "burrlab-material/1"
+name = "soft_test"
+display_name = "Soft test material"
+[parameters.c_e]
+value = 1.0
+unit = "N/mm^2"
+source = "test"
+[parameters.alpha]
+value = 0.2
+unit = "1/s"
+source = "test"
+[parameters.c_mu]
+value = 0.3
+unit = "N/mm^2"
+source = "test"
+[parameters.mu]
+value = 0.5
+unit = "1"
+source = "test"
+[parameters.c_i]
+value = 0.0
+unit = "N*s/mm^3"
+source = "test"
+)";
+
+TEST(ForceCurveCommand, MaterialMayBeAFile) {
+  const std::filesystem::path dir = TempDir("material");
+  WriteFile(dir / "soft.toml", kMaterialFile);
+  const CliRun run = RunBurrlab({"sim", "force-curve", "--material",
+                                 (dir / "soft.toml").string(), "--radius-mm",
+                                 "3", "--points", "2"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::vector<std::string> lines = SplitLines(run.out);
+  ASSERT_EQ(lines.size(), 3u);
+  const std::vector<double> row = SplitCsvNumbers(lines[2]);
+  // c_e = 1: F = R^2 (h/R)^1.5 at h = R.
+  EXPECT_NEAR(row[3], 9.0 * std::pow(row[1] / 3.0, 1.5), 1e-3);
+}
+
+TEST(ForceCurveCommand, MaterialFileWithAMissingKeyIsOneErrorLine) {
+  const std::filesystem::path dir = TempDir("bad_material");
+  std::string text = kMaterialFile;
+  text.replace(text.find("[parameters.alpha]"),
+               std::string("[parameters.alpha]").size(), "[parameters.alpah]");
+  WriteFile(dir / "bad.toml", text);
+  const std::string path = (dir / "bad.toml").string();
+  ExpectError({"sim", "force-curve", "--material", path, "--radius-mm", "3"},
+              "burrlab: " + path +
+                  ":8:1: error: unknown key 'parameters.alpah' (did you mean "
+                  "'alpha'?)");
+}
+
+TEST(VolumeCommand, SummarisesAnNrrdVolume) {
+  const std::filesystem::path dir = TempDir("volume");
+  std::string data(4 * 4 * 2, '\0');
+  for (std::size_t n = 0; n < 16; ++n)
+    data[n] = static_cast<char>(200);  // lower slice
+  WriteFile(dir / "scan.nrrd",
+            "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 2\n"
+            "spacings: 0.5 0.5 0.5\nencoding: raw\n\n" +
+                data);
+  const CliRun run = RunBurrlab({"sim", "volume", (dir / "scan.nrrd").string(),
+                                 "--threshold", "100", "--json"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["extents"], nlohmann::json::array({4, 4, 2}));
+  EXPECT_DOUBLE_EQ(j["voxel_mm"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(j["material_mm3"].get<double>(), 16 * 0.125);
+  EXPECT_EQ(j["solid_voxels"].get<int>(), 16);
+}
+
+TEST(VolumeCommand, TruncatedNrrdIsOneErrorLine) {
+  const std::filesystem::path dir = TempDir("truncated");
+  const std::string path = (dir / "cut.nrrd").string();
+  WriteFile(
+      path,
+      "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 2\nencoding: raw\n\n" +
+          std::string(20, 'x'));
+  ExpectError({"sim", "volume", path, "--range", "0,255"},
+              "burrlab: " + path + ": raw data: expected 32 bytes, got 20");
+}
+
+TEST(VolumeCommand, NeedsExactlyOneMapping) {
+  ExpectError({"sim", "volume", "x.nrrd"},
+              "burrlab: give exactly one of --threshold T and --range LO,HI");
+  ExpectError({"sim", "volume", "x.nrrd", "--range", "5,1"},
+              "burrlab: --range must be LO,HI with LO < HI, got '5,1'");
 }
 
 }  // namespace

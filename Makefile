@@ -6,7 +6,8 @@ JOBS ?= 2
 CMAKE_FLAGS ?=
 
 PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchmark-dev \
-  libboost-random-dev libboost-math-dev libglm-dev zlib1g-dev libtomlplusplus-dev \
+  libboost-random-dev libboost-math-dev libglm-dev zlib1g-dev libtomlplusplus-dev libstb-dev \
+  fonts-dejavu-core \
   nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -38,7 +39,7 @@ build-asan: deps $(BUILD_DIR)/asan/build.ninja
 	cmake --build $(BUILD_DIR)/asan -j $(JOBS)
 
 demo: build
-	$(BUILD_DIR)/release/runner/burrlab demo
+	$(BUILD_DIR)/release/runner/burrlab demo --plots $(BUILD_DIR)/demo
 
 test-release: build
 	cd $(BUILD_DIR)/release && ctest --output-on-failure -j $(JOBS)

@@ -8,10 +8,13 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <filesystem>
 #include <future>
 #include <string>
 #include <vector>
 
+#include "burrlab/analysis/plot.h"
 #include "burrlab/sim/descent.h"
 #include "burrlab/sim/force_curve.h"
 #include "burrlab/stimuli/materials.h"
@@ -152,6 +155,92 @@ void PrintDescents(const std::vector<stimuli::MaterialSet>& sets,
   }
 }
 
+// The demo's figures: force-depth curves with the closed form of eq. 7.3, the
+// depth-time traces of the descents at the middle force (fig. 8.6), and steady
+// velocity against force (figs. 8.7-8.9).
+Result<std::vector<std::string>> WritePlots(
+    const std::vector<stimuli::MaterialSet>& sets,
+    const std::vector<std::vector<sim::ForceCurvePoint>>& curves,
+    const DescentTable& table, const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) {
+    return Error{
+        fmt::format("cannot create folder {}: {}", dir, error.message())};
+  }
+  std::vector<std::string> written;
+  const auto write = [&](const analysis::LinePlot& plot,
+                         const std::string& name) -> Status {
+    const std::string path = (std::filesystem::path(dir) / name).string();
+    if (Status s = analysis::WritePlotPng(plot, path); !s.ok()) return s;
+    written.push_back(path);
+    return {};
+  };
+
+  analysis::LinePlot force;
+  force.title = fmt::format(
+      "Force against depth, R = {} mm (points: simulator; lines: c_e R^2 "
+      "(h/R)^1.5)",
+      kRadiusMm);
+  force.x_label = "immersion depth (mm)";
+  force.y_label = "elastic force (N)";
+  for (std::size_t m = 0; m < sets.size(); ++m) {
+    const int colour = static_cast<int>(m);
+    analysis::Series points{Label(sets[m]), {}, {}, false, true, colour};
+    analysis::Series closed{"", {}, {}, true, false, colour};
+    for (int i = 0; i <= 60; ++i) {
+      const double depth = kRadiusMm * i / 60.0;
+      closed.x.push_back(depth);
+      closed.y.push_back(sets[m].material.c_e_n_per_mm2 * kRadiusMm *
+                         kRadiusMm * std::pow(depth / kRadiusMm, 1.5));
+    }
+    for (const sim::ForceCurvePoint& p : curves[m]) {
+      points.x.push_back(p.depth_mm);
+      points.y.push_back(p.force_n);
+    }
+    force.series.push_back(std::move(points));
+    force.series.push_back(std::move(closed));
+  }
+  if (Status s = write(force, "force_depth.png"); !s.ok()) return s.error();
+
+  analysis::LinePlot depth;
+  const std::size_t middle = kForcesN.size() / 2;
+  depth.title = fmt::format(
+      "Constant-force descent at {} N, R = {} mm: depth below the surface",
+      kForcesN[middle], kRadiusMm);
+  depth.x_label = "time (s)";
+  depth.y_label = "depth (mm)";
+  for (std::size_t m = 0; m < sets.size(); ++m) {
+    analysis::Series trace{Label(sets[m]), {}, {}, true, false};
+    for (const sim::DescentSample& sample : table[m][middle].trace) {
+      trace.x.push_back(sample.t_s);
+      trace.y.push_back(sample.depth_mm);
+    }
+    depth.series.push_back(std::move(trace));
+  }
+  if (Status s = write(depth, "descent_depth.png"); !s.ok()) return s.error();
+
+  analysis::LinePlot velocity;
+  velocity.title = fmt::format(
+      "Steady penetration velocity against force, R = {} mm", kRadiusMm);
+  velocity.x_label = "force (N)";
+  velocity.y_label = "steady velocity (mm/s, log scale)";
+  velocity.log_y = true;
+  for (std::size_t m = 0; m < sets.size(); ++m) {
+    analysis::Series series{Label(sets[m]), {}, {}, true, true};
+    for (std::size_t f = 0; f < kForcesN.size(); ++f) {
+      if (!table[m][f].steady_reached) continue;
+      series.x.push_back(kForcesN[f]);
+      series.y.push_back(table[m][f].steady_velocity_mm_s);
+    }
+    velocity.series.push_back(std::move(series));
+  }
+  if (Status s = write(velocity, "descent_velocity.png"); !s.ok()) {
+    return s.error();
+  }
+  return written;
+}
+
 }  // namespace
 
 int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
@@ -161,8 +250,19 @@ int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "whether their steady velocities keep the order PVC > Pettigrew > "
       "bone (dissertation §8.7).",
       "burrlab demo"};
+  std::string plots_dir;
   FlagSet flags(&app);
+  flags
+      .AddText("--plots",
+               "folder for PNG figures: force_depth.png, descent_depth.png, "
+               "descent_velocity.png (created if missing; files replaced)",
+               &plots_dir)
+      ->type_name("DIR");
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--plots") && plots_dir.empty()) {
+    return Fail(err, "--plots needs a folder name, got ''");
+  }
 
   // Loaded in table order: bone, Pettigrew, PVC.
   std::vector<stimuli::MaterialSet> sets;
@@ -232,6 +332,13 @@ int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
   PrintMaterials(sets, out);
   PrintForceCurves(sets, curves, curve_options, out);
   PrintDescents(sets, table, descent_options, out);
+  if (!plots_dir.empty()) {
+    Result<std::vector<std::string>> written =
+        WritePlots(sets, curves, table, plots_dir);
+    if (!written.ok()) return Fail(err, "demo: " + written.error().message);
+    out << "\nFigures:\n";
+    for (const std::string& path : *written) out << "  " << path << "\n";
+  }
   return 0;
 }
 

@@ -473,3 +473,20 @@ TEST(VolumeCommand, NeedsExactlyOneMapping) {
 
 }  // namespace
 }  // namespace burrlab::runner
+
+namespace burrlab::runner {
+namespace {
+
+TEST(DemoCommand, PrintsTheOrderCheckAndWritesThreeFigures) {
+  const std::filesystem::path dir = TempDir("demo") / "figures";
+  const CliRun run = RunBurrlab({"demo", "--plots", dir.string()});
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("at 4 N:  PVC > Pettigrew > bone holds"));
+  for (const char* name :
+       {"force_depth.png", "descent_depth.png", "descent_velocity.png"}) {
+    EXPECT_GT(std::filesystem::file_size(dir / name), 1000u) << name;
+  }
+}
+
+}  // namespace
+}  // namespace burrlab::runner

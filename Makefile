@@ -38,7 +38,8 @@ build: deps $(BUILD_DIR)/release/build.ninja
 build-asan: deps $(BUILD_DIR)/asan/build.ninja
 	cmake --build $(BUILD_DIR)/asan -j $(JOBS)
 
-demo: build
+demo: deps $(BUILD_DIR)/release/build.ninja
+	cmake --build $(BUILD_DIR)/release -j $(JOBS) --target burrlab
 	$(BUILD_DIR)/release/runner/burrlab demo --plots $(BUILD_DIR)/demo
 
 test-release: build

@@ -6,6 +6,7 @@ find_package(tomlplusplus 3 REQUIRED)                # tomlplusplus::tomlplusplu
 find_package(nlohmann_json 3.11 REQUIRED)            # nlohmann_json::nlohmann_json
 find_package(CLI11 REQUIRED)                         # CLI11::CLI11
 find_package(fmt REQUIRED)                           # fmt::fmt
+find_package(SQLite3 REQUIRED)                       # SQLite::SQLite3, the session journal
 if(BURRLAB_BUILD_TESTS)
   find_package(GTest REQUIRED)                       # GTest::gtest GTest::gtest_main
   find_package(benchmark REQUIRED)                   # benchmark::benchmark

@@ -1,0 +1,121 @@
+// The session journal: one SQLite database per subject at
+// DIR/sub-<label>/journal.sqlite (WAL, synchronous=FULL, foreign keys on), one
+// transaction per completed trial. A crash or SIGKILL loses at most the trial
+// being appended, never half a trial; `burrlab run --resume` reopens the
+// journal, checks it belongs to the same protocol and seed, and continues from
+// Trials().size() with the last trial's rng_state.
+//
+// Tables (schema version 1; every statement is parametrized):
+//   schema_version(version, written_by)          one row
+//   session(id = 1, study, protocol_path, protocol_sha256, subject_label,
+//           master_seed TEXT (decimal), burrlab_version, started_utc)
+//   trial(trial_index PRIMARY KEY, the TrialRecord fields, interval_materials
+//         and extra as JSON text, committed_utc)
+//   trace(trial_index REFERENCES trial, interval_index, sampling_frequency_hz,
+//         start_time_s, columns (JSON array), row_count, encoding, samples)
+// samples is zlib(row-major little-endian float64), encoding
+// "zlib-f64le-rowmajor"; in Python: np.frombuffer(zlib.decompress(b),
+// "<f8").reshape(row_count, len(columns)).
+#ifndef BURRLAB_RESULTS_SCHEMA_JOURNAL_H_
+#define BURRLAB_RESULTS_SCHEMA_JOURNAL_H_
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "burrlab/results_schema/records.h"
+#include "burrlab/results_schema/status.h"
+
+namespace burrlab::results_schema {
+
+// Journal schema version this burrlab writes and the newest it reads.
+inline constexpr int kJournalSchemaVersion = 1;
+
+// DIR/sub-<label>/journal.sqlite.
+std::filesystem::path JournalPath(const std::filesystem::path& dir,
+                                  std::string_view subject_label);
+
+// The SQLite settings in force on a journal's connection (for tests and
+// `burrlab run --resume` diagnostics).
+struct JournalSettings {
+  std::string journal_mode;   // "wal"
+  int synchronous = 0;        // 2 = FULL
+  bool foreign_keys = false;  // true
+  int schema_version = 0;     // kJournalSchemaVersion
+};
+
+// An open journal. Move-only; closing is the destructor.
+class Journal {
+ public:
+  // Creates DIR/sub-<label>/journal.sqlite for a new session. Refuses with
+  // "sub-<label> already exists in DIR; use --resume to continue it" when the
+  // journal exists, and refuses a DIR/sub-<label> folder that exists without
+  // a journal. The file appears complete or not at all (built under a
+  // temporary name and hard-linked into place, which never replaces a file).
+  static Result<Journal> Create(const std::filesystem::path& dir,
+                                const SessionInfo& session);
+
+  // Opens an existing journal to resume it; fails with "no journal for
+  // sub-<label> in DIR ..." when there is none and refuses journals written by
+  // a newer schema version.
+  static Result<Journal> Open(const std::filesystem::path& dir,
+                              std::string_view subject_label);
+
+  // Moves the open connection.
+  Journal(Journal&& other) noexcept;
+  // Moves the open connection, closing this one's.
+  Journal& operator=(Journal&& other) noexcept;
+  // Closes the connection.
+  ~Journal();
+
+  // The session recorded when the journal was created.
+  const SessionInfo& session() const;
+
+  // Path of the journal file.
+  const std::filesystem::path& path() const;
+
+  // OK when `given` (from the command line and protocol file of a resume) has
+  // the journal's protocol hash and master seed; otherwise names which differs:
+  // "cannot resume sub-01 in DIR: the protocol differs from the journal's
+  // (sha256 J in the journal, G now)" and/or "the seed differs from the
+  // journal's (J in the journal, G now)", joined with "; ".
+  Status CheckSameSession(const SessionInfo& given) const;
+
+  // Appends one completed trial and its traces in one transaction, durable
+  // when this returns OK. trial.trial_index must be the next index
+  // (NextTrialIndex()); a repeated index is refused. On any error nothing of
+  // the trial is stored.
+  Status Append(const TrialRecord& trial,
+                const std::vector<TraceSamples>& traces);
+
+  // Index the next appended trial must have (= number of trials stored).
+  Result<int> NextTrialIndex() const;
+
+  // All stored trials in trial_index order.
+  Result<std::vector<TrialRecord>> Trials() const;
+
+  // The traces of trial `trial_index` in interval order (empty if none).
+  Result<std::vector<TraceSamples>> Traces(int trial_index) const;
+
+  // The SQLite settings in force (journal mode, synchronous, foreign keys).
+  Result<JournalSettings> Settings() const;
+
+  // OK when PRAGMA integrity_check answers "ok".
+  Status CheckIntegrity() const;
+
+  // Caps the database size (PRAGMA max_page_count) so tests can make a write
+  // fail with SQLITE_FULL; not for production use.
+  Status LimitSizeForTesting(std::int64_t max_bytes);
+
+ private:
+  struct Impl;
+  explicit Journal(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace burrlab::results_schema
+
+#endif  // BURRLAB_RESULTS_SCHEMA_JOURNAL_H_

@@ -1,0 +1,548 @@
+// BIDS-style export of one subject's journal: behavioural TSV + sidecar per
+// block, physiological traces as headerless .tsv.gz + sidecar, and the
+// dataset description.
+#include "burrlab/results_schema/bids_export.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <system_error>
+
+#include "burrlab/results_schema/journal.h"
+#include "burrlab/results_schema/records.h"
+#include "journal_db.h"
+#include "text.h"
+
+namespace burrlab::results_schema {
+namespace fs = std::filesystem;
+namespace {
+
+using OrderedJson = nlohmann::ordered_json;
+
+constexpr std::string_view kNa = "n/a";
+
+std::atomic<unsigned> g_temp_counter{0};
+
+fs::path TempPathFor(const fs::path& path) {
+  return fs::path(fmt::format("{}.tmp-{}-{}", path.string(), ::getpid(),
+                              g_temp_counter.fetch_add(1)));
+}
+
+Error WriteError(const fs::path& path, int err) {
+  return Error{
+      fmt::format("cannot write {}: {}", path.string(), std::strerror(err))};
+}
+
+Status WriteWholeFile(const fs::path& path, std::string_view bytes) {
+  std::FILE* file = std::fopen(path.c_str(), "wbx");
+  if (file == nullptr) return WriteError(path, errno);
+  const bool wrote =
+      std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
+  const int write_errno = errno;
+  if (std::fclose(file) != 0 || !wrote) {
+    const int err = wrote ? errno : write_errno;
+    std::remove(path.c_str());
+    return WriteError(path, err);
+  }
+  return {};
+}
+
+// Writes `bytes` to `path`, replacing an older export atomically.
+Status ReplaceFile(const fs::path& path, std::string_view bytes) {
+  const fs::path temp = TempPathFor(path);
+  if (Status s = WriteWholeFile(temp, bytes); !s) return s;
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    std::remove(temp.c_str());
+    return WriteError(path, err);
+  }
+  return {};
+}
+
+// Writes `bytes` to `path` unless something is there already (kept as is).
+Status WriteIfAbsent(const fs::path& path, std::string_view bytes) {
+  std::error_code ec;
+  if (fs::symlink_status(path, ec).type() != fs::file_type::not_found)
+    return {};
+  const fs::path temp = TempPathFor(path);
+  if (Status s = WriteWholeFile(temp, bytes); !s) return s;
+  const int rc = ::link(temp.c_str(), path.c_str());
+  const int err = errno;
+  std::remove(temp.c_str());
+  if (rc != 0 && err != EEXIST) return WriteError(path, err);
+  return {};
+}
+
+std::string OrNa(std::string_view text) {
+  return text.empty() ? std::string(kNa) : std::string(text);
+}
+
+std::string OrNa(const std::optional<double>& value) {
+  return value ? FormatDouble(*value) : std::string(kNa);
+}
+
+std::string OrNa(const std::optional<int>& value) {
+  return value ? std::to_string(*value) : std::string(kNa);
+}
+
+std::string OrNa(const std::optional<bool>& value) {
+  return value ? (*value ? "1" : "0") : std::string(kNa);
+}
+
+std::string Joined(const std::vector<std::string>& items,
+                   std::string_view sep) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out += sep;
+    out += items[i];
+  }
+  return out;
+}
+
+std::string MethodDescription(const std::string& method) {
+  static const std::map<std::string, std::string, std::less<>> kKnown = {
+      {"same_different",
+       "same-different: two intervals; the subject answers whether they felt "
+       "the same"},
+      {"two_interval",
+       "two-interval forced choice, or the three-interval reference design"},
+      {"constant_stimuli", "method of constant stimuli"},
+      {"limits", "method of limits (ascending and descending series)"},
+      {"adjustment", "method of adjustment"},
+      {"staircase", "adaptive staircase (n-down/1-up)"},
+      {"quest", "QUEST adaptive method (Watson & Pelli)"}};
+  const auto it = kKnown.find(method);
+  return it != kKnown.end() ? it->second : method;
+}
+
+std::string TrialTypeDescription(const std::string& type) {
+  static const std::map<std::string, std::string, std::less<>> kKnown = {
+      {"AA", "same material (A) in both intervals"},
+      {"BB", "same material (B) in both intervals"},
+      {"AB", "material A, then material B"},
+      {"BA", "material B, then material A"}};
+  const auto it = kKnown.find(type);
+  return it != kKnown.end() ? it->second : fmt::format("trial type {}", type);
+}
+
+// The unit given by a snake_case column name's suffix (STYLE.md: names carry
+// units), longest suffix first; empty when none is recognised.
+std::string UnitsFromName(std::string_view column) {
+  static constexpr std::pair<std::string_view, std::string_view> kSuffixes[] = {
+      {"_n_per_mm2", "N/mm^2"},
+      {"_mm_per_s", "mm/s"},
+      {"_rad_per_s", "rad/s"},
+      {"_n_per_mm", "N/mm"},
+      {"_per_s", "1/s"},
+      {"_mm", "mm"},
+      {"_hz", "Hz"},
+      {"_rad", "rad"},
+      {"_n", "N"},
+      {"_s", "s"}};
+  for (const auto& [suffix, units] : kSuffixes) {
+    if (column.size() > suffix.size() && column.ends_with(suffix)) {
+      return std::string(units);
+    }
+  }
+  return {};
+}
+
+OrderedJson Column(std::string_view description) {
+  OrderedJson column;
+  column["Description"] = description;
+  return column;
+}
+
+// The value of every _beh.tsv column for one trial, in BehColumns() order.
+Result<std::vector<std::string>> BehRow(const TrialRecord& t,
+                                        const SessionInfo& session) {
+  const auto extra = nlohmann::json::parse(t.extra, nullptr, false);
+  if (extra.is_discarded() || !extra.is_object()) {
+    return Error{
+        fmt::format("trial {}: extra is not a JSON object", t.trial_index)};
+  }
+  return std::vector<std::string>{
+      std::to_string(t.trial_index),
+      t.block,
+      t.method,
+      t.task,
+      OrNa(t.trial_type),
+      OrNa(t.stim_level),
+      OrNa(t.stim_unit),
+      t.interval_materials.empty() ? std::string(kNa)
+                                   : Joined(t.interval_materials, "+"),
+      OrNa(t.correct_answer),
+      OrNa(t.response),
+      OrNa(t.correct),
+      OrNa(t.response_time_s),
+      OrNa(t.staircase_id),
+      OrNa(t.reversal),
+      OrNa(t.step_size),
+      OrNa(t.estimate),
+      std::to_string(session.master_seed),
+      extra.empty() ? std::string(kNa)
+                    : extra.dump(-1, ' ', false,
+                                 nlohmann::json::error_handler_t::replace)};
+}
+
+std::string BehSidecar(const std::string& block,
+                       const std::vector<const TrialRecord*>& trials) {
+  std::set<std::string> methods;
+  std::set<std::string> trial_types;
+  std::set<std::string> units;
+  for (const TrialRecord* t : trials) {
+    methods.insert(t->method);
+    if (!t->trial_type.empty()) trial_types.insert(t->trial_type);
+    units.insert(t->stim_unit);
+  }
+  const std::optional<std::string> uniform_units =
+      units.size() == 1 && !units.begin()->empty()
+          ? std::optional<std::string>(*units.begin())
+          : std::nullopt;
+  OrderedJson j;
+  j["TaskName"] = block;
+  j["trial_index"] = Column(
+      "0-based index of the trial within the session, counted over all blocks");
+  j["block"] = Column("Block name from the protocol file");
+  j["method"] = Column("Psychophysical method of the block");
+  for (const std::string& m : methods)
+    j["method"]["Levels"][m] = MethodDescription(m);
+  j["task"] = Column("What the subject did with the burr in each interval");
+  j["task"]["Levels"]["probe"] =
+      "burr not rotating: press into the material and judge it";
+  j["task"]["Levels"]["drill"] = "burr rotating: cut into the material";
+  j["trial_type"] =
+      Column("Method-specific kind of trial (n/a when the method has none)");
+  for (const std::string& type : trial_types) {
+    j["trial_type"]["Levels"][type] = TrialTypeDescription(type);
+  }
+  j["stim_level"] = Column(
+      "Level of the varied stimulus parameter in this trial (n/a when the "
+      "design has none)");
+  if (uniform_units) j["stim_level"]["Units"] = *uniform_units;
+  j["stim_unit"] = Column("Unit of stim_level (n/a when none)");
+  j["interval_materials"] =
+      Column("Material presented in each interval, in order, joined with '+'");
+  j["correct_answer"] =
+      Column("Answer counted as correct (n/a when the design has none)");
+  j["response"] = Column("The subject's answer (n/a when missed)");
+  j["correct"] = Column(
+      "Whether the response was correct (n/a when the "
+      "design has no correct answer)");
+  j["correct"]["Levels"]["1"] = "correct";
+  j["correct"]["Levels"]["0"] = "incorrect";
+  j["response_time"] =
+      Column("Time from the response prompt to the answer (n/a when missed)");
+  j["response_time"]["Units"] = "s";
+  j["staircase_id"] = Column(
+      "Which interleaved staircase the trial belongs to, 0-based (n/a for "
+      "other methods)");
+  j["reversal"] = Column(
+      "Whether this trial reversed the direction of its staircase (n/a for "
+      "other methods)");
+  j["reversal"]["Levels"]["1"] = "reversal";
+  j["reversal"]["Levels"]["0"] = "no reversal";
+  j["step_size"] = Column(
+      "Adaptive step size in effect after this trial, on the staircase's step "
+      "scale (linear, log or dB; n/a for other methods)");
+  j["estimate"] = Column(
+      "Threshold estimate after this trial (n/a for non-adaptive methods)");
+  if (uniform_units) j["estimate"]["Units"] = *uniform_units;
+  j["seed"] =
+      Column("Master seed of the session; every random stream derives from it");
+  j["extra"] =
+      Column("Method-specific fields as a compact JSON object (n/a when none)");
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+// Traces of one kind (same sampling frequency and columns) within a block.
+struct TraceGroup {
+  double sampling_frequency_hz = 0.0;
+  std::vector<std::string> columns;
+  double start_time_s = 0.0;              // of the first trace
+  std::set<std::pair<int, int>> members;  // (trial_index, interval_index)
+};
+
+std::string PhysioSidecar(const TraceGroup& group) {
+  OrderedJson j;
+  j["SamplingFrequency"] = group.sampling_frequency_hz;
+  j["StartTime"] = group.start_time_s;
+  std::vector<std::string> columns = PhysioLeadingColumns();
+  columns.insert(columns.end(), group.columns.begin(), group.columns.end());
+  j["Columns"] = columns;
+  j["trial_index"] =
+      Column("Trial (trial_index in the _beh.tsv) of the sample");
+  j["interval_index"] = Column("0-based interval within the trial");
+  j["time"] = Column(
+      "Sample time on the session clock (virtual time for simulated subjects)");
+  j["time"]["Units"] = "s";
+  for (const std::string& column : group.columns) {
+    j[column] = Column(
+        fmt::format("Trace column {} recorded during the interval", column));
+    const std::string units = UnitsFromName(column);
+    if (!units.empty()) j[column]["Units"] = units;
+  }
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+// Streams one group's samples into a gzip file, then renames it into place.
+Status WritePhysio(sqlite3* db, const fs::path& journal_path,
+                   const fs::path& path, const TraceGroup& group,
+                   const std::vector<const TrialRecord*>& trials) {
+  const fs::path temp = TempPathFor(path);
+  gzFile gz = gzopen(temp.c_str(), "wb6");
+  if (gz == nullptr) return WriteError(temp, errno != 0 ? errno : ENOMEM);
+  auto fail = [&](Error error) {
+    gzclose(gz);
+    std::remove(temp.c_str());
+    return error;
+  };
+  std::string line;
+  for (const TrialRecord* trial : trials) {
+    Result<std::vector<TraceSamples>> traces =
+        db::ReadTraces(db, journal_path, trial->trial_index);
+    if (!traces) return fail(traces.error());
+    for (const TraceSamples& trace : *traces) {
+      if (!group.members.contains({trace.trial_index, trace.interval_index})) {
+        continue;
+      }
+      for (std::size_t i = 0; i < trace.rows.size(); ++i) {
+        line = fmt::format(
+            "{}\t{}\t{}", trace.trial_index, trace.interval_index,
+            FormatDouble(trace.start_time_s +
+                         static_cast<double>(i) / trace.sampling_frequency_hz));
+        for (double value : trace.rows[i]) {
+          line += '\t';
+          line += std::isfinite(value) ? FormatDouble(value) : std::string(kNa);
+        }
+        line += '\n';
+        if (gzwrite(gz, line.data(), static_cast<unsigned>(line.size())) !=
+            static_cast<int>(line.size())) {
+          int errnum = 0;
+          const char* message = gzerror(gz, &errnum);
+          return fail(Error{
+              fmt::format("cannot write {}: {}", temp.string(),
+                          errnum == Z_ERRNO ? std::strerror(errno) : message)});
+        }
+      }
+    }
+  }
+  if (gzclose(gz) != Z_OK) {
+    std::remove(temp.c_str());
+    return WriteError(temp, errno != 0 ? errno : EIO);
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    std::remove(temp.c_str());
+    return WriteError(path, err);
+  }
+  return {};
+}
+
+// Ends the read transaction that gives the export one consistent snapshot.
+struct ReadTransaction {
+  sqlite3* db;
+  ~ReadTransaction() { db::RollbackIfOpen(db); }
+};
+
+Status Export(const fs::path& dir, std::string_view label) {
+  if (Status s = ValidateSubjectLabel(label); !s) return s;
+  const fs::path journal_path = JournalPath(dir, label);
+  std::error_code ec;
+  if (fs::symlink_status(journal_path, ec).type() == fs::file_type::not_found) {
+    return Error{
+        fmt::format("no journal for sub-{} in {} ({} does not exist); "
+                    "nothing to export",
+                    label, dir.string(), journal_path.string())};
+  }
+  auto opened = db::OpenDb(journal_path, /*create=*/false);
+  if (!opened) return opened.error();
+  sqlite3* db = opened->get();
+  if (auto version = db::CheckSchemaVersion(db, journal_path); !version) {
+    return version.error();
+  }
+  if (Status s = db::Exec(db, "BEGIN", "cannot read", journal_path); !s)
+    return s;
+  ReadTransaction snapshot{db};
+  Result<SessionInfo> session = db::ReadSession(db, journal_path);
+  if (!session) return session.error();
+  Result<std::vector<TrialRecord>> trials = db::ReadTrials(db, journal_path);
+  if (!trials) return trials.error();
+  Result<std::vector<db::TraceHeader>> headers =
+      db::ReadTraceHeaders(db, journal_path);
+  if (!headers) return headers.error();
+  for (const TrialRecord& t : *trials) {
+    if (Status s = ValidateTrial(t); !s) {
+      return Error{
+          fmt::format("{}: {}", journal_path.string(), s.error().message)};
+    }
+  }
+
+  // Blocks in order of first appearance, each with a distinct task label.
+  std::vector<std::string> blocks;
+  std::map<std::string, std::vector<const TrialRecord*>> block_trials;
+  for (const TrialRecord& t : *trials) {
+    auto& list = block_trials[t.block];
+    if (list.empty()) blocks.push_back(t.block);
+    list.push_back(&t);
+  }
+  std::map<std::string, std::string> task_labels;
+  std::set<std::string> used_labels;
+  for (const std::string& block : blocks) {
+    const std::string base = TaskLabel(block);
+    std::string task = base;
+    for (int n = 2; used_labels.contains(task); ++n)
+      task = fmt::format("{}{}", base, n);
+    used_labels.insert(task);
+    task_labels[block] = task;
+  }
+
+  // Files at the dataset root, only when absent.
+  fs::create_directories(dir, ec);
+  if (ec) {
+    return Error{
+        fmt::format("cannot create folder {}: {}", dir.string(), ec.message())};
+  }
+  OrderedJson description;
+  description["Name"] = session->study;
+  description["BIDSVersion"] = kBidsVersion;
+  description["DatasetType"] = "raw";
+  description["GeneratedBy"] = OrderedJson::array(
+      {{{"Name", "burrlab"}, {"Version", session->burrlab_version}}});
+  if (Status s = WriteIfAbsent(
+          dir / "dataset_description.json",
+          description.dump(2, ' ', false,
+                           nlohmann::json::error_handler_t::replace) +
+              "\n");
+      !s) {
+    return s;
+  }
+  if (Status s = WriteIfAbsent(dir / ".bidsignore", "journal.sqlite*\n"); !s) {
+    return s;
+  }
+
+  const std::string subject = fmt::format("sub-{}", label);
+  const fs::path beh_dir = dir / subject / "beh";
+  fs::create_directories(beh_dir, ec);
+  if (ec) {
+    return Error{fmt::format("cannot create folder {}: {}", beh_dir.string(),
+                             ec.message())};
+  }
+  for (const std::string& block : blocks) {
+    const std::vector<const TrialRecord*>& list = block_trials[block];
+    const std::string stem =
+        fmt::format("{}_task-{}", subject, task_labels.at(block));
+
+    std::string tsv = Joined(BehColumns(), "\t") + "\n";
+    for (const TrialRecord* t : list) {
+      Result<std::vector<std::string>> row = BehRow(*t, *session);
+      if (!row) return row.error();
+      tsv += Joined(*row, "\t") + "\n";
+    }
+    if (Status s = ReplaceFile(beh_dir / (stem + "_beh.tsv"), tsv); !s)
+      return s;
+    if (Status s = ReplaceFile(beh_dir / (stem + "_beh.json"),
+                               BehSidecar(block, list));
+        !s) {
+      return s;
+    }
+
+    std::set<int> in_block;
+    for (const TrialRecord* t : list) in_block.insert(t->trial_index);
+    std::vector<TraceGroup> groups;
+    for (const db::TraceHeader& h : *headers) {
+      if (!in_block.contains(h.trace.trial_index)) continue;
+      auto it =
+          std::find_if(groups.begin(), groups.end(), [&](const TraceGroup& g) {
+            return g.sampling_frequency_hz == h.trace.sampling_frequency_hz &&
+                   g.columns == h.trace.columns;
+          });
+      if (it == groups.end()) {
+        groups.push_back(TraceGroup{h.trace.sampling_frequency_hz,
+                                    h.trace.columns,
+                                    h.trace.start_time_s,
+                                    {}});
+        it = groups.end() - 1;
+      }
+      it->members.insert({h.trace.trial_index, h.trace.interval_index});
+    }
+    for (std::size_t k = 0; k < groups.size(); ++k) {
+      const std::string physio_stem =
+          groups.size() == 1
+              ? stem + "_physio"
+              : fmt::format("{}_recording-{}_physio", stem, k + 1);
+      if (Status s =
+              WritePhysio(db, journal_path, beh_dir / (physio_stem + ".tsv.gz"),
+                          groups[k], list);
+          !s) {
+        return s;
+      }
+      if (Status s = ReplaceFile(beh_dir / (physio_stem + ".json"),
+                                 PhysioSidecar(groups[k]));
+          !s) {
+        return s;
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+const std::vector<std::string>& BehColumns() {
+  static const std::vector<std::string> kColumns = {
+      "trial_index",    "block",      "method",    "task",
+      "trial_type",     "stim_level", "stim_unit", "interval_materials",
+      "correct_answer", "response",   "correct",   "response_time",
+      "staircase_id",   "reversal",   "step_size", "estimate",
+      "seed",           "extra"};
+  return kColumns;
+}
+
+const std::vector<std::string>& PhysioLeadingColumns() {
+  static const std::vector<std::string> kColumns = {"trial_index",
+                                                    "interval_index", "time"};
+  return kColumns;
+}
+
+std::string TaskLabel(std::string_view block_name) {
+  std::string label;
+  bool new_word = false;
+  for (char c : block_name) {
+    const bool alnum = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                       (c >= '0' && c <= '9');
+    if (!alnum) {
+      new_word = true;
+      continue;
+    }
+    if (new_word && !label.empty() && c >= 'a' && c <= 'z') {
+      c = static_cast<char>(c - 'a' + 'A');
+    }
+    new_word = false;
+    label += c;
+  }
+  return label.empty() ? std::string("block") : label;
+}
+
+Status ExportBids(const fs::path& dir, std::string_view subject_label) {
+  try {
+    return Export(dir, subject_label);
+  } catch (const std::exception& e) {
+    return Error{fmt::format("cannot export sub-{}: internal error: {}",
+                             subject_label, e.what())};
+  }
+}
+
+}  // namespace burrlab::results_schema

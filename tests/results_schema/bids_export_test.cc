@@ -1,0 +1,444 @@
+// Tests of the BIDS-style export: the TSV reads back with the right columns
+// and n/a cells, the physio files decompress to the journaled samples, the
+// sidecars satisfy the schemas, and re-exports are byte-identical.
+#include "burrlab/results_schema/bids_export.h"
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <zlib.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "burrlab/results_schema/journal.h"
+#include "burrlab/results_schema/records.h"
+#include "burrlab/results_schema/schemas.h"
+
+namespace burrlab::results_schema {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using Table = std::vector<std::vector<std::string>>;
+
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern =
+        (fs::path(testing::TempDir()) / "burrlab_export_XXXXXX").string();
+    path_ = mkdtemp(pattern.data());
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+SessionInfo MakeSession(const std::string& label) {
+  SessionInfo s;
+  s.study = "stiffness discrimination";
+  s.protocol_path = "protocols/examples/staircase.toml";
+  s.protocol_sha256 = std::string(64, 'c');
+  s.subject_label = label;
+  s.master_seed = 1234567890123u;
+  s.burrlab_version = "0.1.0";
+  s.started_utc = "2024-05-01T09:30:00Z";
+  return s;
+}
+
+// Trials 0-3 in block "practice", 4-9 in "same-different main".
+TrialRecord MakeTrial(int i) {
+  TrialRecord t;
+  t.trial_index = i;
+  t.block = i < 4 ? "practice" : "same-different main";
+  t.method = i < 4 ? "staircase" : "same_different";
+  t.task = i % 2 == 0 ? "probe" : "drill";
+  if (i < 4) {
+    t.trial_type = "2AFC";
+    t.stim_level = 1.0 + 0.1 * i;
+    t.stim_unit = "ratio";
+    t.staircase_id = 0;
+    t.reversal = i == 2;
+    t.step_size = 0.05;
+    if (i > 1) t.estimate = 1.125;
+    t.extra = R"({"quest_sd": 0.25})";
+  } else {
+    t.trial_type = i % 2 == 0 ? "AB" : "AA";
+  }
+  t.interval_materials = {"pvc_k70",
+                          i % 2 == 0 ? "human_temporal_bone" : "pvc_k70"};
+  t.correct_answer = i < 4 ? "2" : (i % 2 == 0 ? "different" : "same");
+  if (i != 5) {  // trial 5 timed out
+    t.response = i < 4 ? "2" : "same";
+    t.correct = t.response == t.correct_answer;
+    t.response_time_s = 0.5 + 0.25 * i;
+  }
+  t.rng_state = "state " + std::to_string(i);
+  return t;
+}
+
+std::vector<TraceSamples> MakeTraces(int i) {
+  std::vector<TraceSamples> traces;
+  for (int interval = 0; interval < 2; ++interval) {
+    TraceSamples t;
+    t.trial_index = i;
+    t.interval_index = interval;
+    t.sampling_frequency_hz = 1000.0;
+    t.start_time_s = 20.0 * i + 5.0 * interval;
+    t.columns = {"force_n", "depth_mm"};
+    for (int r = 0; r < 5 + i; ++r) {
+      t.rows.push_back({0.125 * r + i, 0.001 * r});
+    }
+    traces.push_back(std::move(t));
+  }
+  return traces;
+}
+
+void WriteJournal(const fs::path& dir, const std::string& label, int trials) {
+  auto journal = Journal::Create(dir, MakeSession(label));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  for (int i = 0; i < trials; ++i) {
+    Status s = journal->Append(MakeTrial(i), MakeTraces(i));
+    ASSERT_TRUE(s.ok()) << s.error().message;
+  }
+}
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+std::string Gunzip(const fs::path& path) {
+  gzFile gz = gzopen(path.c_str(), "rb");
+  if (gz == nullptr) return "<cannot open>";
+  std::string text;
+  char buffer[4096];
+  int n = 0;
+  while ((n = gzread(gz, buffer, sizeof buffer)) > 0) {
+    text.append(buffer, static_cast<std::size_t>(n));
+  }
+  gzclose(gz);
+  return text;
+}
+
+std::vector<std::string> Split(const std::string& text, char sep) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(text);
+  while (std::getline(in, part, sep)) parts.push_back(part);
+  if (!text.empty() && text.back() == sep) parts.push_back("");
+  return parts;
+}
+
+// Lines split on '\n', cells on '\t'; every line must end with '\n'.
+Table ParseTsv(const std::string& text) {
+  Table table;
+  EXPECT_TRUE(!text.empty() && text.back() == '\n');
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) table.push_back(Split(line, '\t'));
+  return table;
+}
+
+// Rows of `table` keyed by header name.
+std::vector<std::map<std::string, std::string>> Records(const Table& table) {
+  std::vector<std::map<std::string, std::string>> rows;
+  for (std::size_t r = 1; r < table.size(); ++r) {
+    EXPECT_EQ(table[r].size(), table[0].size()) << "row " << r;
+    std::map<std::string, std::string> row;
+    for (std::size_t c = 0; c < table[0].size() && c < table[r].size(); ++c) {
+      row[table[0][c]] = table[r][c];
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST(TaskLabel, KeepsLettersAndDigitsInCamelCase) {
+  EXPECT_EQ(TaskLabel("same-different 1"), "sameDifferent1");
+  EXPECT_EQ(TaskLabel("Block_A"), "BlockA");
+  EXPECT_EQ(TaskLabel("practice"), "practice");
+  EXPECT_EQ(TaskLabel("  two  interval  "), "twoInterval");
+  EXPECT_EQ(TaskLabel("***"), "block");
+  EXPECT_EQ(TaskLabel(""), "block");
+}
+
+class BidsExport : public testing::Test {
+ protected:
+  void SetUp() override {
+    WriteJournal(dir_.path(), "01", 10);
+    Status s = ExportBids(dir_.path(), "01");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+  }
+  fs::path Beh(const std::string& name) const {
+    return dir_.path() / "sub-01" / "beh" / name;
+  }
+
+  TempDir dir_;
+};
+
+TEST_F(BidsExport, WritesTheBidsFileSet) {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir_.path())) {
+    if (entry.is_regular_file()) {
+      files.push_back(fs::relative(entry.path(), dir_.path()).string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  const std::vector<std::string> expected = {
+      ".bidsignore",
+      "dataset_description.json",
+      "sub-01/beh/sub-01_task-practice_beh.json",
+      "sub-01/beh/sub-01_task-practice_beh.tsv",
+      "sub-01/beh/sub-01_task-practice_physio.json",
+      "sub-01/beh/sub-01_task-practice_physio.tsv.gz",
+      "sub-01/beh/sub-01_task-sameDifferentMain_beh.json",
+      "sub-01/beh/sub-01_task-sameDifferentMain_beh.tsv",
+      "sub-01/beh/sub-01_task-sameDifferentMain_physio.json",
+      "sub-01/beh/sub-01_task-sameDifferentMain_physio.tsv.gz",
+      "sub-01/journal.sqlite",
+  };
+  // The journal's -wal/-shm files are gone once every connection closed.
+  EXPECT_EQ(files, expected);
+  EXPECT_EQ(ReadFile(dir_.path() / ".bidsignore"), "journal.sqlite*\n");
+}
+
+TEST_F(BidsExport, BehTsvReadsBackWithColumnsAndNa) {
+  const Table table =
+      ParseTsv(ReadFile(Beh("sub-01_task-sameDifferentMain_beh.tsv")));
+  ASSERT_EQ(table.size(), 7u);  // header + trials 4..9
+  EXPECT_EQ(table[0], BehColumns());
+  const std::vector<std::string> must_have = {"trial_index",
+                                              "block",
+                                              "method",
+                                              "task",
+                                              "trial_type",
+                                              "stim_level",
+                                              "interval_materials",
+                                              "correct_answer",
+                                              "response",
+                                              "correct",
+                                              "response_time",
+                                              "staircase_id",
+                                              "reversal",
+                                              "step_size",
+                                              "seed"};
+  for (const std::string& column : must_have) {
+    EXPECT_NE(std::find(table[0].begin(), table[0].end(), column),
+              table[0].end())
+        << column;
+  }
+  const auto rows = Records(table);
+  const std::map<std::string, std::string> first = {
+      {"trial_index", "4"},
+      {"block", "same-different main"},
+      {"method", "same_different"},
+      {"task", "probe"},
+      {"trial_type", "AB"},
+      {"stim_level", "n/a"},
+      {"stim_unit", "n/a"},
+      {"interval_materials", "pvc_k70+human_temporal_bone"},
+      {"correct_answer", "different"},
+      {"response", "same"},
+      {"correct", "0"},
+      {"response_time", "1.5"},
+      {"staircase_id", "n/a"},
+      {"reversal", "n/a"},
+      {"step_size", "n/a"},
+      {"estimate", "n/a"},
+      {"seed", "1234567890123"},
+      {"extra", "n/a"}};
+  EXPECT_EQ(rows[0], first);
+  // Trial 5 timed out: no response, correctness or time.
+  EXPECT_EQ(rows[1].at("trial_index"), "5");
+  EXPECT_EQ(rows[1].at("response"), "n/a");
+  EXPECT_EQ(rows[1].at("correct"), "n/a");
+  EXPECT_EQ(rows[1].at("response_time"), "n/a");
+  EXPECT_EQ(rows[1].at("correct_answer"), "same");
+  EXPECT_EQ(rows[3].at("correct"), "1");  // trial 7: AA answered "same"
+}
+
+TEST_F(BidsExport, AdaptiveColumnsKeepTheirValues) {
+  const auto rows =
+      Records(ParseTsv(ReadFile(Beh("sub-01_task-practice_beh.tsv"))));
+  ASSERT_EQ(rows.size(), 4u);
+  for (int i = 0; i < 4; ++i) {
+    const auto& row = rows[static_cast<std::size_t>(i)];
+    EXPECT_EQ(std::stod(row.at("stim_level")), 1.0 + 0.1 * i);
+    EXPECT_EQ(row.at("stim_unit"), "ratio");
+    EXPECT_EQ(row.at("staircase_id"), "0");
+    EXPECT_EQ(row.at("reversal"), i == 2 ? "1" : "0");
+    EXPECT_EQ(row.at("step_size"), "0.05");
+    EXPECT_EQ(row.at("estimate"), i > 1 ? "1.125" : "n/a");
+    EXPECT_EQ(row.at("extra"), R"({"quest_sd":0.25})");
+  }
+  EXPECT_EQ(rows[1].at("stim_level"), "1.1");
+}
+
+TEST_F(BidsExport, SidecarsSatisfyTheSchemasAndDescribeEveryColumn) {
+  for (const std::string task : {"practice", "sameDifferentMain"}) {
+    const std::string stem = "sub-01_task-" + task;
+    const std::string beh_json = ReadFile(Beh(stem + "_beh.json"));
+    Status s = CheckJsonAgainst("beh_sidecar", beh_json);
+    EXPECT_TRUE(s.ok()) << s.error().message;
+    Json beh = Json::parse(beh_json);
+    const Table table = ParseTsv(ReadFile(Beh(stem + "_beh.tsv")));
+    for (const std::string& column : table[0]) {
+      ASSERT_TRUE(beh.contains(column)) << column;
+      EXPECT_FALSE(beh[column]["Description"].get<std::string>().empty());
+    }
+    EXPECT_EQ(beh["response_time"]["Units"], "s");
+    EXPECT_EQ(beh["task"]["Levels"].size(), 2u);
+
+    const std::string physio_json = ReadFile(Beh(stem + "_physio.json"));
+    s = CheckJsonAgainst("physio_sidecar", physio_json);
+    EXPECT_TRUE(s.ok()) << s.error().message;
+    Json physio = Json::parse(physio_json);
+    EXPECT_EQ(physio["Columns"],
+              Json::parse(R"(["trial_index", "interval_index", "time",
+                               "force_n", "depth_mm"])"));
+    EXPECT_EQ(physio["force_n"]["Units"], "N");
+    EXPECT_EQ(physio["depth_mm"]["Units"], "mm");
+  }
+  Json practice = Json::parse(ReadFile(Beh("sub-01_task-practice_beh.json")));
+  EXPECT_EQ(practice["TaskName"], "practice");
+  EXPECT_EQ(practice["stim_level"]["Units"], "ratio");
+  Json main =
+      Json::parse(ReadFile(Beh("sub-01_task-sameDifferentMain_beh.json")));
+  EXPECT_EQ(main["TaskName"], "same-different main");
+  EXPECT_EQ(main["trial_type"]["Levels"],
+            Json::parse(R"({"AA": "same material (A) in both intervals",
+                            "AB": "material A, then material B"})"));
+
+  const std::string description =
+      ReadFile(dir_.path() / "dataset_description.json");
+  Status s = CheckJsonAgainst("dataset_description", description);
+  EXPECT_TRUE(s.ok()) << s.error().message;
+  EXPECT_EQ(Json::parse(description),
+            Json::parse(R"({"Name": "stiffness discrimination",
+                            "BIDSVersion": "1.9.0", "DatasetType": "raw",
+                            "GeneratedBy": [{"Name": "burrlab",
+                                             "Version": "0.1.0"}]})"));
+}
+
+TEST_F(BidsExport, PhysioDecompressesToTheJournaledSamples) {
+  Json sidecar = Json::parse(ReadFile(Beh("sub-01_task-practice_physio.json")));
+  EXPECT_EQ(sidecar["SamplingFrequency"], 1000.0);
+  EXPECT_EQ(sidecar["StartTime"], 0.0);
+  const Table table =
+      ParseTsv(Gunzip(Beh("sub-01_task-practice_physio.tsv.gz")));
+  std::vector<std::vector<double>> expected;
+  for (int i = 0; i < 4; ++i) {
+    for (const TraceSamples& trace : MakeTraces(i)) {
+      for (std::size_t r = 0; r < trace.rows.size(); ++r) {
+        expected.push_back(
+            {static_cast<double>(i), static_cast<double>(trace.interval_index),
+             trace.start_time_s + static_cast<double>(r) / 1000.0,
+             trace.rows[r][0], trace.rows[r][1]});
+      }
+    }
+  }
+  ASSERT_EQ(table.size(), expected.size());  // no header line
+  for (std::size_t r = 0; r < table.size(); ++r) {
+    ASSERT_EQ(table[r].size(), sidecar["Columns"].size()) << "line " << r;
+    for (std::size_t c = 0; c < table[r].size(); ++c) {
+      EXPECT_EQ(std::stod(table[r][c]), expected[r][c])
+          << "line " << r << ", column " << c;
+    }
+  }
+}
+
+TEST_F(BidsExport, ReExportIsByteIdenticalAndKeepsADatasetDescription) {
+  std::map<fs::path, std::string> before;
+  for (const auto& entry : fs::recursive_directory_iterator(dir_.path())) {
+    if (entry.is_regular_file() &&
+        entry.path().filename() != "journal.sqlite") {
+      before[entry.path()] = ReadFile(entry.path());
+    }
+  }
+  const std::string own = "{\"Name\": \"curated by hand\"}\n";
+  std::ofstream(dir_.path() / "dataset_description.json") << own;
+  before[dir_.path() / "dataset_description.json"] = own;
+  Status s = ExportBids(dir_.path(), "01");
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  for (const auto& [path, bytes] : before) {
+    EXPECT_EQ(ReadFile(path), bytes) << path;
+  }
+}
+
+TEST(BidsExportCases, DistinctBlocksGetDistinctTaskLabels) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("02"));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  TrialRecord a = MakeTrial(4);
+  a.trial_index = 0;
+  a.block = "a b";
+  TrialRecord b = a;
+  b.trial_index = 1;
+  b.block = "aB";
+  ASSERT_TRUE(journal->Append(a, {}).ok());
+  ASSERT_TRUE(journal->Append(b, {}).ok());
+  Status s = ExportBids(dir.path(), "02");
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  const fs::path beh = dir.path() / "sub-02" / "beh";
+  EXPECT_TRUE(fs::exists(beh / "sub-02_task-aB_beh.tsv"));
+  EXPECT_TRUE(fs::exists(beh / "sub-02_task-aB2_beh.tsv"));
+  EXPECT_EQ(Json::parse(ReadFile(beh / "sub-02_task-aB2_beh.json"))["TaskName"],
+            "aB");
+  EXPECT_FALSE(fs::exists(beh / "sub-02_task-aB_physio.tsv.gz"));
+}
+
+TEST(BidsExportCases, TracesOfDifferentKindsGoToSeparateRecordings) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("03"));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  std::vector<TraceSamples> traces = MakeTraces(0);
+  traces[1].sampling_frequency_hz = 500.0;
+  traces[1].rows[1][0] = NAN;
+  ASSERT_TRUE(journal->Append(MakeTrial(0), traces).ok());
+  Status s = ExportBids(dir.path(), "03");
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  const fs::path beh = dir.path() / "sub-03" / "beh";
+  Json first = Json::parse(
+      ReadFile(beh / "sub-03_task-practice_recording-1_physio.json"));
+  Json second = Json::parse(
+      ReadFile(beh / "sub-03_task-practice_recording-2_physio.json"));
+  EXPECT_EQ(first["SamplingFrequency"], 1000.0);
+  EXPECT_EQ(second["SamplingFrequency"], 500.0);
+  EXPECT_EQ(second["StartTime"], 5.0);
+  const Table table =
+      ParseTsv(Gunzip(beh / "sub-03_task-practice_recording-2_physio.tsv.gz"));
+  ASSERT_EQ(table.size(), 5u);
+  EXPECT_EQ(table[1],
+            (std::vector<std::string>{"0", "1", "5.002", "n/a", "0.001"}));
+}
+
+TEST(BidsExportCases, MissingJournalIsAnError) {
+  TempDir dir;
+  Status s = ExportBids(dir.path(), "09");
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message, "no journal for sub-09 in " +
+                                   dir.path().string() + " (" +
+                                   JournalPath(dir.path(), "09").string() +
+                                   " does not exist); nothing to export");
+  s = ExportBids(dir.path(), "sub-09");
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            "subject label \"sub-09\" includes the \"sub-\" prefix; give only "
+            "the label, e.g. \"09\"");
+}
+
+}  // namespace
+}  // namespace burrlab::results_schema

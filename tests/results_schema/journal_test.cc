@@ -1,0 +1,558 @@
+// Tests of the session journal: round trip, SQLite settings, one transaction
+// per trial, refusal to overwrite, resume checks, and crash safety under
+// SIGKILL at random points.
+#include "burrlab/results_schema/journal.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "burrlab/results_schema/records.h"
+
+namespace burrlab::results_schema {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh folder under the test temp dir, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern =
+        (fs::path(testing::TempDir()) / "burrlab_journal_XXXXXX").string();
+    path_ = mkdtemp(pattern.data());
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::permissions(path_, fs::perms::owner_all, fs::perm_options::add, ec);
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+SessionInfo MakeSession(const std::string& label) {
+  SessionInfo s;
+  s.study = "stiffness discrimination";
+  s.protocol_path = "protocols/examples/same_different.toml";
+  s.protocol_sha256 = std::string(64, 'a');
+  s.subject_label = label;
+  s.master_seed = 18'446'744'073'709'551'557u;  // above 2^63: survives as text
+  s.burrlab_version = "0.1.0";
+  s.started_utc = "2024-05-01T09:30:00Z";
+  return s;
+}
+
+TrialRecord MakeTrial(int i) {
+  TrialRecord t;
+  t.trial_index = i;
+  t.block = i < 6 ? "practice" : "main block";
+  t.method = "staircase";
+  t.task = i % 2 == 0 ? "probe" : "drill";
+  t.trial_type = "2AFC";
+  t.stim_level = 1.0 + 0.1 * i;
+  t.stim_unit = "ratio";
+  t.interval_materials = {"pvc_k70", "human_temporal_bone"};
+  t.correct_answer = "1";
+  if (i % 3 != 0) {
+    t.response = i % 3 == 1 ? "1" : "2";
+    t.correct = i % 3 == 1;
+    t.response_time_s = 0.25 + 0.001 * i;
+  }
+  t.staircase_id = i % 2;
+  t.reversal = i % 4 == 0;
+  t.step_size = 0.05;
+  if (i > 2) t.estimate = 1.0 / (i + 1);
+  t.rng_state = "mt19937_64 " + std::to_string(i) + "\n5489 1 2 3";
+  t.extra = R"({"quest_sd": 0.125, "path": [1, 2]})";
+  return t;
+}
+
+std::vector<TraceSamples> MakeTraces(int i, int rows = 40) {
+  std::vector<TraceSamples> traces;
+  for (int interval = 0; interval < 2; ++interval) {
+    TraceSamples t;
+    t.trial_index = i;
+    t.interval_index = interval;
+    t.sampling_frequency_hz = 1000.0;
+    t.start_time_s = 10.0 * i + 4.0 * interval;
+    t.columns = {"force_n", "position_mm", "velocity_mm_per_s"};
+    for (int r = 0; r < rows + i % 7; ++r) {
+      t.rows.push_back({0.01 * r + i, -0.5 * r + interval, std::sin(0.1 * r)});
+    }
+    traces.push_back(std::move(t));
+  }
+  return traces;
+}
+
+// Runs `sql` on the journal file with a separate raw connection.
+void RawSql(const fs::path& path, const char* sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  char* message = nullptr;
+  EXPECT_EQ(sqlite3_exec(db, sql, nullptr, nullptr, &message), SQLITE_OK)
+      << (message ? message : "");
+  sqlite3_free(message);
+  sqlite3_close(db);
+}
+
+TEST(Journal, RoundTripsSessionTrialsAndTraces) {
+  TempDir dir;
+  {
+    auto journal = Journal::Create(dir.path(), MakeSession("01"));
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    EXPECT_EQ(journal->path(), dir.path() / "sub-01" / "journal.sqlite");
+    for (int i = 0; i < 10; ++i) {
+      Status s = journal->Append(MakeTrial(i), MakeTraces(i));
+      ASSERT_TRUE(s.ok()) << s.error().message;
+    }
+  }
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  EXPECT_EQ(journal->session(), MakeSession("01"));
+  auto trials = journal->Trials();
+  ASSERT_TRUE(trials.ok()) << trials.error().message;
+  ASSERT_EQ(trials->size(), 10u);
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_EQ((*trials)[static_cast<std::size_t>(i)], MakeTrial(i)) << i;
+    auto traces = journal->Traces(i);
+    ASSERT_TRUE(traces.ok()) << traces.error().message;
+    EXPECT_EQ(*traces, MakeTraces(i)) << i;
+  }
+  EXPECT_EQ(*journal->NextTrialIndex(), 10);
+  EXPECT_TRUE(journal->Traces(99)->empty());
+}
+
+TEST(Journal, KeepsNonFiniteAndEmptyTraces) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("01"));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  TraceSamples empty;
+  empty.columns = {"force_n"};
+  TraceSamples odd;
+  odd.interval_index = 1;
+  odd.columns = {"force_n"};
+  odd.rows = {{INFINITY}, {-0.0}, {5e-324}};
+  ASSERT_TRUE(journal->Append(MakeTrial(0), {empty, odd}).ok());
+  auto traces = journal->Traces(0);
+  ASSERT_TRUE(traces.ok()) << traces.error().message;
+  ASSERT_EQ(traces->size(), 2u);
+  EXPECT_EQ((*traces)[0], empty);
+  EXPECT_EQ((*traces)[1], odd);
+  EXPECT_TRUE(std::signbit((*traces)[1].rows[1][0]));
+}
+
+TEST(Journal, UsesWalSynchronousFullAndForeignKeys) {
+  TempDir dir;
+  for (bool reopen : {false, true}) {
+    auto journal = reopen ? Journal::Open(dir.path(), "01")
+                          : Journal::Create(dir.path(), MakeSession("01"));
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    auto settings = journal->Settings();
+    ASSERT_TRUE(settings.ok()) << settings.error().message;
+    EXPECT_EQ(settings->journal_mode, "wal");
+    EXPECT_EQ(settings->synchronous, 2);  // FULL
+    EXPECT_TRUE(settings->foreign_keys);
+    EXPECT_EQ(settings->schema_version, kJournalSchemaVersion);
+  }
+  // WAL is recorded in the file itself, so other readers see it too.
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(JournalPath(dir.path(), "01").c_str(), &db),
+            SQLITE_OK);
+  sqlite3_stmt* stmt = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db, "PRAGMA journal_mode", -1, &stmt, nullptr),
+            SQLITE_OK);
+  ASSERT_EQ(sqlite3_step(stmt), SQLITE_ROW);
+  EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0)),
+               "wal");
+  sqlite3_finalize(stmt);
+  sqlite3_close(db);
+}
+
+TEST(Journal, FailureInsideAppendLeavesNoPartialTrial) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("01"));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  ASSERT_TRUE(journal->Append(MakeTrial(0), MakeTraces(0)).ok());
+  // The second trace repeats interval 0: the trial row and the first trace
+  // are already inserted when the database refuses it.
+  std::vector<TraceSamples> traces = MakeTraces(1);
+  traces[1].interval_index = 0;
+  Status s = journal->Append(MakeTrial(1), traces);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            "cannot append trial 1 (interval 0) to " +
+                journal->path().string() +
+                ": UNIQUE constraint failed: trace.trial_index, "
+                "trace.interval_index");
+  EXPECT_EQ(*journal->NextTrialIndex(), 1);
+  EXPECT_TRUE(journal->Traces(1)->empty());
+  EXPECT_TRUE(journal->CheckIntegrity().ok());
+  // Also after reopening, and the same trial can then be appended whole.
+  auto reopened = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(reopened.ok()) << reopened.error().message;
+  EXPECT_EQ(reopened->Trials()->size(), 1u);
+  ASSERT_TRUE(reopened->Append(MakeTrial(1), MakeTraces(1)).ok());
+  EXPECT_EQ(*reopened->Traces(1), MakeTraces(1));
+}
+
+TEST(Journal, FullDiskFailsTheAppendAndKeepsTheJournalConsistent) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("01"));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  ASSERT_TRUE(journal->Append(MakeTrial(0), MakeTraces(0)).ok());
+  ASSERT_TRUE(journal->LimitSizeForTesting(64 * 1024).ok());
+  // Incompressible samples, about 300 kB per trial.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> noise(-1.0, 1.0);
+  std::vector<TraceSamples> big = MakeTraces(1);
+  big[1].rows.assign(12'500, {0.0, 0.0, 0.0});
+  for (auto& row : big[1].rows) {
+    for (double& v : row) v = noise(rng);
+  }
+  Status s = journal->Append(MakeTrial(1), big);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message, "cannot append trial 1 (interval 1) to " +
+                                   journal->path().string() +
+                                   ": database or disk is full");
+  EXPECT_EQ(*journal->NextTrialIndex(), 1);
+  EXPECT_TRUE(journal->Traces(1)->empty());
+  EXPECT_TRUE(journal->CheckIntegrity().ok());
+  ASSERT_TRUE(journal->LimitSizeForTesting(1 << 30).ok());
+  Status again = journal->Append(MakeTrial(1), big);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(*journal->Traces(1), big);
+}
+
+TEST(Journal, RefusesRepeatedAndSkippedTrialIndices) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("01"));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  ASSERT_TRUE(journal->Append(MakeTrial(0), {}).ok());
+  ASSERT_TRUE(journal->Append(MakeTrial(1), {}).ok());
+  Status repeated = journal->Append(MakeTrial(1), {});
+  ASSERT_FALSE(repeated.ok());
+  EXPECT_EQ(repeated.error().message, "trial 1 is already in " +
+                                          journal->path().string() +
+                                          "; the next trial is 2");
+  Status skipped = journal->Append(MakeTrial(5), {});
+  ASSERT_FALSE(skipped.ok());
+  EXPECT_EQ(skipped.error().message, "trial 5 would leave a gap in " +
+                                         journal->path().string() +
+                                         "; the next trial is 2");
+  EXPECT_EQ(journal->Trials()->size(), 2u);
+}
+
+TEST(Journal, RefusesInvalidRecordsBeforeWriting) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("01"));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  std::vector<TraceSamples> traces = MakeTraces(0);
+  traces[1].rows[3].pop_back();
+  Status s = journal->Append(MakeTrial(0), traces);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            "trial 0, interval 1: row 3 has 2 values for 3 columns");
+  traces = MakeTraces(0);
+  traces[0].trial_index = 4;
+  s = journal->Append(MakeTrial(0), traces);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            "trial 0: a trace of interval 0 belongs to trial 4");
+  EXPECT_EQ(*journal->NextTrialIndex(), 0);
+}
+
+TEST(Journal, CreateRefusesAnExistingSubject) {
+  TempDir dir;
+  {
+    auto journal = Journal::Create(dir.path(), MakeSession("01"));
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    ASSERT_TRUE(journal->Append(MakeTrial(0), MakeTraces(0)).ok());
+  }
+  SessionInfo other = MakeSession("01");
+  other.master_seed = 3;
+  auto again = Journal::Create(dir.path(), other);
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(again.error().message, "sub-01 already exists in " +
+                                       dir.path().string() +
+                                       "; use --resume to continue it");
+  auto kept = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(kept.ok()) << kept.error().message;
+  EXPECT_EQ(kept->session(), MakeSession("01"));
+  EXPECT_EQ(kept->Trials()->size(), 1u);
+}
+
+TEST(Journal, CreateRefusesASubjectFolderWithoutJournal) {
+  TempDir dir;
+  fs::create_directories(dir.path() / "sub-02" / "beh");
+  auto journal = Journal::Create(dir.path(), MakeSession("02"));
+  ASSERT_FALSE(journal.ok());
+  EXPECT_EQ(journal.error().message,
+            (dir.path() / "sub-02").string() +
+                " exists but holds no journal; refusing to write into it "
+                "(move it away or choose another output folder)");
+}
+
+TEST(Journal, CreateRejectsBadSubjectLabels) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("sub-01"));
+  ASSERT_FALSE(journal.ok());
+  EXPECT_EQ(journal.error().message,
+            "subject label \"sub-01\" includes the \"sub-\" prefix; give only "
+            "the label, e.g. \"01\"");
+  auto bad = Journal::Open(dir.path(), "../x");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message,
+            "subject label \"../x\" has '.' at position 1; use letters and "
+            "digits only (BIDS sub-<label>)");
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(Journal, OpenWithoutJournalSaysSo) {
+  TempDir dir;
+  auto journal = Journal::Open(dir.path(), "07");
+  ASSERT_FALSE(journal.ok());
+  EXPECT_EQ(journal.error().message,
+            "no journal for sub-07 in " + dir.path().string() + " (" +
+                JournalPath(dir.path(), "07").string() +
+                " does not exist); start the session without --resume");
+  EXPECT_FALSE(fs::exists(dir.path() / "sub-07"));
+}
+
+TEST(Journal, ResumeWithAnotherSeedOrProtocolNamesTheDifference) {
+  TempDir dir;
+  ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  EXPECT_TRUE(journal->CheckSameSession(MakeSession("01")).ok());
+  SessionInfo moved = MakeSession("01");
+  moved.protocol_path = "elsewhere/same_different.toml";
+  moved.started_utc = "2024-05-02T10:00:00Z";
+  EXPECT_TRUE(journal->CheckSameSession(moved).ok());
+
+  const std::string prefix =
+      "cannot resume sub-01 in " + dir.path().string() + ": ";
+  SessionInfo seed = MakeSession("01");
+  seed.master_seed = 42;
+  Status s = journal->CheckSameSession(seed);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            prefix +
+                "the seed differs from the journal's (18446744073709551557 in "
+                "the journal, 42 now)");
+  SessionInfo protocol = MakeSession("01");
+  protocol.protocol_sha256 = std::string(64, 'b');
+  s = journal->CheckSameSession(protocol);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message, prefix +
+                                   "the protocol differs from the journal's "
+                                   "(sha256 " +
+                                   std::string(64, 'a') + " in the journal, " +
+                                   std::string(64, 'b') + " now)");
+  protocol.master_seed = 42;
+  s = journal->CheckSameSession(protocol);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            prefix + "the protocol differs from the journal's (sha256 " +
+                std::string(64, 'a') + " in the journal, " +
+                std::string(64, 'b') +
+                " now); the seed differs from the journal's "
+                "(18446744073709551557 in the journal, 42 now)");
+}
+
+TEST(Journal, RefusesANewerSchemaVersion) {
+  TempDir dir;
+  ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
+  const fs::path path = JournalPath(dir.path(), "01");
+  RawSql(path, "UPDATE schema_version SET version = 2");
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_FALSE(journal.ok());
+  EXPECT_EQ(journal.error().message,
+            path.string() +
+                " was written by a newer burrlab (journal schema version 2; "
+                "this burrlab reads up to version 1); use a newer burrlab to "
+                "resume or export it");
+}
+
+TEST(Journal, RefusesFilesThatAreNotJournals) {
+  TempDir dir;
+  const fs::path path = JournalPath(dir.path(), "01");
+  fs::create_directories(path.parent_path());
+  RawSql(path, "CREATE TABLE notes (text TEXT)");
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_FALSE(journal.ok());
+  EXPECT_EQ(journal.error().message,
+            path.string() +
+                " is not a burrlab journal (it has no schema_version table)");
+
+  fs::remove(path);
+  std::ofstream(path) << "not a database, just some text that is long enough "
+                         "to fill a header of one hundred bytes or so .......";
+  journal = Journal::Open(dir.path(), "01");
+  ASSERT_FALSE(journal.ok());
+  EXPECT_EQ(journal.error().message,
+            "cannot read " + path.string() + ": file is not a database");
+}
+
+// Runs `body` as another user when this test runs as root (root ignores
+// folder permissions); returns what `body` returned.
+std::string AsUnprivilegedUser(const std::function<std::string()>& body) {
+  if (geteuid() != 0) return body();
+  int fds[2];
+  if (pipe(fds) != 0) return "pipe failed";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    std::string out = "cannot drop privileges";
+    if (setgid(65534) == 0 && setuid(65534) == 0) out = body();
+    ssize_t ignored = write(fds[1], out.data(), out.size());
+    (void)ignored;
+    close(fds[1]);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string out;
+  char buffer[512];
+  ssize_t n = 0;
+  while ((n = read(fds[0], buffer, sizeof buffer)) > 0) {
+    out.append(buffer, static_cast<std::size_t>(n));
+  }
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return out;
+}
+
+TEST(Journal, CreateInAnUnwritableFolderFails) {
+  TempDir dir;
+  const fs::path locked = dir.path() / "locked";
+  fs::create_directory(locked);
+  fs::permissions(dir.path(), fs::perms::owner_all | fs::perms::group_read |
+                                  fs::perms::group_exec |
+                                  fs::perms::others_read |
+                                  fs::perms::others_exec);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec |
+                              fs::perms::group_read | fs::perms::group_exec |
+                              fs::perms::others_read | fs::perms::others_exec);
+  const std::string message = AsUnprivilegedUser([&] {
+    auto journal = Journal::Create(locked, MakeSession("01"));
+    return journal.ok() ? std::string("created") : journal.error().message;
+  });
+  EXPECT_EQ(message, "cannot create folder " + (locked / "sub-01").string() +
+                         ": Permission denied");
+  EXPECT_TRUE(fs::is_empty(locked));
+}
+
+// Appends trials in a loop until killed (the child side of the crash tests).
+[[noreturn]] void AppendForever(const fs::path& dir) {
+  auto journal = Journal::Open(dir, "01");
+  if (!journal.ok()) _exit(3);
+  auto next = journal->NextTrialIndex();
+  if (!next.ok()) _exit(4);
+  for (int i = *next; i < 1'000'000; ++i) {
+    if (!journal->Append(MakeTrial(i), MakeTraces(i, 2000)).ok()) _exit(5);
+  }
+  _exit(0);
+}
+
+TEST(Journal, SurvivesSigkillAtRandomPointsWithoutLosingOrDuplicating) {
+  TempDir dir;
+  ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
+  std::mt19937 rng(20240501);
+  std::uniform_int_distribution<int> delay_us(0, 40'000);
+  constexpr int kKills = 24;
+  int expected = 0;  // trials known to be committed
+  int kills_with_progress = 0;
+  for (int kill_index = 0; kill_index < kKills; ++kill_index) {
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) AppendForever(dir.path());
+    std::this_thread::sleep_for(std::chrono::microseconds(delay_us(rng)));
+    ASSERT_EQ(kill(pid, SIGKILL), 0);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
+        << "the child stopped by itself, status " << status;
+
+    auto journal = Journal::Open(dir.path(), "01");
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    Status integrity = journal->CheckIntegrity();
+    ASSERT_TRUE(integrity.ok()) << integrity.error().message;
+    auto trials = journal->Trials();
+    ASSERT_TRUE(trials.ok()) << trials.error().message;
+    const int n = static_cast<int>(trials->size());
+    ASSERT_GE(n, expected) << "a committed trial was lost";
+    if (n > expected) ++kills_with_progress;
+    for (int i = 0; i < n; ++i) {
+      ASSERT_EQ((*trials)[static_cast<std::size_t>(i)], MakeTrial(i))
+          << "trial " << i << " after kill " << kill_index;
+    }
+    // The trials written since the last check carry all their samples.
+    for (int i = std::max(expected - 1, 0); i < n; ++i) {
+      auto traces = journal->Traces(i);
+      ASSERT_TRUE(traces.ok()) << traces.error().message;
+      ASSERT_EQ(*traces, MakeTraces(i, 2000)) << "trial " << i;
+    }
+    // The parent continues the session with the next trial.
+    Status appended = journal->Append(MakeTrial(n), MakeTraces(n, 2000));
+    ASSERT_TRUE(appended.ok()) << appended.error().message;
+    expected = n + 1;
+  }
+  EXPECT_GT(kills_with_progress, 0) << "no child committed a trial";
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  EXPECT_EQ(*journal->NextTrialIndex(), expected);
+  RecordProperty("trials", expected);
+  RecordProperty("kills_with_progress", kills_with_progress);
+}
+
+TEST(Journal, SigkillDuringCreateLeavesNoHalfJournal) {
+  TempDir dir;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> delay_us(0, 8'000);
+  int complete = 0;
+  for (int k = 0; k < 10; ++k) {
+    std::string label = "c";  // (not "c" + ...: GCC 12 -Wrestrict false alarm)
+    label += std::to_string(k);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      _exit(Journal::Create(dir.path(), MakeSession(label)).ok() ? 0 : 3);
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(delay_us(rng)));
+    kill(pid, SIGKILL);
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    ASSERT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) != 0)
+        << "Create failed in the child";
+    if (fs::exists(JournalPath(dir.path(), label))) {
+      ++complete;
+      auto journal = Journal::Open(dir.path(), label);
+      ASSERT_TRUE(journal.ok()) << journal.error().message;
+      EXPECT_EQ(journal->session(), MakeSession(label));
+    } else {
+      auto journal = Journal::Create(dir.path(), MakeSession(label));
+      ASSERT_TRUE(journal.ok()) << journal.error().message;
+    }
+  }
+  RecordProperty("complete_before_kill", complete);
+}
+
+}  // namespace
+}  // namespace burrlab::results_schema

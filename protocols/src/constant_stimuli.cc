@@ -9,22 +9,12 @@
 #include <cstdint>
 #include <utility>
 
+#include "shuffle.h"
+
 namespace burrlab::protocols {
 namespace {
 
 constexpr std::int64_t kMaxTrials = 100000;
-
-// Fisher-Yates from the back over items[begin, end), one uniform draw per
-// position: the same engine state gives the same order on every platform
-// (std::shuffle's algorithm is implementation-defined).
-template <typename T>
-void Shuffle(std::vector<T>& items, int begin, int end,
-             boost::random::mt19937& rng) {
-  for (int i = end - 1; i > begin; --i) {
-    boost::random::uniform_int_distribution<int> pick(begin, i);
-    std::swap(items[i], items[pick(rng)]);
-  }
-}
 
 }  // namespace
 

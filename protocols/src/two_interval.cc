@@ -6,21 +6,12 @@
 #include <boost/random/uniform_int_distribution.hpp>
 #include <utility>
 
+#include "shuffle.h"
+
 namespace burrlab::protocols {
 namespace {
 
 constexpr int kMaxTrials = 100000;
-
-// Fisher-Yates from the back, one uniform draw per position: the same
-// engine state gives the same order on every platform (std::shuffle's
-// algorithm is implementation-defined).
-template <typename T>
-void Shuffle(std::vector<T>& items, boost::random::mt19937& rng) {
-  for (int i = static_cast<int>(items.size()) - 1; i > 0; --i) {
-    boost::random::uniform_int_distribution<int> pick(0, i);
-    std::swap(items[i], items[pick(rng)]);
-  }
-}
 
 // Error unless n_trials is positive, even and at most kMaxTrials.
 Status CheckEvenCount(std::string_view method, int n_trials,

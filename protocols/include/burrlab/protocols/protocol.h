@@ -1,0 +1,229 @@
+// Protocol files (format "burrlab-protocol/1", TOML; the author's guide is
+// protocols/README.md): the parsed, validated model of a study, and the
+// diagnostics `burrlab validate` prints. Parsing checks everything it can
+// without running the study (types, ranges, unknown keys, unknown materials,
+// designs that cannot be balanced, staircases that can never stop) and
+// reports every problem it finds, each with its place in the file.
+#ifndef BURRLAB_PROTOCOLS_PROTOCOL_H_
+#define BURRLAB_PROTOCOLS_PROTOCOL_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "burrlab/protocols/adjustment.h"
+#include "burrlab/protocols/constant_stimuli.h"
+#include "burrlab/protocols/limits.h"
+#include "burrlab/protocols/quest.h"
+#include "burrlab/protocols/same_different.h"
+#include "burrlab/protocols/staircase.h"
+#include "burrlab/protocols/two_interval.h"
+#include "burrlab/sim/result.h"
+#include "burrlab/stimuli/interval.h"
+#include "burrlab/stimuli/materials.h"
+
+namespace burrlab::protocols {
+
+// Format id every protocol file starts with (`format = "..."`).
+inline constexpr std::string_view kProtocolFormat = "burrlab-protocol/1";
+// Largest protocol file read (bytes); larger files are refused unread.
+inline constexpr std::uint64_t kMaxProtocolBytes = 1 << 20;
+
+// A place in a protocol file: 1-based line and column; 0 when unknown (then
+// the diagnostic names the file only).
+struct SourceLocation {
+  int line = 0;
+  int column = 0;
+};
+
+// One problem found in a protocol file.
+struct Diagnostic {
+  SourceLocation where;  // the offending key or value
+  std::string message;   // one line: what is wrong and what is accepted
+};
+
+// "path:line:col: error: message", then the source line and a caret under
+// the column, each line ending in '\n'. Without a location:
+// "path: error: message\n". `text` is the whole file.
+std::string FormatDiagnostic(std::string_view path, std::string_view text,
+                             const Diagnostic& diagnostic);
+
+// What the subject does in every interval of a block (probe or drill).
+using stimuli::Task;
+using stimuli::TaskName;
+
+// A material parameter an axis varies (names as in sim::Material).
+enum class MaterialParameter {
+  kCE,     // "c_e": elastic coefficient c_e, N/mm^2 (eq. 6.12/7.3)
+  kAlpha,  // "alpha": erosion rate alpha, 1/s (eq. 7.12)
+  kCMu,    // "c_mu": friction coefficient c_mu, N/mm^2 (eq. 6.23)
+  kMu,     // "mu": Coulomb friction coefficient mu
+  kCI,     // "c_i": impact coefficient c_i, N s/mm^3 (eq. 7.14)
+};
+// "c_e", "alpha", "c_mu", "mu" or "c_i".
+std::string_view MaterialParameterName(MaterialParameter parameter);
+// The parameter's value in `material`.
+double GetParameter(const sim::Material& material, MaterialParameter parameter);
+// `material` with the parameter set to `value`.
+sim::Material WithParameter(sim::Material material, MaterialParameter parameter,
+                            double value);
+
+// A material a block may present, as declared under [materials.<id>].
+struct ProtocolMaterial {
+  std::string id;            // the key after "materials.", e.g. "bone"
+  std::string builtin;       // built-in name when declared with builtin = ...
+  stimuli::MaterialSet set;  // resolved parameters (built-in or inline)
+  SourceLocation where;      // the [materials.<id>] table
+};
+
+// How an axis turns a level into a material.
+enum class AxisKind {
+  kRatio,      // parameter = reference's parameter x level (level > 0)
+  kIncrement,  // parameter = reference's parameter x (1 + level) (level > -1)
+  kValue,      // parameter = level (level > 0, in the parameter's unit)
+  kLogInterpolation,  // every parameter = from^(1 - level) x to^level
+                      // (level in [0, 1]: 0 is `from`, 1 is `to`)
+};
+// "ratio", "increment", "value" or "log_interpolation".
+std::string_view AxisKindName(AxisKind kind);
+
+// A stimulus axis declared under [axes.<id>].
+struct Axis {
+  std::string id;  // the key after "axes."
+  AxisKind kind = AxisKind::kRatio;
+  MaterialParameter parameter = MaterialParameter::kCE;  // not for
+                                                         // log_interpolation
+  std::string reference;  // material id (ratio, increment, value)
+  std::string from;       // material id (log_interpolation)
+  std::string to;         // material id (log_interpolation)
+  SourceLocation where;   // the [axes.<id>] table
+};
+// Unit of an axis's levels: "ratio", "fraction", "t" (log_interpolation) or
+// the parameter's unit for kValue ("N/mm^2", "1/s", "1", "N s/mm^3").
+std::string AxisUnit(const Axis& axis);
+
+enum class Method {
+  kSameDifferent,    // "same_different"
+  kTwoInterval,      // "two_interval" (design "2afc" or "reference")
+  kConstantStimuli,  // "constant_stimuli"
+  kLimits,           // "limits"
+  kAdjustment,       // "adjustment"
+  kStaircase,        // "staircase"
+  kQuest,            // "quest"
+};
+// The method's name in protocol files and results, e.g. "same_different".
+std::string_view MethodName(Method method);
+
+// How a two_interval block is laid out.
+enum class TwoIntervalDesign {
+  k2Afc,       // "2afc": standard and comparison in random order
+  kReference,  // "reference": reference, then A and B (§13.5.2)
+};
+
+// Response mode of a staircase or QUEST block.
+enum class AdaptiveResponse {
+  k2Afc,   // "2afc": standard and comparison, which one is "more"
+  kYesNo,  // "yesno": one interval at the level; "yes" counts as correct
+};
+
+// One block of trials ([[blocks]]).
+struct Block {
+  std::string name;  // unique within the protocol; default "block<k>"
+  Method method = Method::kSameDifferent;
+  Task task = Task::kProbe;
+  std::string instructions;        // shown before the block; may be empty
+  std::string question;            // shown after the intervals; method default
+  std::vector<double> interval_s;  // duration of each interval, s (> 0; a
+                                   // real reference interval is 0 =
+                                   // subject-paced)
+  SourceLocation where;            // the [[blocks]] table
+
+  // same_different, two_interval: the two materials (ids in [materials]).
+  std::string material_a;  // same_different "a"; 2afc "standard"; ref. "a"
+  std::string material_b;  // same_different "b"; 2afc "comparison"; ref. "b"
+  SameDifferentOptions same_different;
+  TwoIntervalDesign design = TwoIntervalDesign::k2Afc;
+  TwoIntervalOptions two_interval;
+  ReferenceDesignOptions reference;
+  std::string reference_material;     // reference design: simulated reference
+                                      // id, or empty for a real sample
+  std::string reference_description;  // reference design: what the real
+                                      // sample is (shown to experimenter)
+
+  // Axis methods (constant_stimuli, limits, adjustment, staircase, quest).
+  std::string axis;             // id in [axes]
+  double standard_level = 0.0;  // level of the standard interval
+  ConstantStimuliOptions constant_stimuli;
+  LimitsOptions limits;
+  AdjustmentOptions adjustment;
+  int adjustment_repetitions = 1;            // adjustments in the block
+  std::vector<StaircaseOptions> staircases;  // one, or several interleaved
+  int threshold_reversals = 6;  // staircase estimate: mean of the last k
+  AdaptiveResponse adaptive_response = AdaptiveResponse::k2Afc;
+  QuestOptions quest;  // intensities are log10(level)
+  int quest_trials = 40;
+};
+
+// Counterbalancing of block order across subjects.
+enum class Counterbalance {
+  kNone,         // "none": blocks in file order for everyone
+  kLatinSquare,  // "latin_square": row (subject_index mod n) of a balanced
+                 // Latin square (Williams design for an even n)
+  kReverse,      // "reverse": odd subject indices run the blocks in reverse
+};
+
+// Defaults for the simulated observer ([observer]); `burrlab run --observer
+// simulated:weber=W,lapse=L` overrides them.
+struct ObserverDefaults {
+  double weber_stiffness = 0.20;  // log-normal sigma of the probing cue
+  double weber_removal = 0.30;    // log-normal sigma of the drilling cue
+  double lapse = 0.02;            // probability of a random response
+  double criterion = 1.0;  // same-different: "different" when the percepts
+                           // differ by more than criterion x sigma x sqrt(2)
+  double probe_force_n = 2.0;  // peak force of each probing press
+  double drill_force_n = 3.0;  // force held while drilling
+};
+
+// A parsed, validated protocol.
+struct Protocol {
+  std::string format;  // kProtocolFormat
+  std::string study_name;
+  std::string description;
+  std::string instructions;                 // shown once at the start
+  int trace_hz = 1000;                      // trace sampling rate; divides 1000
+  std::vector<ProtocolMaterial> materials;  // in file order
+  std::vector<Axis> axes;                   // in file order
+  std::vector<Block> blocks;                // in file order, at least one
+  Counterbalance counterbalance = Counterbalance::kNone;
+  ObserverDefaults observer;
+
+  // The material with this id, or null.
+  const ProtocolMaterial* FindMaterial(std::string_view id) const;
+  // The axis with this id, or null.
+  const Axis* FindAxis(std::string_view id) const;
+};
+
+// What parsing produced: the protocol when there were no errors, and every
+// diagnostic in file order (line, then column).
+struct ParseOutcome {
+  std::optional<Protocol> protocol;
+  std::vector<Diagnostic> diagnostics;
+};
+
+// Parses and validates protocol text; `path` names the file in messages.
+ParseOutcome ParseProtocol(std::string_view path, std::string_view text);
+
+// The material an axis gives at `level` (checked against the axis's domain:
+// an error names the axis, the level and the rule).
+Result<stimuli::MaterialSet> MaterialAtLevel(const Protocol& protocol,
+                                             const Axis& axis, double level);
+
+// Block order for subject `subject_index` (0-based) under the protocol's
+// counterbalancing: indices into protocol.blocks.
+std::vector<int> BlockOrder(const Protocol& protocol, int subject_index);
+
+}  // namespace burrlab::protocols
+
+#endif  // BURRLAB_PROTOCOLS_PROTOCOL_H_

@@ -1,0 +1,249 @@
+// The simulated observer's decision rules.
+#include "burrlab/protocols/observer.h"
+
+#include <fmt/format.h>
+
+#include <boost/random/normal_distribution.hpp>
+#include <boost/random/uniform_01.hpp>
+#include <boost/random/uniform_int_distribution.hpp>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "burrlab/sim/spelling.h"
+
+namespace burrlab::protocols {
+namespace {
+
+// +1, -1 or 0.
+int Sign(double v) { return (v > 0.0) - (v < 0.0); }
+
+// Parses a finite number or returns an error naming the key.
+Result<double> ParseNumber(std::string_view key, std::string_view text) {
+  std::string s(text);
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) {
+    return Error{
+        fmt::format("observer: {} must be a number, got \"{}\"", key, text)};
+  }
+  return v;
+}
+
+}  // namespace
+
+Status ObserverParams::Validate() const {
+  auto positive = [](std::string_view name, double v, double max) -> Status {
+    if (!(std::isfinite(v) && v > 0.0 && v <= max)) {
+      return Error{
+          fmt::format("observer: {} must be in (0, {}], got {}", name, max, v)};
+    }
+    return {};
+  };
+  if (Status s = positive("weber_stiffness", weber_stiffness, 5.0); !s.ok()) {
+    return s;
+  }
+  if (Status s = positive("weber_removal", weber_removal, 5.0); !s.ok()) {
+    return s;
+  }
+  if (!(lapse >= 0.0 && lapse < 0.5)) {
+    return Error{
+        fmt::format("observer: lapse must be in [0, 0.5), got {}", lapse)};
+  }
+  if (!(std::isfinite(criterion) && criterion >= 0.0)) {
+    return Error{fmt::format("observer: criterion must be 0 or more, got {}",
+                             criterion)};
+  }
+  if (Status s = positive("rt_median_s", rt_median_s, 60.0); !s.ok()) return s;
+  if (!(std::isfinite(rt_log_sd) && rt_log_sd >= 0.0 && rt_log_sd <= 2.0)) {
+    return Error{fmt::format("observer: rt_log_sd must be in [0, 2], got {}",
+                             rt_log_sd)};
+  }
+  if (Status s = positive("match_tolerance", match_tolerance, 10.0); !s.ok()) {
+    return s;
+  }
+  return {};
+}
+
+ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults) {
+  ObserverParams p;
+  p.weber_stiffness = defaults.weber_stiffness;
+  p.weber_removal = defaults.weber_removal;
+  p.lapse = defaults.lapse;
+  p.criterion = defaults.criterion;
+  return p;
+}
+
+Result<ObserverParams> ParseObserverSpec(std::string_view spec,
+                                         ObserverParams base) {
+  constexpr std::string_view kHead = "simulated";
+  if (!spec.starts_with(kHead) ||
+      (spec.size() > kHead.size() && spec[kHead.size()] != ':')) {
+    return Error{fmt::format(
+        "--observer must be 'simulated' or 'simulated:key=value,...', got "
+        "\"{}\"",
+        spec)};
+  }
+  std::string_view rest =
+      spec.size() > kHead.size() ? spec.substr(kHead.size() + 1) : "";
+  constexpr std::string_view kKeys[] = {"weber",         "weber_stiffness",
+                                        "weber_removal", "lapse",
+                                        "criterion",     "rt_median_s"};
+  while (!rest.empty()) {
+    const std::size_t comma = rest.find(',');
+    std::string_view item = rest.substr(0, comma);
+    rest = comma == std::string_view::npos ? "" : rest.substr(comma + 1);
+    const std::size_t eq = item.find('=');
+    if (eq == std::string_view::npos) {
+      return Error{fmt::format(
+          "observer: \"{}\" is not key=value (keys: weber, weber_stiffness, "
+          "weber_removal, lapse, criterion, rt_median_s)",
+          item)};
+    }
+    const std::string_view key = item.substr(0, eq);
+    Result<double> value = ParseNumber(key, item.substr(eq + 1));
+    if (!value.ok()) return value.error();
+    if (key == "weber") {
+      base.weber_stiffness = base.weber_removal = value.value();
+    } else if (key == "weber_stiffness") {
+      base.weber_stiffness = value.value();
+    } else if (key == "weber_removal") {
+      base.weber_removal = value.value();
+    } else if (key == "lapse") {
+      base.lapse = value.value();
+    } else if (key == "criterion") {
+      base.criterion = value.value();
+    } else if (key == "rt_median_s") {
+      base.rt_median_s = value.value();
+    } else {
+      const std::string_view hint = DidYouMean(key, kKeys);
+      return Error{fmt::format(
+          "observer: unknown key \"{}\"{} (keys: weber, weber_stiffness, "
+          "weber_removal, lapse, criterion, rt_median_s)",
+          key,
+          hint.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", hint))};
+    }
+  }
+  if (Status s = base.Validate(); !s.ok()) return s.error();
+  return base;
+}
+
+double SimulatedObserver::Sigma(Task task) const {
+  return task == Task::kProbe ? params_.weber_stiffness : params_.weber_removal;
+}
+
+double SimulatedObserver::ResponseTime(boost::random::mt19937& rng) const {
+  boost::random::normal_distribution<double> z(0.0, 1.0);
+  return params_.rt_median_s * std::exp(params_.rt_log_sd * z(rng));
+}
+
+Result<Response> SimulatedObserver::Decide(const TrialSpec& trial,
+                                           const TrialCues& cues,
+                                           boost::random::mt19937& rng) const {
+  if (cues.cues.size() != trial.intervals.size()) {
+    return Error{fmt::format("observer: trial {} has {} intervals but {} cues",
+                             trial.trial_index, trial.intervals.size(),
+                             cues.cues.size())};
+  }
+  for (double c : cues.cues) {
+    if (!(std::isfinite(c) && c > 0.0)) {
+      return Error{fmt::format("observer: trial {}: a cue must be > 0, got {}",
+                               trial.trial_index, c)};
+    }
+  }
+  const double sigma = Sigma(trial.task);
+  boost::random::uniform_01<double> u;
+  boost::random::normal_distribution<double> z(0.0, 1.0);
+  const bool lapse = u(rng) < params_.lapse;
+  std::vector<double> psi;
+  for (double c : cues.cues) psi.push_back(std::log(c) + sigma * z(rng));
+
+  std::string answer;
+  const std::size_t n = psi.size();
+  const double k = params_.criterion * sigma * std::sqrt(2.0);
+  switch (trial.method) {
+    case Method::kSameDifferent:
+    case Method::kLimits:
+      if (n != 2) return Error{"observer: expected two intervals"};
+      {
+        const bool different = std::abs(psi[0] - psi[1]) > k;
+        if (trial.method == Method::kSameDifferent) {
+          answer = different ? "different" : "same";
+        } else {
+          answer = different ? "yes" : "no";
+        }
+      }
+      break;
+    case Method::kTwoInterval:
+      if (n == 3) {  // reference design: the comparison closer to the reference
+        answer = std::to_string(
+            std::abs(psi[1] - psi[0]) <= std::abs(psi[2] - psi[0]) ? 2 : 3);
+        break;
+      }
+      [[fallthrough]];
+    default:
+      if (trial.method == Method::kAdjustment) {
+        return Error{
+            "observer: adjustment trials go step by step (AdjustStep)"};
+      }
+      if (n == 2) {
+        // The question asks which interval is higher on the axis (for
+        // material designs: which holds the comparison). `rise` is +1 when
+        // the cue grows with the level, -1 when it falls (the observer knows
+        // what "more" feels like); the interval whose percept lies further
+        // that way is chosen.
+        auto level_of = [](const PlannedInterval& i) {
+          return i.level.value_or(i.role == "comparison" ? 1.0 : 0.0);
+        };
+        const double dl =
+            level_of(trial.intervals[1]) - level_of(trial.intervals[0]);
+        int rise = Sign((std::log(cues.cues[1]) - std::log(cues.cues[0])) * dl);
+        if (rise == 0) rise = 1;
+        answer = std::to_string(rise * (psi[1] - psi[0]) > 0.0 ? 2 : 1);
+      } else if (n == 1) {
+        if (!cues.standard_cue.has_value() || !(*cues.standard_cue > 0.0)) {
+          return Error{"observer: a yes/no trial needs the standard's cue"};
+        }
+        const double level = trial.intervals[0].level.value_or(0.0);
+        const double standard = trial.standard_level.value_or(0.0);
+        const double dl = level - standard;
+        int direction =
+            Sign((std::log(cues.cues[0]) - std::log(*cues.standard_cue)) * dl);
+        if (direction == 0) direction = 1;
+        answer = direction * (psi[0] - std::log(*cues.standard_cue)) > 0.0
+                     ? "yes"
+                     : "no";
+      } else {
+        return Error{
+            fmt::format("observer: cannot decide a trial with {} "
+                        "intervals",
+                        n)};
+      }
+      break;
+  }
+  if (lapse) {
+    boost::random::uniform_int_distribution<int> pick(
+        0, static_cast<int>(trial.response_options.size()) - 1);
+    answer = trial.response_options[static_cast<std::size_t>(pick(rng))];
+  }
+  Response r;
+  r.answer = answer;
+  r.response_time_s = ResponseTime(rng);
+  return r;
+}
+
+char SimulatedObserver::AdjustStep(Task task, double standard_cue,
+                                   double comparison_cue, int direction,
+                                   boost::random::mt19937& rng) const {
+  const double sigma = Sigma(task);
+  boost::random::normal_distribution<double> z(0.0, 1.0);
+  const double psi_s = std::log(standard_cue) + sigma * z(rng);
+  const double psi_c = std::log(comparison_cue) + sigma * z(rng);
+  const double diff = psi_c - psi_s;
+  if (std::abs(diff) < params_.match_tolerance * sigma) return '=';
+  // The comparison feels "more": move the level so the cue shrinks.
+  const int sign = direction >= 0 ? 1 : -1;
+  return diff * sign > 0.0 ? '-' : '+';
+}
+
+}  // namespace burrlab::protocols

@@ -1,0 +1,285 @@
+// The protocol model's small functions: names, parameters, axes, block order
+// and the diagnostic format (the parser is in protocol_parse.cc).
+#include "burrlab/protocols/protocol.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace burrlab::protocols {
+
+std::string FormatDiagnostic(std::string_view path, std::string_view text,
+                             const Diagnostic& diagnostic) {
+  if (diagnostic.where.line <= 0) {
+    return fmt::format("{}: error: {}\n", path, diagnostic.message);
+  }
+  std::string out =
+      fmt::format("{}:{}:{}: error: {}\n", path, diagnostic.where.line,
+                  diagnostic.where.column, diagnostic.message);
+  // The source line (1-based), without its line break.
+  std::size_t start = 0;
+  for (int line = 1; line < diagnostic.where.line && start < text.size();
+       ++line) {
+    const std::size_t next = text.find('\n', start);
+    if (next == std::string_view::npos) {
+      start = text.size();
+      break;
+    }
+    start = next + 1;
+  }
+  std::size_t end = text.find('\n', start);
+  if (end == std::string_view::npos) end = text.size();
+  std::string_view source = text.substr(start, end - start);
+  if (!source.empty() && source.back() == '\r') source.remove_suffix(1);
+  out += std::string(source) + "\n";
+  // Caret under the column; tabs copied so it lines up in a terminal.
+  const int column = std::max(1, diagnostic.where.column);
+  for (int i = 0; i + 1 < column; ++i) {
+    out += static_cast<std::size_t>(i) < source.size() && source[i] == '\t'
+               ? '\t'
+               : ' ';
+  }
+  out += "^\n";
+  return out;
+}
+
+std::string_view MaterialParameterName(MaterialParameter parameter) {
+  switch (parameter) {
+    case MaterialParameter::kCE:
+      return "c_e";
+    case MaterialParameter::kAlpha:
+      return "alpha";
+    case MaterialParameter::kCMu:
+      return "c_mu";
+    case MaterialParameter::kMu:
+      return "mu";
+    case MaterialParameter::kCI:
+      return "c_i";
+  }
+  return "?";
+}
+
+double GetParameter(const sim::Material& material,
+                    MaterialParameter parameter) {
+  switch (parameter) {
+    case MaterialParameter::kCE:
+      return material.c_e_n_per_mm2;
+    case MaterialParameter::kAlpha:
+      return material.alpha_per_s;
+    case MaterialParameter::kCMu:
+      return material.c_mu_n_per_mm2;
+    case MaterialParameter::kMu:
+      return material.mu;
+    case MaterialParameter::kCI:
+      return material.c_i_n_s_per_mm3;
+  }
+  return 0.0;
+}
+
+sim::Material WithParameter(sim::Material material, MaterialParameter parameter,
+                            double value) {
+  switch (parameter) {
+    case MaterialParameter::kCE:
+      material.c_e_n_per_mm2 = value;
+      break;
+    case MaterialParameter::kAlpha:
+      material.alpha_per_s = value;
+      break;
+    case MaterialParameter::kCMu:
+      material.c_mu_n_per_mm2 = value;
+      break;
+    case MaterialParameter::kMu:
+      material.mu = value;
+      break;
+    case MaterialParameter::kCI:
+      material.c_i_n_s_per_mm3 = value;
+      break;
+  }
+  return material;
+}
+
+std::string_view AxisKindName(AxisKind kind) {
+  switch (kind) {
+    case AxisKind::kRatio:
+      return "ratio";
+    case AxisKind::kIncrement:
+      return "increment";
+    case AxisKind::kValue:
+      return "value";
+    case AxisKind::kLogInterpolation:
+      return "log_interpolation";
+  }
+  return "?";
+}
+
+std::string AxisUnit(const Axis& axis) {
+  switch (axis.kind) {
+    case AxisKind::kRatio:
+      return "ratio";
+    case AxisKind::kIncrement:
+      return "fraction";
+    case AxisKind::kLogInterpolation:
+      return "t";
+    case AxisKind::kValue:
+      switch (axis.parameter) {
+        case MaterialParameter::kCE:
+        case MaterialParameter::kCMu:
+          return "N/mm^2";
+        case MaterialParameter::kAlpha:
+          return "1/s";
+        case MaterialParameter::kMu:
+          return "1";
+        case MaterialParameter::kCI:
+          return "N s/mm^3";
+      }
+  }
+  return "";
+}
+
+std::string_view MethodName(Method method) {
+  switch (method) {
+    case Method::kSameDifferent:
+      return "same_different";
+    case Method::kTwoInterval:
+      return "two_interval";
+    case Method::kConstantStimuli:
+      return "constant_stimuli";
+    case Method::kLimits:
+      return "limits";
+    case Method::kAdjustment:
+      return "adjustment";
+    case Method::kStaircase:
+      return "staircase";
+    case Method::kQuest:
+      return "quest";
+  }
+  return "?";
+}
+
+const ProtocolMaterial* Protocol::FindMaterial(std::string_view id) const {
+  for (const ProtocolMaterial& m : materials) {
+    if (m.id == id) return &m;
+  }
+  return nullptr;
+}
+
+const Axis* Protocol::FindAxis(std::string_view id) const {
+  for (const Axis& a : axes) {
+    if (a.id == id) return &a;
+  }
+  return nullptr;
+}
+
+Result<stimuli::MaterialSet> MaterialAtLevel(const Protocol& protocol,
+                                             const Axis& axis, double level) {
+  auto domain_error = [&](std::string_view rule) -> Error {
+    return Error{
+        fmt::format("axis \"{}\" ({}): level {} is outside its "
+                    "domain ({})",
+                    axis.id, AxisKindName(axis.kind), level, rule)};
+  };
+  if (!std::isfinite(level)) return domain_error("a finite number");
+  stimuli::MaterialSet set;
+  if (axis.kind == AxisKind::kLogInterpolation) {
+    if (level < 0.0 || level > 1.0) return domain_error("0 to 1");
+    const ProtocolMaterial* from = protocol.FindMaterial(axis.from);
+    const ProtocolMaterial* to = protocol.FindMaterial(axis.to);
+    if (from == nullptr || to == nullptr) {
+      return Error{fmt::format("axis \"{}\": unknown material \"{}\"", axis.id,
+                               from == nullptr ? axis.from : axis.to)};
+    }
+    set.material = from->set.material;
+    for (MaterialParameter p :
+         {MaterialParameter::kCE, MaterialParameter::kAlpha,
+          MaterialParameter::kCMu, MaterialParameter::kMu,
+          MaterialParameter::kCI}) {
+      const double a = GetParameter(from->set.material, p);
+      const double b = GetParameter(to->set.material, p);
+      // Geometric interpolation: equal steps in level are equal ratios.
+      const double v =
+          a > 0.0 && b > 0.0
+              ? std::exp((1.0 - level) * std::log(a) + level * std::log(b))
+              : (1.0 - level) * a + level * b;
+      set.material = WithParameter(set.material, p, v);
+    }
+    set.display_name =
+        fmt::format("{} between {} and {} at t = {}", axis.id,
+                    from->set.display_name, to->set.display_name, level);
+  } else {
+    const ProtocolMaterial* reference = protocol.FindMaterial(axis.reference);
+    if (reference == nullptr) {
+      return Error{fmt::format("axis \"{}\": unknown material \"{}\"", axis.id,
+                               axis.reference)};
+    }
+    const double base = GetParameter(reference->set.material, axis.parameter);
+    double value = 0.0;
+    switch (axis.kind) {
+      case AxisKind::kRatio:
+        if (level <= 0.0) return domain_error("greater than 0");
+        value = base * level;
+        break;
+      case AxisKind::kIncrement:
+        if (level <= -1.0) return domain_error("greater than -1");
+        value = base * (1.0 + level);
+        break;
+      case AxisKind::kValue:
+        if (level <= 0.0) return domain_error("greater than 0");
+        value = level;
+        break;
+      case AxisKind::kLogInterpolation:
+        break;
+    }
+    set.material =
+        WithParameter(reference->set.material, axis.parameter, value);
+    set.display_name = fmt::format("{} with {} = {} ({} {} on axis {})",
+                                   reference->set.display_name,
+                                   MaterialParameterName(axis.parameter), value,
+                                   AxisKindName(axis.kind), level, axis.id);
+  }
+  std::string name = fmt::format("{}@{}", axis.id, level);
+  std::erase(name, '+');
+  set.name = std::move(name);
+  set.source = fmt::format("axis {} of the protocol", axis.id);
+  return set;
+}
+
+std::vector<int> BlockOrder(const Protocol& protocol, int subject_index) {
+  const int n = static_cast<int>(protocol.blocks.size());
+  std::vector<int> order(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
+  if (n < 2 || subject_index < 0) return order;
+  switch (protocol.counterbalance) {
+    case Counterbalance::kNone:
+      break;
+    case Counterbalance::kReverse:
+      if (subject_index % 2 == 1) std::reverse(order.begin(), order.end());
+      break;
+    case Counterbalance::kLatinSquare: {
+      // Williams design: first row 0, 1, n-1, 2, n-2, ...; row r adds r
+      // (mod n). For even n every block precedes every other exactly once
+      // over the n rows; for odd n the n mirrored rows follow (2n rows).
+      std::vector<int> first;
+      for (int k = 0, lo = 1, hi = n - 1; k < n; ++k) {
+        if (k == 0) {
+          first.push_back(0);
+        } else if (k % 2 == 1) {
+          first.push_back(lo++);
+        } else {
+          first.push_back(hi--);
+        }
+      }
+      const int rows = n % 2 == 0 ? n : 2 * n;
+      const int row = subject_index % rows;
+      for (int k = 0; k < n; ++k) {
+        const int value = (first[static_cast<std::size_t>(k)] + row % n) % n;
+        order[static_cast<std::size_t>(row < n ? k : n - 1 - k)] = value;
+      }
+      break;
+    }
+  }
+  return order;
+}
+
+}  // namespace burrlab::protocols

@@ -8,7 +8,8 @@ CMAKE_FLAGS ?=
 PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchmark-dev \
   libboost-random-dev libboost-math-dev libglm-dev zlib1g-dev libtomlplusplus-dev libstb-dev \
   fonts-dejavu-core \
-  nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev libsqlite3-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev libsqlite3-dev \
+  nettle-dev
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 

@@ -7,6 +7,10 @@ find_package(nlohmann_json 3.11 REQUIRED)            # nlohmann_json::nlohmann_j
 find_package(CLI11 REQUIRED)                         # CLI11::CLI11
 find_package(fmt REQUIRED)                           # fmt::fmt
 find_package(SQLite3 REQUIRED)                       # SQLite::SQLite3, the session journal
+find_package(PkgConfig REQUIRED)
+# SHA-256 of protocol files (the journal's identity check on --resume); none of
+# the other listed libraries provides SHA-256.
+pkg_check_modules(NETTLE REQUIRED IMPORTED_TARGET nettle)  # PkgConfig::NETTLE
 if(BURRLAB_BUILD_TESTS)
   find_package(GTest REQUIRED)                       # GTest::gtest GTest::gtest_main
   find_package(benchmark REQUIRED)                   # benchmark::benchmark

@@ -194,7 +194,7 @@ Result<PlannedInterval> Engine::Impl::AxisInterval(const std::string& role,
   PlannedInterval interval;
   interval.role = role;
   // '+' would split the exported interval_materials cell: "1e+20" -> "1e20".
-  std::string id = fmt::format("{}@{}", axis->id, level);
+  std::string id = fmt::format("{}@{:.8g}", axis->id, level);
   std::erase(id, '+');
   interval.material_id = std::move(id);
   interval.material = std::move(set.value());
@@ -629,7 +629,6 @@ Result<Outcome> Engine::Respond(const Response& response) {
           Result<double> final_level = copy.Finish();
           if (!final_level.ok()) return final_level.error();
           out.presented_level = final_level.value();
-          out.estimate = final_level.value();
           extra["start_level"] = copy.start_level();
           extra["jitter_steps"] = copy.jitter_steps();
           extra["final_level"] = final_level.value();
@@ -639,7 +638,9 @@ Result<Outcome> Engine::Respond(const Response& response) {
           s.current.reset();
           double sum = 0.0;
           for (const Adjustment& a : s.done) sum += *a.final_level();
-          extra["mean_final_level"] = sum / static_cast<double>(s.done.size());
+          // The method's estimate: the mean adjusted level so far.
+          out.estimate = sum / static_cast<double>(s.done.size());
+          extra["mean_final_level"] = *out.estimate;
           return {};
         } else if constexpr (std::is_same_v<S, StaircaseState>) {
           Result<StaircaseTrial> r =

@@ -238,7 +238,7 @@ Result<stimuli::MaterialSet> MaterialAtLevel(const Protocol& protocol,
                                    MaterialParameterName(axis.parameter), value,
                                    AxisKindName(axis.kind), level, axis.id);
   }
-  std::string name = fmt::format("{}@{}", axis.id, level);
+  std::string name = fmt::format("{}@{:.8g}", axis.id, level);
   std::erase(name, '+');
   set.name = std::move(name);
   set.source = fmt::format("axis {} of the protocol", axis.id);

@@ -9,7 +9,9 @@
 #include "burrlab_version.h"
 #include "command_table.h"
 #include "demo.h"
+#include "session_commands.h"
 #include "sim_commands.h"
+#include "validate_command.h"
 
 namespace burrlab::runner {
 namespace {
@@ -22,6 +24,17 @@ constexpr Command kCommands[] = {
      "the simulator on the built-in materials: force-depth curves and "
      "constant-force descents",
      RunDemoCommand},
+    {"validate",
+     "check protocol files; print every problem with its line and column",
+     RunValidateCommand},
+    {"plan",
+     "print the trials a protocol produces for a seed and scripted responses",
+     RunPlanCommand},
+    {"run",
+     "run one subject's session (simulated observer or typed answers); "
+     "--resume continues it",
+     RunRunCommand},
+    {"study", "run a population of simulated subjects", RunStudyCommand},
     {"sim", "burr simulator tools: force-curve, descent, bench", RunSimCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunTopHelp},

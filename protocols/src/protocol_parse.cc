@@ -1,0 +1,1379 @@
+// The "burrlab-protocol/1" parser and validator: every problem is collected
+// with its position, named by key path ("blocks[2].step_down", blocks counted
+// from 1) and described with the accepted values.
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "burrlab/protocols/protocol.h"
+#include "burrlab/sim/spelling.h"
+#include "burrlab/stimuli/toml_guard.h"
+
+namespace burrlab::protocols {
+namespace {
+
+using Keys = std::span<const std::string_view>;
+
+// Nesting limit before toml++ parses (see stimuli/toml_guard.h); a protocol
+// with long level lists has a few hundred '.' in numbers.
+constexpr std::size_t kMaxDots = 4096;
+constexpr int kMaxTrialsPerBlock = 10000;
+
+constexpr std::string_view kRootKeys[] = {
+    "format",         "study",     "recording", "observer",
+    "counterbalance", "materials", "axes",      "blocks"};
+constexpr std::string_view kStudyKeys[] = {"name", "description",
+                                           "instructions"};
+constexpr std::string_view kRecordingKeys[] = {"trace_hz"};
+constexpr std::string_view kObserverKeys[] = {
+    "weber_stiffness", "weber_removal", "lapse",
+    "criterion",       "probe_force_n", "drill_force_n"};
+constexpr std::string_view kCounterbalanceKeys[] = {"scheme"};
+constexpr std::string_view kMaterialKeys[] = {
+    "builtin",     "display_name",   "description", "c_e_n_per_mm2",
+    "alpha_per_s", "c_mu_n_per_mm2", "mu",          "c_i_n_s_per_mm3"};
+constexpr std::string_view kAxisKeys[] = {"kind", "parameter", "reference",
+                                          "from", "to"};
+constexpr std::string_view kCommonBlockKeys[] = {
+    "name", "method", "task", "instructions", "question", "interval_s"};
+constexpr std::string_view kSameDifferentKeys[] = {"a", "b", "trials"};
+constexpr std::string_view kTwoIntervalKeys[] = {
+    "design", "standard", "comparison",         "a",
+    "b",      "matching", "reference_material", "reference_description",
+    "trials"};
+constexpr std::string_view kAxisMethodKeys[] = {"axis", "standard_level"};
+constexpr std::string_view kConstantKeys[] = {"levels", "repetitions", "order",
+                                              "response"};
+constexpr std::string_view kLimitsKeys[] = {
+    "step",  "ascending_start", "descending_start", "start_jitter_steps",
+    "floor", "ceiling",         "series",           "first_direction"};
+constexpr std::string_view kAdjustmentKeys[] = {
+    "start_level", "start_jitter_steps", "step",       "step_scale", "floor",
+    "ceiling",     "max_steps",          "repetitions"};
+constexpr std::string_view kStaircaseKeys[] = {
+    "n_down",     "n_up",          "step_down",    "step_up",
+    "step_scale", "step_schedule", "start_level",  "floor",
+    "ceiling",    "max_trials",    "max_reversals"};
+constexpr std::string_view kStaircaseBlockKeys[] = {"threshold_reversals",
+                                                    "response", "staircases"};
+constexpr std::string_view kScheduleKeys[] = {"after_reversals", "step_down",
+                                              "step_up"};
+constexpr std::string_view kQuestBlockKeys[] = {"trials", "response", "quest"};
+constexpr std::string_view kQuestKeys[] = {"tGuess", "tGuessSd", "pThreshold",
+                                           "beta",   "delta",    "gamma",
+                                           "grain",  "range"};
+constexpr std::string_view kMethods[] = {
+    "same_different", "two_interval", "constant_stimuli",
+    "limits",         "adjustment",   "staircase",
+    "quest"};
+
+std::string Join(Keys keys) {
+  std::string out;
+  for (std::string_view k : keys) {
+    if (!out.empty()) out += ", ";
+    out += k;
+  }
+  return out;
+}
+
+// Text of a TOML value's type for messages.
+std::string_view TypeName(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a number";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::array:
+      return "an array";
+    case toml::node_type::table:
+      return "a table";
+    default:
+      return "a date or time";
+  }
+}
+
+// Echo of user text in one line (control characters escaped, long text cut).
+std::string Echo(std::string_view text) {
+  std::string out;
+  for (char c : text.substr(0, 60)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      out += fmt::format("\\x{:02x}", u);
+    } else {
+      out += c;
+    }
+  }
+  if (text.size() > 60) out += "...";
+  return out;
+}
+
+SourceLocation Where(const toml::node& node) {
+  const toml::source_position p = node.source().begin;
+  return {static_cast<int>(p.line), static_cast<int>(p.column)};
+}
+
+class Parser {
+ public:
+  explicit Parser(std::string_view path) : path_(path) {}
+
+  ParseOutcome Parse(const toml::table& root);
+  std::vector<Diagnostic>& diagnostics() { return diagnostics_; }
+
+ private:
+  void Fail(SourceLocation where, std::string message) {
+    diagnostics_.push_back({where, std::move(message)});
+  }
+  void Fail(const toml::node& node, std::string message) {
+    Fail(Where(node), std::move(message));
+  }
+
+  // Unknown keys of `table` (named `name`): a did-you-mean or the accepted
+  // list; keys in `elsewhere` get `elsewhere_message` instead.
+  void CheckKeys(const toml::table& table, const std::string& name,
+                 const std::vector<std::string_view>& allowed,
+                 const std::vector<std::string_view>& elsewhere = {},
+                 std::string_view elsewhere_message = {});
+
+  // Typed getters: nullopt when absent or wrong (wrong is reported).
+  const toml::table* Table(const toml::table& parent, std::string_view key,
+                           const std::string& name);
+  std::optional<std::string> String(const toml::table& t, std::string_view key,
+                                    const std::string& name);
+  std::optional<double> Number(const toml::table& t, std::string_view key,
+                               const std::string& name);
+  std::optional<std::int64_t> Integer(const toml::table& t,
+                                      std::string_view key,
+                                      const std::string& name);
+  // A string that must be one of `choices`; the index.
+  std::optional<int> Choice(const toml::table& t, std::string_view key,
+                            const std::string& name, Keys choices);
+
+  // Checks value in range; reports at the key.
+  bool Range(const toml::table& t, std::string_view key,
+             const std::string& name, double value, double lo, double hi,
+             bool lo_open, bool hi_open);
+
+  void ParseStudy(const toml::table& root, Protocol& p);
+  void ParseRecording(const toml::table& root, Protocol& p);
+  void ParseObserver(const toml::table& root, Protocol& p);
+  void ParseCounterbalance(const toml::table& root, Protocol& p);
+  void ParseMaterials(const toml::table& root, Protocol& p);
+  void ParseAxes(const toml::table& root, Protocol& p);
+  void ParseBlocks(const toml::table& root, Protocol& p);
+  void ParseBlock(const toml::table& t, int index, const Protocol& p, Block& b);
+  // A material id that must be declared.
+  std::optional<std::string> MaterialRef(const toml::table& t,
+                                         std::string_view key,
+                                         const std::string& name,
+                                         const Protocol& p, bool required);
+  // A level that must lie in the axis's domain.
+  void CheckLevel(const toml::table& t, std::string_view key,
+                  const std::string& name, const Axis* axis, double level);
+  void ParseStaircase(const toml::table& t, const std::string& name,
+                      StaircaseOptions& o, const Axis* axis);
+  void ParseIntervals(const toml::table& t, const std::string& name,
+                      std::size_t count, Block& b);
+
+  std::string path_;
+  std::vector<Diagnostic> diagnostics_;
+  std::set<std::string> broken_materials_;  // declared, but with errors
+  std::set<std::string> broken_axes_;       // declared, but with errors
+};
+
+void Parser::CheckKeys(const toml::table& table, const std::string& name,
+                       const std::vector<std::string_view>& allowed,
+                       const std::vector<std::string_view>& elsewhere,
+                       std::string_view elsewhere_message) {
+  for (const auto& [key, node] : table) {
+    const std::string_view k = key.str();
+    if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) {
+      continue;
+    }
+    if (std::find(elsewhere.begin(), elsewhere.end(), k) != elsewhere.end()) {
+      Fail(Where(node), fmt::format("key \"{}\" {}", k, elsewhere_message));
+      continue;
+    }
+    const std::string_view hint = DidYouMean(k, allowed);
+    if (!hint.empty()) {
+      Fail(Where(node), fmt::format("unknown key \"{}\" in {} (did you mean "
+                                    "\"{}\"?)",
+                                    Echo(k), name, hint));
+    } else {
+      Fail(Where(node), fmt::format("unknown key \"{}\" in {}; accepted: {}",
+                                    Echo(k), name, Join(allowed)));
+    }
+  }
+}
+
+const toml::table* Parser::Table(const toml::table& parent,
+                                 std::string_view key,
+                                 const std::string& name) {
+  const toml::node* node = parent.get(key);
+  if (node == nullptr) return nullptr;
+  if (!node->is_table()) {
+    Fail(*node,
+         fmt::format("{} must be a table, got {}", name, TypeName(*node)));
+    return nullptr;
+  }
+  return node->as_table();
+}
+
+std::optional<std::string> Parser::String(const toml::table& t,
+                                          std::string_view key,
+                                          const std::string& name) {
+  const toml::node* node = t.get(key);
+  if (node == nullptr) return std::nullopt;
+  if (!node->is_string()) {
+    Fail(*node,
+         fmt::format("{} must be a string, got {}", name, TypeName(*node)));
+    return std::nullopt;
+  }
+  return std::string(node->as_string()->get());
+}
+
+std::optional<double> Parser::Number(const toml::table& t, std::string_view key,
+                                     const std::string& name) {
+  const toml::node* node = t.get(key);
+  if (node == nullptr) return std::nullopt;
+  if (node->is_integer()) {
+    return static_cast<double>(node->as_integer()->get());
+  }
+  if (!node->is_floating_point()) {
+    Fail(*node,
+         fmt::format("{} must be a number, got {}", name, TypeName(*node)));
+    return std::nullopt;
+  }
+  const double v = node->as_floating_point()->get();
+  if (!std::isfinite(v)) {
+    Fail(*node, fmt::format("{} must be a finite number, got {}", name, v));
+    return std::nullopt;
+  }
+  return v;
+}
+
+std::optional<std::int64_t> Parser::Integer(const toml::table& t,
+                                            std::string_view key,
+                                            const std::string& name) {
+  const toml::node* node = t.get(key);
+  if (node == nullptr) return std::nullopt;
+  if (!node->is_integer()) {
+    Fail(*node,
+         fmt::format("{} must be an integer, got {}", name, TypeName(*node)));
+    return std::nullopt;
+  }
+  return node->as_integer()->get();
+}
+
+std::optional<int> Parser::Choice(const toml::table& t, std::string_view key,
+                                  const std::string& name, Keys choices) {
+  std::optional<std::string> value = String(t, key, name);
+  if (!value.has_value()) return std::nullopt;
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    if (choices[i] == *value) return static_cast<int>(i);
+  }
+  const std::string_view hint = DidYouMean(*value, choices);
+  Fail(*t.get(key),
+       fmt::format(
+           "{} must be one of {}, got \"{}\"{}", name, Join(choices),
+           Echo(*value),
+           hint.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", hint)));
+  return std::nullopt;
+}
+
+bool Parser::Range(const toml::table& t, std::string_view key,
+                   const std::string& name, double value, double lo, double hi,
+                   bool lo_open, bool hi_open) {
+  const bool ok = (lo_open ? value > lo : value >= lo) &&
+                  (hi_open ? value < hi : value <= hi);
+  if (ok) return true;
+  const std::string lo_text = std::isinf(lo) ? "-inf" : fmt::format("{}", lo);
+  const std::string hi_text = std::isinf(hi) ? "inf" : fmt::format("{}", hi);
+  Fail(*t.get(key), fmt::format("{} must be in {}{}, {}{}, got {}", name,
+                                lo_open ? "(" : "[", lo_text, hi_text,
+                                hi_open ? ")" : "]", value));
+  return false;
+}
+
+void Parser::ParseStudy(const toml::table& root, Protocol& p) {
+  const toml::table* study = Table(root, "study", "study");
+  if (study == nullptr) {
+    if (root.get("study") == nullptr) {
+      Fail(SourceLocation{1, 1},
+           "the protocol needs a [study] table with a name");
+    }
+    return;
+  }
+  CheckKeys(*study, "[study]", {std::begin(kStudyKeys), std::end(kStudyKeys)});
+  if (auto name = String(*study, "name", "study.name")) {
+    if (name->empty()) {
+      Fail(*study->get("name"), "study.name must not be empty");
+    }
+    p.study_name = *name;
+  } else if (study->get("name") == nullptr) {
+    Fail(*study, "[study] needs \"name\"");
+  }
+  p.description =
+      String(*study, "description", "study.description").value_or("");
+  p.instructions =
+      String(*study, "instructions", "study.instructions").value_or("");
+}
+
+void Parser::ParseRecording(const toml::table& root, Protocol& p) {
+  const toml::table* t = Table(root, "recording", "recording");
+  if (t == nullptr) return;
+  CheckKeys(*t, "[recording]",
+            {std::begin(kRecordingKeys), std::end(kRecordingKeys)});
+  if (auto hz = Integer(*t, "trace_hz", "recording.trace_hz")) {
+    if (*hz < 1 || *hz > 1000 || 1000 % *hz != 0) {
+      Fail(*t->get("trace_hz"),
+           fmt::format("recording.trace_hz must divide 1000 (1, 2, 4, 5, 8, "
+                       "10, ..., 500, 1000), got {}",
+                       *hz));
+    } else {
+      p.trace_hz = static_cast<int>(*hz);
+    }
+  }
+}
+
+void Parser::ParseObserver(const toml::table& root, Protocol& p) {
+  const toml::table* t = Table(root, "observer", "observer");
+  if (t == nullptr) return;
+  CheckKeys(*t, "[observer]",
+            {std::begin(kObserverKeys), std::end(kObserverKeys)});
+  struct Field {
+    std::string_view key;
+    double* value;
+    double lo, hi;
+    bool lo_open, hi_open;
+  };
+  ObserverDefaults& o = p.observer;
+  const Field fields[] = {
+      {"weber_stiffness", &o.weber_stiffness, 0, 5, true, false},
+      {"weber_removal", &o.weber_removal, 0, 5, true, false},
+      {"lapse", &o.lapse, 0, 0.5, false, true},
+      {"criterion", &o.criterion, 0, 100, false, false},
+      {"probe_force_n", &o.probe_force_n, 0, 20, true, false},
+      {"drill_force_n", &o.drill_force_n, 0, 20, true, false},
+  };
+  for (const Field& f : fields) {
+    const std::string name = fmt::format("observer.{}", f.key);
+    if (auto v = Number(*t, f.key, name)) {
+      if (Range(*t, f.key, name, *v, f.lo, f.hi, f.lo_open, f.hi_open)) {
+        *f.value = *v;
+      }
+    }
+  }
+}
+
+void Parser::ParseCounterbalance(const toml::table& root, Protocol& p) {
+  const toml::table* t = Table(root, "counterbalance", "counterbalance");
+  if (t == nullptr) return;
+  CheckKeys(*t, "[counterbalance]",
+            {std::begin(kCounterbalanceKeys), std::end(kCounterbalanceKeys)});
+  constexpr std::string_view kSchemes[] = {"none", "latin_square", "reverse"};
+  if (auto c = Choice(*t, "scheme", "counterbalance.scheme", kSchemes)) {
+    p.counterbalance = static_cast<Counterbalance>(*c);
+  }
+}
+
+bool ValidId(std::string_view id) {
+  if (id.empty() || id.size() > 64) return false;
+  if (!((id[0] >= 'a' && id[0] <= 'z') || (id[0] >= 'A' && id[0] <= 'Z'))) {
+    return false;
+  }
+  return std::all_of(id.begin(), id.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+           (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+void Parser::ParseMaterials(const toml::table& root, Protocol& p) {
+  const toml::table* materials = Table(root, "materials", "materials");
+  if (materials == nullptr) return;
+  struct Param {
+    std::string_view key;
+    double sim::Material::*field;
+    bool zero_ok;
+  };
+  constexpr Param kParams[] = {
+      {"c_e_n_per_mm2", &sim::Material::c_e_n_per_mm2, false},
+      {"alpha_per_s", &sim::Material::alpha_per_s, false},
+      {"c_mu_n_per_mm2", &sim::Material::c_mu_n_per_mm2, false},
+      {"mu", &sim::Material::mu, true},
+      {"c_i_n_s_per_mm3", &sim::Material::c_i_n_s_per_mm3, false},
+  };
+  for (const auto& [key, node] : *materials) {
+    const std::string id(key.str());
+    const std::string name = fmt::format("materials.{}", Echo(id));
+    if (!ValidId(id)) {
+      Fail(node, fmt::format("material id \"{}\" must start with a letter and "
+                             "hold only letters, digits and '_' (at most 64)",
+                             Echo(id)));
+      broken_materials_.insert(id);
+      continue;
+    }
+    if (!node.is_table()) {
+      Fail(node,
+           fmt::format("{} must be a table, got {}", name, TypeName(node)));
+      broken_materials_.insert(id);
+      continue;
+    }
+    const toml::table& t = *node.as_table();
+    CheckKeys(t, "[" + name + "]",
+              {std::begin(kMaterialKeys), std::end(kMaterialKeys)});
+    ProtocolMaterial m;
+    m.id = id;
+    m.where = Where(t);
+    bool ok = true;
+    if (auto builtin = String(t, "builtin", name + ".builtin")) {
+      Result<stimuli::MaterialSet> set = stimuli::LoadBuiltinMaterial(*builtin);
+      if (!set.ok()) {
+        Fail(*t.get("builtin"),
+             fmt::format("{}.builtin: {}", name, set.error().message));
+        ok = false;
+      } else {
+        m.builtin = *builtin;
+        m.set = set.value();
+      }
+    } else if (t.get("builtin") != nullptr) {
+      ok = false;
+    } else {
+      m.set.name = id;
+      m.set.display_name = id;
+      m.set.source = fmt::format("protocol {}", path_);
+      std::vector<std::string_view> missing;
+      for (const Param& param : kParams) {
+        if (t.get(param.key) == nullptr) missing.push_back(param.key);
+      }
+      if (!missing.empty()) {
+        Fail(t, fmt::format("[{}] needs \"builtin\" or all of c_e_n_per_mm2, "
+                            "alpha_per_s, c_mu_n_per_mm2, mu, "
+                            "c_i_n_s_per_mm3 (missing {})",
+                            name, Join(missing)));
+        ok = false;
+      }
+    }
+    for (const Param& param : kParams) {
+      const std::string field = fmt::format("{}.{}", name, param.key);
+      if (auto v = Number(t, param.key, field)) {
+        if (Range(t, param.key, field, *v, 0.0, 1e6, !param.zero_ok, false)) {
+          m.set.material.*param.field = *v;
+        } else {
+          ok = false;
+        }
+      } else if (t.get(param.key) != nullptr) {
+        ok = false;
+      }
+    }
+    if (auto display = String(t, "display_name", name + ".display_name")) {
+      m.set.display_name = *display;
+    }
+    if (auto description = String(t, "description", name + ".description")) {
+      m.set.description = *description;
+    }
+    if (ok) {
+      p.materials.push_back(std::move(m));
+    } else {
+      broken_materials_.insert(id);  // reported once, not at every use
+    }
+  }
+}
+
+std::optional<std::string> Parser::MaterialRef(const toml::table& t,
+                                               std::string_view key,
+                                               const std::string& name,
+                                               const Protocol& p,
+                                               bool required) {
+  std::optional<std::string> id = String(t, key, name);
+  if (!id.has_value()) {
+    if (required && t.get(key) == nullptr) {
+      Fail(t, fmt::format("{} needs \"{}\" (a material id from [materials])",
+                          name.substr(0, name.rfind('.')), key));
+    }
+    return std::nullopt;
+  }
+  if (p.FindMaterial(*id) != nullptr) return id;
+  if (broken_materials_.contains(*id)) return std::nullopt;
+  std::vector<std::string_view> ids;
+  for (const ProtocolMaterial& m : p.materials) ids.push_back(m.id);
+  const std::string_view hint = DidYouMean(*id, ids);
+  Fail(*t.get(key),
+       fmt::format("{}: unknown material \"{}\"{}", name, Echo(*id),
+                   !hint.empty() ? fmt::format(" (did you mean \"{}\"?)", hint)
+                   : ids.empty() ? std::string(" (no [materials] declared)")
+                                 : fmt::format(" (declared: {})", Join(ids))));
+  return std::nullopt;
+}
+
+void Parser::ParseAxes(const toml::table& root, Protocol& p) {
+  const toml::table* axes = Table(root, "axes", "axes");
+  if (axes == nullptr) return;
+  constexpr std::string_view kKinds[] = {"ratio", "increment", "value",
+                                         "log_interpolation"};
+  constexpr std::string_view kParameters[] = {"c_e", "alpha", "c_mu", "mu",
+                                              "c_i"};
+  for (const auto& [key, node] : *axes) {
+    const std::string id(key.str());
+    const std::string name = fmt::format("axes.{}", Echo(id));
+    if (!ValidId(id)) {
+      Fail(node, fmt::format("axis id \"{}\" must start with a letter and "
+                             "hold only letters, digits and '_' (at most 64)",
+                             Echo(id)));
+      broken_axes_.insert(id);
+      continue;
+    }
+    if (!node.is_table()) {
+      Fail(node,
+           fmt::format("{} must be a table, got {}", name, TypeName(node)));
+      broken_axes_.insert(id);
+      continue;
+    }
+    const toml::table& t = *node.as_table();
+    CheckKeys(t, "[" + name + "]",
+              {std::begin(kAxisKeys), std::end(kAxisKeys)});
+    Axis axis;
+    axis.id = id;
+    axis.where = Where(t);
+    std::optional<int> kind = Choice(t, "kind", name + ".kind", kKinds);
+    if (!kind.has_value()) {
+      if (t.get("kind") == nullptr) {
+        Fail(t, fmt::format("[{}] needs \"kind\" (one of {})", name,
+                            Join(kKinds)));
+      }
+      continue;
+    }
+    axis.kind = static_cast<AxisKind>(*kind);
+    bool ok = true;
+    if (axis.kind == AxisKind::kLogInterpolation) {
+      if (t.get("parameter") != nullptr) {
+        Fail(*t.get("parameter"),
+             fmt::format("{}.parameter does not apply to kind "
+                         "log_interpolation (it moves every parameter)",
+                         name));
+        ok = false;
+      }
+      auto from = MaterialRef(t, "from", name + ".from", p, true);
+      auto to = MaterialRef(t, "to", name + ".to", p, true);
+      if (!from || !to) {
+        ok = false;
+      } else {
+        axis.from = *from;
+        axis.to = *to;
+        for (const std::string& m : {*from, *to}) {
+          if (p.FindMaterial(m)->set.material.mu <= 0.0) {
+            Fail(t, fmt::format("{}: material \"{}\" has mu = 0; a log "
+                                "interpolation needs every parameter > 0",
+                                name, m));
+            ok = false;
+          }
+        }
+      }
+    } else {
+      std::optional<int> parameter =
+          Choice(t, "parameter", name + ".parameter", kParameters);
+      if (!parameter.has_value()) {
+        if (t.get("parameter") == nullptr) {
+          Fail(t, fmt::format("[{}] needs \"parameter\" (one of {})", name,
+                              Join(kParameters)));
+        }
+        ok = false;
+      } else {
+        axis.parameter = static_cast<MaterialParameter>(*parameter);
+      }
+      auto reference =
+          MaterialRef(t, "reference", name + ".reference", p, true);
+      if (!reference) {
+        ok = false;
+      } else {
+        axis.reference = *reference;
+      }
+      for (std::string_view k : {"from", "to"}) {
+        if (t.get(k) != nullptr) {
+          Fail(*t.get(k), fmt::format("{}.{} applies only to kind "
+                                      "log_interpolation",
+                                      name, k));
+          ok = false;
+        }
+      }
+    }
+    if (ok) {
+      p.axes.push_back(axis);
+    } else {
+      broken_axes_.insert(id);
+    }
+  }
+}
+
+void Parser::CheckLevel(const toml::table& t, std::string_view key,
+                        const std::string& name, const Axis* axis,
+                        double level) {
+  if (axis == nullptr) return;
+  switch (axis->kind) {
+    case AxisKind::kRatio:
+    case AxisKind::kValue:
+      if (level <= 0.0) {
+        Fail(*t.get(key),
+             fmt::format("{} = {} is outside the domain of axis \"{}\" ({}: "
+                         "levels > 0)",
+                         name, level, axis->id, AxisKindName(axis->kind)));
+      }
+      break;
+    case AxisKind::kIncrement:
+      if (level <= -1.0) {
+        Fail(*t.get(key),
+             fmt::format("{} = {} is outside the domain of axis \"{}\" "
+                         "(increment: levels > -1)",
+                         name, level, axis->id));
+      }
+      break;
+    case AxisKind::kLogInterpolation:
+      if (level < 0.0 || level > 1.0) {
+        Fail(*t.get(key),
+             fmt::format("{} = {} is outside the domain of axis \"{}\" "
+                         "(log_interpolation: levels in [0, 1])",
+                         name, level, axis->id));
+      }
+      break;
+  }
+}
+
+void Parser::ParseIntervals(const toml::table& t, const std::string& name,
+                            std::size_t count, Block& b) {
+  const bool reference = b.method == Method::kTwoInterval &&
+                         b.design == TwoIntervalDesign::kReference;
+  const toml::node* node = t.get("interval_s");
+  if (node == nullptr) {
+    b.interval_s.assign(count, 10.0);
+    if (reference && b.reference_material.empty()) b.interval_s[0] = 0.0;
+    return;
+  }
+  const std::string key = name + ".interval_s";
+  std::vector<std::pair<double, const toml::node*>> values;
+  if (node->is_number()) {
+    values.assign(count, {node->value<double>().value_or(0.0), node});
+  } else if (const toml::array* a = node->as_array()) {
+    if (a->size() != count) {
+      Fail(*node, fmt::format("{} must hold {} durations (one per interval "
+                              "of this method), got {}",
+                              key, count, a->size()));
+      return;
+    }
+    for (const toml::node& v : *a) {
+      if (!v.is_number()) {
+        Fail(v, fmt::format("{} must hold numbers, got {}", key, TypeName(v)));
+        return;
+      }
+      values.push_back({v.value<double>().value_or(0.0), &v});
+    }
+  } else {
+    Fail(*node, fmt::format("{} must be a number or an array of numbers, got "
+                            "{}",
+                            key, TypeName(*node)));
+    return;
+  }
+  b.interval_s.clear();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double v = values[i].first;
+    const bool real_reference =
+        reference && i == 0 && b.reference_material.empty();
+    if (real_reference && v == 0.0) {
+      b.interval_s.push_back(0.0);
+      continue;
+    }
+    if (!(std::isfinite(v) && v >= 0.1 && v <= 600.0)) {
+      Fail(*values[i].second,
+           fmt::format("{} durations must be in [0.1, 600] s{}, got {}", key,
+                       real_reference ? " (or 0: subject-paced)" : "", v));
+      return;
+    }
+    b.interval_s.push_back(v);
+  }
+}
+
+void Parser::ParseStaircase(const toml::table& t, const std::string& name,
+                            StaircaseOptions& o, const Axis* axis) {
+  auto integer = [&](std::string_view key, int* out, int lo, int hi) {
+    const std::string field = fmt::format("{}.{}", name, key);
+    if (auto v = Integer(t, key, field)) {
+      if (Range(t, key, field, static_cast<double>(*v), lo, hi, false, false)) {
+        *out = static_cast<int>(*v);
+      }
+    }
+  };
+  auto number = [&](std::string_view key, double* out, bool positive) {
+    const std::string field = fmt::format("{}.{}", name, key);
+    if (auto v = Number(t, key, field)) {
+      if (positive && *v <= 0.0) {
+        Fail(*t.get(key),
+             fmt::format("{} must be positive, got {}", field, *v));
+        return;
+      }
+      *out = *v;
+    }
+  };
+  integer("n_down", &o.n_down, 1, 10);
+  integer("n_up", &o.n_up, 1, 10);
+  number("step_down", &o.step_down, true);
+  number("step_up", &o.step_up, true);
+  constexpr std::string_view kScales[] = {"linear", "log10", "db"};
+  if (auto s = Choice(t, "step_scale", name + ".step_scale", kScales)) {
+    o.step_scale = static_cast<StepScale>(*s);
+  }
+  if (auto v = Number(t, "start_level", name + ".start_level")) {
+    o.start_level = *v;
+    CheckLevel(t, "start_level", name + ".start_level", axis, *v);
+  }
+  if (auto v = Number(t, "floor", name + ".floor")) {
+    o.floor_level = *v;
+    CheckLevel(t, "floor", name + ".floor", axis, *v);
+  }
+  if (auto v = Number(t, "ceiling", name + ".ceiling")) {
+    o.ceiling_level = *v;
+    CheckLevel(t, "ceiling", name + ".ceiling", axis, *v);
+  }
+  integer("max_trials", &o.max_trials, 0, kMaxTrialsPerBlock);
+  integer("max_reversals", &o.max_reversals, 0, 1000);
+  if (const toml::node* node = t.get("step_schedule")) {
+    const toml::array* a = node->as_array();
+    if (a == nullptr || !a->is_array_of_tables()) {
+      Fail(*node, fmt::format("{}.step_schedule must be an array of tables "
+                              "{{after_reversals, step_down, step_up}}, got {}",
+                              name, TypeName(*node)));
+    } else {
+      o.step_schedule.clear();
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        const toml::table& e = *a->get(i)->as_table();
+        const std::string en = fmt::format("{}.step_schedule[{}]", name, i + 1);
+        CheckKeys(e, en, {std::begin(kScheduleKeys), std::end(kScheduleKeys)});
+        StepChange c;
+        bool ok = true;
+        for (std::string_view k : kScheduleKeys) {
+          if (e.get(k) == nullptr) {
+            Fail(e, fmt::format("{} needs \"{}\"", en, k));
+            ok = false;
+          }
+        }
+        if (auto v = Integer(e, "after_reversals", en + ".after_reversals")) {
+          c.after_reversals =
+              static_cast<int>(std::clamp<std::int64_t>(*v, -1, 100000));
+        }
+        if (auto v = Number(e, "step_down", en + ".step_down"))
+          c.step_down = *v;
+        if (auto v = Number(e, "step_up", en + ".step_up")) c.step_up = *v;
+        if (ok) o.step_schedule.push_back(c);
+      }
+    }
+  }
+}
+
+void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
+                        Block& b) {
+  const std::string name = fmt::format("blocks[{}]", index);
+  b.where = Where(t);
+  b.name = fmt::format("block{}", index);
+  if (auto n = String(t, "name", name + ".name")) {
+    if (n->empty()) {
+      Fail(*t.get("name"), name + ".name must not be empty");
+    } else {
+      b.name = *n;
+    }
+  }
+  std::optional<int> method = Choice(t, "method", name + ".method", kMethods);
+  if (!method.has_value()) {
+    if (t.get("method") == nullptr) {
+      Fail(t, fmt::format("{} needs \"method\" (one of {})", name,
+                          Join(kMethods)));
+    }
+    return;
+  }
+  b.method = static_cast<Method>(*method);
+  constexpr std::string_view kTasks[] = {"probe", "drill"};
+  if (auto task = Choice(t, "task", name + ".task", kTasks)) {
+    b.task = static_cast<Task>(*task);
+  } else if (t.get("task") == nullptr) {
+    Fail(t, fmt::format("{} needs \"task\" (probe or drill)", name));
+  }
+  b.instructions =
+      String(t, "instructions", name + ".instructions").value_or("");
+  b.question = String(t, "question", name + ".question").value_or("");
+
+  // Keys of this method and of all others (for "does not apply").
+  std::vector<std::string_view> allowed(std::begin(kCommonBlockKeys),
+                                        std::end(kCommonBlockKeys));
+  std::vector<std::string_view> every;
+  auto add = [](std::vector<std::string_view>& to, Keys keys) {
+    for (std::string_view k : keys) {
+      if (std::find(to.begin(), to.end(), k) == to.end()) to.push_back(k);
+    }
+  };
+  for (Keys k : {Keys(kSameDifferentKeys), Keys(kTwoIntervalKeys),
+                 Keys(kAxisMethodKeys), Keys(kConstantKeys), Keys(kLimitsKeys),
+                 Keys(kAdjustmentKeys), Keys(kStaircaseKeys),
+                 Keys(kStaircaseBlockKeys), Keys(kQuestBlockKeys)}) {
+    add(every, k);
+  }
+  const bool axis_method =
+      b.method != Method::kSameDifferent && b.method != Method::kTwoInterval;
+  if (axis_method) add(allowed, kAxisMethodKeys);
+  switch (b.method) {
+    case Method::kSameDifferent:
+      add(allowed, kSameDifferentKeys);
+      break;
+    case Method::kTwoInterval:
+      add(allowed, kTwoIntervalKeys);
+      break;
+    case Method::kConstantStimuli:
+      add(allowed, kConstantKeys);
+      break;
+    case Method::kLimits:
+      add(allowed, kLimitsKeys);
+      break;
+    case Method::kAdjustment:
+      add(allowed, kAdjustmentKeys);
+      break;
+    case Method::kStaircase:
+      add(allowed, kStaircaseKeys);
+      add(allowed, kStaircaseBlockKeys);
+      break;
+    case Method::kQuest:
+      add(allowed, kQuestBlockKeys);
+      break;
+  }
+  std::vector<std::string_view> elsewhere;
+  for (std::string_view k : every) {
+    if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
+      elsewhere.push_back(k);
+    }
+  }
+  CheckKeys(t, name, allowed, elsewhere,
+            fmt::format("does not apply to method {}", MethodName(b.method)));
+
+  const Axis* axis = nullptr;
+  if (axis_method) {
+    if (auto id = String(t, "axis", name + ".axis")) {
+      axis = p.FindAxis(*id);
+      if (axis == nullptr && !broken_axes_.contains(*id)) {
+        std::vector<std::string_view> ids;
+        for (const Axis& a : p.axes) ids.push_back(a.id);
+        const std::string_view hint = DidYouMean(*id, ids);
+        Fail(*t.get("axis"),
+             fmt::format(
+                 "{}.axis: unknown axis \"{}\"{}", name, Echo(*id),
+                 !hint.empty() ? fmt::format(" (did you mean \"{}\"?)", hint)
+                 : ids.empty() ? std::string(" (no [axes] declared)")
+                               : fmt::format(" (declared: {})", Join(ids))));
+      } else {
+        b.axis = *id;
+      }
+    } else if (t.get("axis") == nullptr) {
+      Fail(t, fmt::format("{} needs \"axis\" (an axis id from [axes])", name));
+    }
+    if (auto s = Number(t, "standard_level", name + ".standard_level")) {
+      b.standard_level = *s;
+      CheckLevel(t, "standard_level", name + ".standard_level", axis, *s);
+    } else if (axis != nullptr) {
+      if (axis->kind == AxisKind::kRatio) {
+        b.standard_level = 1.0;
+      } else if (axis->kind == AxisKind::kIncrement) {
+        b.standard_level = 0.0;
+      } else if (t.get("standard_level") == nullptr) {
+        Fail(t, fmt::format("{} needs \"standard_level\" (axis \"{}\" is {}, "
+                            "which has no natural standard)",
+                            name, axis->id, AxisKindName(axis->kind)));
+      }
+    }
+  }
+  auto trials = [&](int fallback) -> int {
+    if (auto v = Integer(t, "trials", name + ".trials")) {
+      if (Range(t, "trials", name + ".trials", static_cast<double>(*v), 1,
+                kMaxTrialsPerBlock, false, false)) {
+        return static_cast<int>(*v);
+      }
+      return -1;
+    }
+    return fallback;
+  };
+  auto report = [&](const Status& s, std::string_view key) {
+    if (s.ok()) return;
+    const toml::node* node = key.empty() ? nullptr : t.get(key);
+    Fail(node != nullptr ? Where(*node) : Where(t),
+         fmt::format("{}: {}", name, s.error().message));
+  };
+
+  std::size_t n_intervals = 2;
+  switch (b.method) {
+    case Method::kSameDifferent: {
+      auto a = MaterialRef(t, "a", name + ".a", p, true);
+      auto bm = MaterialRef(t, "b", name + ".b", p, true);
+      if (a && bm) {
+        b.material_a = *a;
+        b.material_b = *bm;
+        if (*a == *bm) {
+          Fail(*t.get("b"), fmt::format("{}: a and b are both \"{}\"; a "
+                                        "same-different block needs two "
+                                        "materials",
+                                        name, *a));
+        }
+      }
+      const int n = trials(12);
+      if (n > 0) {
+        b.same_different.n_trials = n;
+        if (n % 4 != 0) {
+          Fail(*t.get("trials"),
+               fmt::format("{}.trials = {} cannot be balanced over AA, AB, "
+                           "BA and BB (same-different needs a multiple of 4)",
+                           name, n));
+        }
+      }
+      break;
+    }
+    case Method::kTwoInterval: {
+      constexpr std::string_view kDesigns[] = {"2afc", "reference"};
+      if (auto d = Choice(t, "design", name + ".design", kDesigns)) {
+        b.design = static_cast<TwoIntervalDesign>(*d);
+      }
+      const bool reference = b.design == TwoIntervalDesign::kReference;
+      for (std::string_view k :
+           reference ? std::vector<std::string_view>{"standard", "comparison"}
+                     : std::vector<std::string_view>{"a", "b", "matching",
+                                                     "reference_material",
+                                                     "reference_description"}) {
+        if (t.get(k) != nullptr) {
+          Fail(*t.get(k), fmt::format("key \"{}\" does not apply to design {}",
+                                      k, reference ? "reference" : "2afc"));
+        }
+      }
+      if (reference) {
+        n_intervals = 3;
+        auto a = MaterialRef(t, "a", name + ".a", p, true);
+        auto bm = MaterialRef(t, "b", name + ".b", p, true);
+        if (a && bm) {
+          b.material_a = *a;
+          b.material_b = *bm;
+        }
+        constexpr std::string_view kAb[] = {"a", "b"};
+        if (auto m = Choice(t, "matching", name + ".matching", kAb)) {
+          b.reference.matching_material = static_cast<MaterialLabel>(*m);
+        }
+        if (t.get("reference_material") != nullptr) {
+          if (auto r = MaterialRef(t, "reference_material",
+                                   name + ".reference_material", p, false)) {
+            b.reference_material = *r;
+          }
+        }
+        b.reference_description =
+            String(t, "reference_description", name + ".reference_description")
+                .value_or("");
+        if (t.get("reference_material") == nullptr &&
+            b.reference_description.empty() &&
+            t.get("reference_description") == nullptr) {
+          Fail(t, fmt::format("{} needs \"reference_description\" (what the "
+                              "real sample is) or \"reference_material\" (a "
+                              "simulated reference)",
+                              name));
+        }
+        const int n = trials(10);
+        if (n > 0) {
+          b.reference.n_trials = n;
+          if (n % 2 != 0) {
+            Fail(*t.get("trials"),
+                 fmt::format("{}.trials = {} cannot be balanced over "
+                             "intervals 2 and 3 (the reference design needs "
+                             "an even number)",
+                             name, n));
+          }
+        }
+      } else {
+        auto s = MaterialRef(t, "standard", name + ".standard", p, true);
+        auto c = MaterialRef(t, "comparison", name + ".comparison", p, true);
+        if (s && c) {
+          b.material_a = *s;
+          b.material_b = *c;
+        }
+        const int n = trials(12);
+        if (n > 0) {
+          b.two_interval.n_trials = n;
+          if (n % 2 != 0) {
+            Fail(*t.get("trials"),
+                 fmt::format("{}.trials = {} cannot be balanced over "
+                             "intervals 1 and 2 (2afc needs an even number)",
+                             name, n));
+          }
+        }
+      }
+      break;
+    }
+    case Method::kConstantStimuli: {
+      ConstantStimuliOptions& o = b.constant_stimuli;
+      if (const toml::node* node = t.get("levels")) {
+        const toml::array* a = node->as_array();
+        if (a == nullptr) {
+          Fail(*node, fmt::format("{}.levels must be an array of numbers, got "
+                                  "{}",
+                                  name, TypeName(*node)));
+        } else {
+          bool ok = true;
+          for (const toml::node& v : *a) {
+            if (!v.is_number()) {
+              Fail(v, fmt::format("{}.levels must hold numbers, got {}", name,
+                                  TypeName(v)));
+              ok = false;
+              break;
+            }
+            o.levels.push_back(v.value<double>().value_or(0.0));
+          }
+          std::set<double> distinct(o.levels.begin(), o.levels.end());
+          if (ok && distinct.size() < 2) {
+            Fail(*node, fmt::format("{}.levels needs at least 2 distinct "
+                                    "levels, got {}",
+                                    name, distinct.size()));
+          }
+          for (double level : o.levels) {
+            CheckLevel(t, "levels", name + ".levels", axis, level);
+          }
+        }
+      } else {
+        Fail(t, fmt::format("{} needs \"levels\" (the stimulus levels)", name));
+      }
+      if (auto r = Integer(t, "repetitions", name + ".repetitions")) {
+        if (Range(t, "repetitions", name + ".repetitions",
+                  static_cast<double>(*r), 1, 1000, false, false)) {
+          o.repetitions = static_cast<int>(*r);
+        }
+      }
+      constexpr std::string_view kOrders[] = {"full", "blocked"};
+      if (auto c = Choice(t, "order", name + ".order", kOrders)) {
+        o.order = static_cast<TrialOrder>(*c);
+      }
+      constexpr std::string_view kModes[] = {"yesno", "2afc"};
+      if (auto c = Choice(t, "response", name + ".response", kModes)) {
+        o.response = static_cast<ResponseMode>(*c);
+      }
+      n_intervals = o.response == ResponseMode::kYesNo ? 1 : 2;
+      if (o.levels.size() >= 2) report(o.Validate(), "levels");
+      break;
+    }
+    case Method::kLimits: {
+      LimitsOptions& o = b.limits;
+      struct F {
+        std::string_view key;
+        double* value;
+      };
+      for (F f : {F{"step", &o.step}, F{"ascending_start", &o.ascending_start},
+                  F{"descending_start", &o.descending_start},
+                  F{"floor", &o.floor_level}, F{"ceiling", &o.ceiling_level}}) {
+        if (auto v = Number(t, f.key, fmt::format("{}.{}", name, f.key))) {
+          *f.value = *v;
+          if (f.key != "step") {
+            CheckLevel(t, f.key, fmt::format("{}.{}", name, f.key), axis, *v);
+          }
+        }
+      }
+      if (auto v =
+              Integer(t, "start_jitter_steps", name + ".start_jitter_steps")) {
+        o.start_jitter_steps =
+            static_cast<int>(std::clamp<std::int64_t>(*v, -1, 100000));
+      }
+      if (auto v = Integer(t, "series", name + ".series")) {
+        o.n_series = static_cast<int>(std::clamp<std::int64_t>(*v, -1, 100000));
+      }
+      constexpr std::string_view kDirections[] = {"ascending", "descending"};
+      if (auto c = Choice(t, "first_direction", name + ".first_direction",
+                          kDirections)) {
+        o.first_direction = static_cast<SeriesDirection>(*c);
+      }
+      report(o.Validate(), "");
+      break;
+    }
+    case Method::kAdjustment: {
+      AdjustmentOptions& o = b.adjustment;
+      if (auto v = Number(t, "start_level", name + ".start_level")) {
+        o.start_level = *v;
+        CheckLevel(t, "start_level", name + ".start_level", axis, *v);
+      } else if (t.get("start_level") == nullptr) {
+        Fail(t, fmt::format("{} needs \"start_level\"", name));
+      }
+      if (auto v = Number(t, "step", name + ".step")) o.step = *v;
+      if (auto v = Number(t, "floor", name + ".floor")) {
+        o.floor_level = *v;
+        CheckLevel(t, "floor", name + ".floor", axis, *v);
+      }
+      if (auto v = Number(t, "ceiling", name + ".ceiling")) {
+        o.ceiling_level = *v;
+        CheckLevel(t, "ceiling", name + ".ceiling", axis, *v);
+      }
+      constexpr std::string_view kScales[] = {"linear", "log10", "db"};
+      if (auto s = Choice(t, "step_scale", name + ".step_scale", kScales)) {
+        o.step_scale = static_cast<StepScale>(*s);
+      }
+      if (auto v =
+              Integer(t, "start_jitter_steps", name + ".start_jitter_steps")) {
+        o.start_jitter_steps =
+            static_cast<int>(std::clamp<std::int64_t>(*v, -1, 100000));
+      }
+      if (auto v = Integer(t, "max_steps", name + ".max_steps")) {
+        o.max_steps =
+            static_cast<int>(std::clamp<std::int64_t>(*v, -1, 1000000));
+      }
+      if (auto v = Integer(t, "repetitions", name + ".repetitions")) {
+        if (Range(t, "repetitions", name + ".repetitions",
+                  static_cast<double>(*v), 1, 1000, false, false)) {
+          b.adjustment_repetitions = static_cast<int>(*v);
+        }
+      }
+      report(o.Validate(), "");
+      break;
+    }
+    case Method::kStaircase: {
+      StaircaseOptions base;
+      ParseStaircase(t, name, base, axis);
+      if (auto v = Integer(t, "threshold_reversals",
+                           name + ".threshold_reversals")) {
+        if (Range(t, "threshold_reversals", name + ".threshold_reversals",
+                  static_cast<double>(*v), 1, 1000, false, false)) {
+          b.threshold_reversals = static_cast<int>(*v);
+        }
+      }
+      constexpr std::string_view kModes[] = {"2afc", "yesno"};
+      if (auto c = Choice(t, "response", name + ".response", kModes)) {
+        b.adaptive_response = static_cast<AdaptiveResponse>(*c);
+      }
+      std::vector<std::pair<StaircaseOptions, const toml::table*>> list;
+      if (const toml::node* node = t.get("staircases")) {
+        const toml::array* a = node->as_array();
+        if (a == nullptr || !a->is_array_of_tables() || a->empty()) {
+          Fail(*node, fmt::format("{}.staircases must be a non-empty array of "
+                                  "tables ([[blocks.staircases]])",
+                                  name));
+        } else {
+          for (std::size_t i = 0; i < a->size(); ++i) {
+            const toml::table& e = *a->get(i)->as_table();
+            const std::string en =
+                fmt::format("{}.staircases[{}]", name, i + 1);
+            CheckKeys(e, en,
+                      {std::begin(kStaircaseKeys), std::end(kStaircaseKeys)});
+            StaircaseOptions o = base;
+            ParseStaircase(e, en, o, axis);
+            list.push_back({o, &e});
+          }
+        }
+      } else {
+        list.push_back({base, &t});
+      }
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const auto& [o, table] = list[i];
+        const std::string en =
+            t.get("staircases") != nullptr
+                ? fmt::format("{}.staircases[{}]", name, i + 1)
+                : name;
+        if (o.max_trials == 0) {
+          const toml::node* at = table->get("max_trials");
+          Fail(at != nullptr ? Where(*at) : Where(*table),
+               fmt::format("{}: the staircase can never stop: give max_trials "
+                           "(1 to {}); a reversal limit alone never ends when "
+                           "the subject is always right at the floor",
+                           en, kMaxTrialsPerBlock));
+          continue;
+        }
+        if (o.max_reversals > 0 && b.threshold_reversals > o.max_reversals) {
+          Fail(t.get("threshold_reversals") != nullptr
+                   ? Where(*t.get("threshold_reversals"))
+                   : Where(*table),
+               fmt::format("{}: threshold_reversals = {} exceeds "
+                           "max_reversals = {}, so no threshold could be "
+                           "computed",
+                           en, b.threshold_reversals, o.max_reversals));
+        }
+        if (Status s = o.Validate(); !s.ok()) {
+          Fail(Where(*table), fmt::format("{}: {}", en, s.error().message));
+          continue;
+        }
+        b.staircases.push_back(o);
+      }
+      n_intervals = b.adaptive_response == AdaptiveResponse::kYesNo ? 1 : 2;
+      break;
+    }
+    case Method::kQuest: {
+      const int n = trials(40);
+      if (n > 0) b.quest_trials = n;
+      constexpr std::string_view kModes[] = {"2afc", "yesno"};
+      if (auto c = Choice(t, "response", name + ".response", kModes)) {
+        b.adaptive_response = static_cast<AdaptiveResponse>(*c);
+      }
+      if (const toml::table* q = Table(t, "quest", name + ".quest")) {
+        const std::string qn = name + ".quest";
+        CheckKeys(*q, qn, {std::begin(kQuestKeys), std::end(kQuestKeys)});
+        QuestOptions& o = b.quest;
+        struct F {
+          std::string_view key;
+          double* value;
+        };
+        for (F f : {F{"tGuess", &o.t_guess}, F{"tGuessSd", &o.t_guess_sd},
+                    F{"pThreshold", &o.p_threshold}, F{"beta", &o.beta},
+                    F{"delta", &o.delta}, F{"gamma", &o.gamma},
+                    F{"grain", &o.grain}, F{"range", &o.range}}) {
+          if (auto v = Number(*q, f.key, fmt::format("{}.{}", qn, f.key))) {
+            *f.value = *v;
+          }
+        }
+        if (Status s = o.Validate(); !s.ok()) {
+          // The library names fields in snake_case; protocol files use
+          // QuestCreate's names.
+          std::string message = s.error().message;
+          if (message.starts_with("quest: ")) message.erase(0, 7);
+          const toml::node* at = q;
+          constexpr std::pair<std::string_view, std::string_view> kNames[] = {
+              {"t_guess_sd", "tGuessSd"},
+              {"t_guess", "tGuess"},
+              {"p_threshold", "pThreshold"},
+              {"beta", "beta"},
+              {"delta", "delta"},
+              {"gamma", "gamma"},
+              {"grain", "grain"},
+              {"range", "range"}};
+          for (const auto& [snake, ptb] : kNames) {
+            if (message.starts_with(std::string(snake) + " ")) {
+              message.replace(0, snake.size(), ptb);
+              if (const toml::node* key = q->get(ptb)) at = key;
+              break;
+            }
+          }
+          Fail(*at, fmt::format("{}.{}", qn, message));
+        }
+      } else if (t.get("quest") == nullptr) {
+        Fail(t, fmt::format("{} needs a [blocks.quest] table with at least "
+                            "tGuess and tGuessSd (log10 units)",
+                            name));
+      }
+      n_intervals = b.adaptive_response == AdaptiveResponse::kYesNo ? 1 : 2;
+      break;
+    }
+  }
+  ParseIntervals(t, name, n_intervals, b);
+}
+
+void Parser::ParseBlocks(const toml::table& root, Protocol& p) {
+  const toml::node* node = root.get("blocks");
+  if (node == nullptr) {
+    Fail(SourceLocation{1, 1},
+         "the protocol needs at least one [[blocks]] table");
+    return;
+  }
+  const toml::array* blocks = node->as_array();
+  if (blocks == nullptr || !blocks->is_array_of_tables() || blocks->empty()) {
+    Fail(*node, fmt::format("blocks must be an array of tables ([[blocks]]), "
+                            "got {}",
+                            TypeName(*node)));
+    return;
+  }
+  std::map<std::string, int> names;
+  for (std::size_t i = 0; i < blocks->size(); ++i) {
+    const toml::table& t = *blocks->get(i)->as_table();
+    Block b;
+    const std::size_t before = diagnostics_.size();
+    ParseBlock(t, static_cast<int>(i) + 1, p, b);
+    if (auto [it, inserted] = names.emplace(b.name, static_cast<int>(i) + 1);
+        !inserted) {
+      const toml::node* at = t.get("name");
+      Fail(at != nullptr ? Where(*at) : Where(t),
+           fmt::format("blocks[{}]: name \"{}\" is already used by blocks[{}]",
+                       i + 1, Echo(b.name), it->second));
+    }
+    if (diagnostics_.size() == before) p.blocks.push_back(std::move(b));
+  }
+}
+
+ParseOutcome Parser::Parse(const toml::table& root) {
+  Protocol p;
+  CheckKeys(root, "the protocol", {std::begin(kRootKeys), std::end(kRootKeys)});
+  if (const toml::node* f = root.get("format")) {
+    if (!f->is_string() || f->as_string()->get() != kProtocolFormat) {
+      Fail(*f,
+           fmt::format("format must be \"{}\", got {}", kProtocolFormat,
+                       f->is_string()
+                           ? fmt::format("\"{}\"", Echo(f->as_string()->get()))
+                           : std::string(TypeName(*f))));
+    }
+  } else {
+    Fail(SourceLocation{1, 1},
+         fmt::format("the protocol must start with format = \"{}\"",
+                     kProtocolFormat));
+  }
+  p.format = std::string(kProtocolFormat);
+  ParseStudy(root, p);
+  ParseRecording(root, p);
+  ParseObserver(root, p);
+  ParseCounterbalance(root, p);
+  ParseMaterials(root, p);
+  ParseAxes(root, p);
+  // toml++ keeps table keys sorted; the model keeps file order.
+  auto by_position = [](const auto& a, const auto& b) {
+    return std::pair(a.where.line, a.where.column) <
+           std::pair(b.where.line, b.where.column);
+  };
+  std::stable_sort(p.materials.begin(), p.materials.end(), by_position);
+  std::stable_sort(p.axes.begin(), p.axes.end(), by_position);
+  ParseBlocks(root, p);
+  ParseOutcome outcome;
+  std::stable_sort(diagnostics_.begin(), diagnostics_.end(),
+                   [](const Diagnostic& a, const Diagnostic& b) {
+                     return std::pair(a.where.line, a.where.column) <
+                            std::pair(b.where.line, b.where.column);
+                   });
+  outcome.diagnostics = std::move(diagnostics_);
+  if (outcome.diagnostics.empty()) outcome.protocol = std::move(p);
+  return outcome;
+}
+
+}  // namespace
+
+ParseOutcome ParseProtocol(std::string_view path, std::string_view text) {
+  ParseOutcome outcome;
+  if (text.size() > kMaxProtocolBytes) {
+    outcome.diagnostics.push_back(
+        {{},
+         fmt::format("the file is {} bytes; protocol files are limited "
+                     "to {} bytes",
+                     text.size(), kMaxProtocolBytes)});
+    return outcome;
+  }
+  if (std::optional<std::size_t> offset =
+          stimuli::ExcessDotOffset(text, kMaxDots)) {
+    const toml::source_position at = stimuli::PositionOf(text, *offset);
+    outcome.diagnostics.push_back(
+        {{static_cast<int>(at.line), static_cast<int>(at.column)},
+         fmt::format("more than {} '.' outside strings and comments; nesting "
+                     "this deep is refused",
+                     kMaxDots)});
+    return outcome;
+  }
+  try {
+    const toml::table root = toml::parse(text, path);
+    return Parser(path).Parse(root);
+  } catch (const toml::parse_error& error) {
+    const toml::source_position at = error.source().begin;
+    outcome.diagnostics.push_back(
+        {{static_cast<int>(at.line), static_cast<int>(at.column)},
+         stimuli::SyntaxMessage(error.description())});
+  } catch (const std::exception& error) {
+    outcome.diagnostics.push_back(
+        {{}, fmt::format("cannot parse: {}", error.what())});
+  }
+  return outcome;
+}
+
+}  // namespace burrlab::protocols

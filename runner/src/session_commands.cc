@@ -1,0 +1,400 @@
+// plan, run and study.
+#include "session_commands.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <thread>
+#include <vector>
+
+#include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/observer.h"
+#include "burrlab/results_schema/bids_export.h"
+#include "burrlab/results_schema/journal.h"
+#include "flags.h"
+#include "progress.h"
+#include "session.h"
+
+namespace burrlab::runner {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// "1,0,1" -> {"1","0","1"}; empty text -> none.
+std::vector<std::string> SplitCommas(const std::string& text) {
+  std::vector<std::string> items;
+  if (text.empty()) return items;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    items.push_back(text.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return items;
+}
+
+std::string FormatLevel(const std::optional<double>& level) {
+  return level.has_value() ? fmt::format("{:.6g}", *level) : "n/a";
+}
+
+bool IsAdaptive(protocols::Method m) {
+  return m == protocols::Method::kLimits ||
+         m == protocols::Method::kAdjustment ||
+         m == protocols::Method::kStaircase || m == protocols::Method::kQuest;
+}
+
+// Resolves the observer flag for a protocol.
+Result<protocols::ObserverParams> ObserverFor(
+    const protocols::Protocol& protocol, const std::string& spec) {
+  const protocols::ObserverParams base =
+      protocols::ObserverParamsFrom(protocol.observer);
+  if (spec.empty()) return base;
+  return protocols::ParseObserverSpec(spec, base);
+}
+
+}  // namespace
+
+int DefaultSubjectIndex(std::string_view label) {
+  if (label.empty() || label.size() > 9) return 0;
+  int value = 0;
+  for (char c : label) {
+    if (c < '0' || c > '9') return 0;
+    value = value * 10 + (c - '0');
+  }
+  return value > 0 ? value - 1 : 0;
+}
+
+int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Print the trial sequence a protocol produces for one subject and "
+      "seed; adaptive blocks (limits, adjustment, staircase, QUEST) follow "
+      "the scripted responses (1 = correct or yes, 0 = wrong or no; an "
+      "adjustment takes a path like ++-=).",
+      "burrlab plan"};
+  std::string path;
+  std::uint64_t seed = 1;
+  std::string subject = "01";
+  int subject_index = -1;
+  std::string responses;
+  bool json = false;
+  app.add_option("file", path, "the protocol file")->required();
+  FlagSet flags(&app);
+  flags.AddUnsigned("--seed", "master seed (default 1)", &seed);
+  flags.AddText("--subject", "subject label (default 01)", &subject);
+  flags.AddInteger("--subject-index",
+                   "counterbalancing row (default: the label's number - 1)", 0,
+                   1000000, &subject_index);
+  flags.AddText("--responses", "scripted responses, comma separated",
+                &responses);
+  flags.AddSwitch("--json", "print the plan as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  Result<LoadedProtocol> loaded = LoadProtocol(path);
+  if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  if (subject_index < 0) subject_index = DefaultSubjectIndex(subject);
+  Result<protocols::Engine> engine =
+      protocols::Engine::Create(loaded->protocol, subject_index, seed);
+  if (!engine.ok()) return Fail(err, engine.error().message);
+  const std::vector<std::string> script = SplitCommas(responses);
+
+  Json trials = Json::array();
+  std::string stopped;
+  std::size_t used = 0;
+  std::string table = fmt::format(
+      "{:>5}  {:<14} {:<16} {:<6} {:<10} {:>8}  {:<32} {:<8} {:<8} {:>9}\n",
+      "trial", "block", "method", "task", "type", "level", "intervals",
+      "correct", "response", "estimate");
+  while (!engine->finished()) {
+    const protocols::TrialSpec t = engine->current();
+    protocols::Response response;
+    if (used < script.size()) {
+      Result<protocols::Response> r =
+          protocols::ScriptedResponse(t, script[used]);
+      if (!r.ok()) return Fail(err, r.error().message);
+      response = std::move(r.value());
+      ++used;
+    } else if (IsAdaptive(t.method)) {
+      stopped = fmt::format(
+          "stopped before trial {}: block \"{}\" ({}) is adaptive and the "
+          "scripted responses ran out ({} given)",
+          t.trial_index, t.block, protocols::MethodName(t.method),
+          script.size());
+      break;
+    }
+    Result<protocols::Outcome> outcome = engine->Respond(response);
+    if (!outcome.ok()) return Fail(err, outcome.error().message);
+    std::vector<std::string> ids;
+    for (const auto& iv : t.intervals) ids.push_back(iv.material_id);
+    const std::optional<double> level = outcome->presented_level.has_value()
+                                            ? outcome->presented_level
+                                            : t.level;
+    Json j;
+    j["index"] = t.trial_index;
+    j["block"] = t.block;
+    j["method"] = std::string(protocols::MethodName(t.method));
+    j["task"] = std::string(protocols::TaskName(t.task));
+    j["trial_type"] = t.trial_type;
+    j["level"] = level.has_value() ? Json(*level) : Json(nullptr);
+    j["intervals"] = ids;
+    j["correct_answer"] =
+        t.correct_answer.empty() ? Json(nullptr) : Json(t.correct_answer);
+    j["response"] =
+        response.answer.empty() ? Json(nullptr) : Json(response.answer);
+    j["correct"] =
+        outcome->correct.has_value() ? Json(*outcome->correct) : Json(nullptr);
+    if (t.staircase_id.has_value()) j["staircase_id"] = *t.staircase_id;
+    if (outcome->reversal.has_value()) j["reversal"] = *outcome->reversal;
+    if (IsAdaptive(t.method)) {
+      j["estimate"] = outcome->estimate.has_value() ? Json(*outcome->estimate)
+                                                    : Json(nullptr);
+    }
+    trials.push_back(j);
+    std::string joined;
+    for (const std::string& id : ids)
+      joined += (joined.empty() ? "" : "|") + id;
+    table += fmt::format(
+        "{:>5}  {:<14} {:<16} {:<6} {:<10} {:>8}  {:<32} {:<8} {:<8} {:>9}\n",
+        t.trial_index, t.block, protocols::MethodName(t.method),
+        protocols::TaskName(t.task), t.trial_type, FormatLevel(level), joined,
+        t.correct_answer.empty() ? "n/a" : t.correct_answer,
+        response.answer.empty() ? "n/a" : response.answer,
+        FormatLevel(outcome->estimate));
+  }
+  if (used < script.size()) {
+    stopped = fmt::format("{} scripted responses were left over",
+                          script.size() - used);
+  }
+  if (json) {
+    Json doc;
+    doc["protocol"] = path;
+    doc["study"] = loaded->protocol.study_name;
+    doc["seed"] = std::to_string(seed);
+    doc["subject"] = subject;
+    doc["subject_index"] = subject_index;
+    Json order = Json::array();
+    for (int b : engine->block_order()) {
+      order.push_back(loaded->protocol.blocks[b].name);
+    }
+    doc["block_order"] = order;
+    doc["trials"] = trials;
+    doc["note"] = stopped.empty() ? Json(nullptr) : Json(stopped);
+    out << doc.dump(2) << '\n';
+  } else {
+    out << table;
+    if (!stopped.empty()) out << stopped << '\n';
+  }
+  return 0;
+}
+
+int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Run one subject's session: every interval is rendered by the "
+      "simulator; answers come from the simulated observer or are typed at "
+      "the prompt. Each completed trial is saved before the next starts; "
+      "--resume continues an interrupted session.",
+      "burrlab run"};
+  std::string path;
+  std::string subject;
+  std::string out_dir;
+  std::uint64_t seed = 1;
+  int subject_index = -1;
+  std::string observer;
+  bool resume = false;
+  double radius_mm = 2.0;
+  app.add_option("file", path, "the protocol file")->required();
+  FlagSet flags(&app);
+  flags.AddText("--subject", "subject label: letters and digits (required)",
+                &subject);
+  flags.AddText("--out", "output folder (required)", &out_dir);
+  flags.AddUnsigned("--seed", "master seed (default 1)", &seed);
+  flags.AddInteger("--subject-index",
+                   "counterbalancing row (default: the label's number - 1)", 0,
+                   1000000, &subject_index);
+  flags.AddText("--observer",
+                "simulated[:weber=W,lapse=L,...] (default: answers typed at "
+                "the prompt)",
+                &observer);
+  flags.AddSwitch("--resume", "continue the subject's interrupted session",
+                  &resume);
+  flags.AddPositive("--radius-mm", "burr radius (default 2)", "mm", &radius_mm,
+                    5.0);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (subject.empty()) return Fail(err, "--subject is required");
+  if (out_dir.empty()) return Fail(err, "--out is required");
+  Result<LoadedProtocol> loaded = LoadProtocol(path);
+  if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  SessionOptions options;
+  options.out_dir = out_dir;
+  options.subject = subject;
+  options.subject_index =
+      subject_index >= 0 ? subject_index : DefaultSubjectIndex(subject);
+  options.seed = seed;
+  options.resume = resume;
+  options.radius_mm = radius_mm;
+  if (observer.empty()) {
+    options.responder = Responder::kTerminal;
+    options.in = &std::cin;
+    options.prompt = &out;
+  } else {
+    Result<protocols::ObserverParams> params =
+        ObserverFor(loaded->protocol, observer);
+    if (!params.ok()) return Fail(err, params.error().message);
+    options.observer = params.value();
+  }
+  Result<SessionSummary> summary = RunSession(loaded.value(), options);
+  if (!summary.ok()) return Fail(err, summary.error().message);
+  const SessionSummary& s = summary.value();
+  if (!s.finished) {
+    out << fmt::format(
+        "sub-{}: input ended after {} trials; they are saved. Continue with "
+        "--resume.\n",
+        subject, s.trials_total);
+    return 1;
+  }
+  out << fmt::format(
+      "sub-{}: {} trials ({} resumed, {} run now){}; results "
+      "in {}\n",
+      subject, s.trials_total, s.trials_resumed, s.trials_run,
+      s.score.has_value() ? fmt::format(", {:.1f} % correct", 100.0 * *s.score)
+                          : std::string(),
+      out_dir);
+  return 0;
+}
+
+int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Run a simulated population: N simulated subjects (labels 01, 02, "
+      "...), each with its own seed derived from --seed and its own "
+      "counterbalancing row, in parallel.",
+      "burrlab study"};
+  std::string path;
+  int n_subjects = 0;
+  std::string out_dir;
+  std::uint64_t seed = 1;
+  int jobs = 0;
+  std::string observer;
+  bool resume = false;
+  double radius_mm = 2.0;
+  app.add_option("file", path, "the protocol file")->required();
+  FlagSet flags(&app);
+  flags.AddInteger("--simulated-subjects", "number of subjects (required)", 1,
+                   10000, &n_subjects);
+  flags.AddText("--out", "output folder (required)", &out_dir);
+  flags.AddUnsigned("--seed", "study seed (default 1)", &seed);
+  flags.AddInteger("--jobs", "parallel sessions (default: the core count)", 1,
+                   256, &jobs);
+  flags.AddText("--observer", "simulated[:weber=W,lapse=L,...]", &observer);
+  flags.AddSwitch("--resume",
+                  "continue interrupted subjects and run the missing ones",
+                  &resume);
+  flags.AddPositive("--radius-mm", "burr radius (default 2)", "mm", &radius_mm,
+                    5.0);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (n_subjects <= 0) return Fail(err, "--simulated-subjects is required");
+  if (out_dir.empty()) return Fail(err, "--out is required");
+  Result<LoadedProtocol> loaded = LoadProtocol(path);
+  if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  Result<protocols::ObserverParams> params =
+      ObserverFor(loaded->protocol, observer.empty() ? "simulated" : observer);
+  if (!params.ok()) return Fail(err, params.error().message);
+  if (jobs <= 0) {
+    jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  }
+  const int width =
+      std::max(2, static_cast<int>(std::to_string(n_subjects).size()));
+  std::vector<std::string> labels;
+  for (int i = 0; i < n_subjects; ++i) {
+    labels.push_back(fmt::format("{:0{}}", i + 1, width));
+  }
+  // Refuse before running anything when a subject exists (never overwrite).
+  if (!resume) {
+    for (const std::string& label : labels) {
+      std::error_code ec;
+      if (std::filesystem::exists(results_schema::JournalPath(out_dir, label),
+                                  ec)) {
+        return Fail(err, fmt::format("sub-{} already exists in {}; use "
+                                     "--resume to continue the study",
+                                     label, out_dir));
+      }
+    }
+  }
+  ProgressBar bar(err, n_subjects);
+  std::mutex mutex;
+  std::atomic<int> next{0};
+  int done = 0;
+  std::vector<std::string> failures(labels.size());
+  std::vector<std::optional<double>> scores(labels.size());
+  auto worker = [&]() {
+    for (;;) {
+      const int i = next.fetch_add(1);
+      if (i >= n_subjects) return;
+      const std::string& label = labels[static_cast<std::size_t>(i)];
+      SessionOptions options;
+      options.out_dir = out_dir;
+      options.subject = label;
+      options.subject_index = i;
+      options.seed =
+          protocols::SeedFor(seed, protocols::StreamPurpose::kSubjectSeed,
+                             static_cast<std::uint64_t>(i));
+      options.observer = params.value();
+      options.radius_mm = radius_mm;
+      options.export_bids = false;
+      std::error_code ec;
+      options.resume =
+          resume && std::filesystem::exists(
+                        results_schema::JournalPath(out_dir, label), ec);
+      Result<SessionSummary> summary = RunSession(loaded.value(), options);
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!summary.ok()) {
+        failures[static_cast<std::size_t>(i)] = summary.error().message;
+      } else {
+        scores[static_cast<std::size_t>(i)] = summary->score;
+      }
+      bar.Update(++done, "sub-" + label);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 0; j < std::min(jobs, n_subjects); ++j) {
+    threads.emplace_back(worker);
+  }
+  for (std::thread& t : threads) t.join();
+  int failed = 0;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (!failures[i].empty()) {
+      err << fmt::format("burrlab: sub-{}: {}\n", labels[i], failures[i]);
+      ++failed;
+      continue;
+    }
+    if (results_schema::Status s =
+            results_schema::ExportBids(out_dir, labels[i]);
+        !s.ok()) {
+      err << fmt::format("burrlab: sub-{}: export failed: {}\n", labels[i],
+                         s.error().message);
+      ++failed;
+    }
+  }
+  double sum = 0.0;
+  int scored = 0;
+  for (const auto& s : scores) {
+    if (s.has_value()) {
+      sum += *s;
+      ++scored;
+    }
+  }
+  out << fmt::format(
+      "{} of {} simulated subjects completed{}; results in {}\n",
+      n_subjects - failed, n_subjects,
+      scored > 0 ? fmt::format(", mean {:.1f} % correct", 100.0 * sum / scored)
+                 : std::string(),
+      out_dir);
+  return failed == 0 ? 0 : 1;
+}
+
+}  // namespace burrlab::runner

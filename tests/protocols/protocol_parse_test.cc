@@ -1,0 +1,213 @@
+// Protocol files that are valid: every example parses, and the fields land
+// where the engine reads them; plus the fuzzing of the parser.
+#include <gtest/gtest.h>
+
+#include <boost/random/mersenne_twister.hpp>
+#include <boost/random/uniform_int_distribution.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "burrlab/protocols/protocol.h"
+
+namespace burrlab::protocols {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Read(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+std::vector<fs::path> Examples() {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(fs::path(BURRLAB_SOURCE_DIR) /
+                                                  "protocols" / "examples")) {
+    if (entry.path().extension() == ".toml") files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST(ProtocolParse, EveryExampleIsValidAndEveryMethodHasOne) {
+  std::set<Method> methods;
+  std::set<TwoIntervalDesign> designs;
+  for (const fs::path& file : Examples()) {
+    const std::string text = Read(file);
+    const ParseOutcome outcome = ParseProtocol(file.string(), text);
+    std::string all;
+    for (const Diagnostic& d : outcome.diagnostics) {
+      all += FormatDiagnostic(file.string(), text, d);
+    }
+    ASSERT_TRUE(outcome.protocol.has_value()) << all;
+    for (const Block& b : outcome.protocol->blocks) {
+      methods.insert(b.method);
+      if (b.method == Method::kTwoInterval) designs.insert(b.design);
+    }
+  }
+  EXPECT_EQ(methods.size(), 7u);
+  EXPECT_EQ(designs.size(), 2u);
+}
+
+TEST(ProtocolParse, DissertationSameDifferentExampleMapsToTheModel) {
+  const fs::path file = fs::path(BURRLAB_SOURCE_DIR) /
+                        "protocols/examples/same_different_pvc_vs_bone.toml";
+  const ParseOutcome outcome = ParseProtocol("x", Read(file));
+  ASSERT_TRUE(outcome.protocol.has_value());
+  const Protocol& p = *outcome.protocol;
+  EXPECT_EQ(p.trace_hz, 100);
+  ASSERT_EQ(p.materials.size(), 2u);
+  EXPECT_EQ(p.materials[0].id, "pvc");
+  EXPECT_EQ(p.materials[0].builtin, "pvc_k70");
+  EXPECT_DOUBLE_EQ(p.materials[0].set.material.c_e_n_per_mm2, 0.462);
+  EXPECT_DOUBLE_EQ(p.materials[1].set.material.alpha_per_s, 0.087);
+  ASSERT_EQ(p.blocks.size(), 2u);
+  EXPECT_EQ(p.blocks[0].name, "probe");
+  EXPECT_EQ(p.blocks[0].task, Task::kProbe);
+  EXPECT_EQ(p.blocks[1].task, Task::kDrill);
+  EXPECT_EQ(p.blocks[1].same_different.n_trials, 12);
+  EXPECT_EQ(p.blocks[1].interval_s, (std::vector<double>{20.0, 20.0}));
+  EXPECT_EQ(p.blocks[0].material_a, "pvc");
+  EXPECT_EQ(p.blocks[0].material_b, "bone");
+}
+
+TEST(ProtocolParse, StaircaseEntriesOverrideBlockDefaults) {
+  const fs::path file = fs::path(BURRLAB_SOURCE_DIR) /
+                        "protocols/examples/staircase_1up3down.toml";
+  const ParseOutcome outcome = ParseProtocol("x", Read(file));
+  ASSERT_TRUE(outcome.protocol.has_value());
+  const Block& b = outcome.protocol->blocks[0];
+  ASSERT_EQ(b.staircases.size(), 2u);
+  for (const StaircaseOptions& o : b.staircases) {
+    EXPECT_EQ(o.n_down, 3);
+    EXPECT_EQ(o.step_scale, StepScale::kLog10);
+    EXPECT_EQ(o.max_trials, 40);
+    ASSERT_EQ(o.step_schedule.size(), 1u);
+    EXPECT_EQ(o.step_schedule[0].after_reversals, 2);
+    EXPECT_DOUBLE_EQ(o.step_schedule[0].step_down, 0.1);
+  }
+  EXPECT_DOUBLE_EQ(b.staircases[0].start_level, 1.0);
+  EXPECT_DOUBLE_EQ(b.staircases[1].start_level, 0.05);
+  EXPECT_EQ(b.threshold_reversals, 6);
+  EXPECT_DOUBLE_EQ(b.standard_level, 0.0);  // increment axis default
+}
+
+TEST(ProtocolParse, QuestKeysUseQuestCreateNames) {
+  const fs::path file =
+      fs::path(BURRLAB_SOURCE_DIR) / "protocols/examples/quest_ce.toml";
+  const ParseOutcome outcome = ParseProtocol("x", Read(file));
+  ASSERT_TRUE(outcome.protocol.has_value());
+  const QuestOptions& q = outcome.protocol->blocks[0].quest;
+  EXPECT_DOUBLE_EQ(q.t_guess, -0.52);
+  EXPECT_DOUBLE_EQ(q.t_guess_sd, 1.0);
+  EXPECT_DOUBLE_EQ(q.p_threshold, 0.82);
+  EXPECT_DOUBLE_EQ(q.beta, 3.5);
+  EXPECT_EQ(outcome.protocol->blocks[0].quest_trials, 40);
+}
+
+TEST(ProtocolParse, RealReferenceIsSubjectPaced) {
+  const fs::path file = fs::path(BURRLAB_SOURCE_DIR) /
+                        "protocols/examples/reference_pettigrew.toml";
+  const ParseOutcome outcome = ParseProtocol("x", Read(file));
+  ASSERT_TRUE(outcome.protocol.has_value());
+  const Block& b = outcome.protocol->blocks[0];
+  EXPECT_EQ(b.design, TwoIntervalDesign::kReference);
+  EXPECT_EQ(b.interval_s, (std::vector<double>{0.0, 10.0, 10.0}));
+  EXPECT_TRUE(b.reference_material.empty());
+  EXPECT_EQ(b.reference.n_trials, 10);
+}
+
+TEST(ProtocolParse, OversizedFileIsRefusedUnread) {
+  const std::string text(kMaxProtocolBytes + 1, '#');
+  const ParseOutcome outcome = ParseProtocol("big.toml", text);
+  ASSERT_EQ(outcome.diagnostics.size(), 1u);
+  EXPECT_EQ(FormatDiagnostic("big.toml", text, outcome.diagnostics[0]),
+            "big.toml: error: the file is 1048577 bytes; protocol files are "
+            "limited to 1048576 bytes\n");
+}
+
+TEST(ProtocolParse, DeepNestingIsRefusedBeforeParsing) {
+  std::string text = "format = \"burrlab-protocol/1\"\na";
+  for (int i = 0; i < 100000; ++i) text += ".a";
+  text += " = 1\n";
+  const ParseOutcome outcome = ParseProtocol("deep.toml", text);
+  ASSERT_EQ(outcome.diagnostics.size(), 1u);
+  EXPECT_EQ(outcome.diagnostics[0].message,
+            "more than 4096 '.' outside strings and comments; nesting this "
+            "deep is refused");
+}
+
+// Mutates the examples (byte flips, deletions, insertions of TOML-significant
+// characters, duplicated lines, truncation): the parser must return a
+// protocol or at least one diagnostic, never crash, and every diagnostic
+// must format.
+TEST(ProtocolFuzz, MutatedExamplesNeverCrashTheParser) {
+  boost::random::mt19937 rng(20261122);
+  constexpr std::string_view kAlphabet = "[]=\"\n#.,{}0123456789-+ aeq'\t";
+  int mutated = 0;
+  int accepted = 0;
+  for (const fs::path& file : Examples()) {
+    const std::string original = Read(file);
+    for (int round = 0; round < 500; ++round) {
+      std::string text = original;
+      boost::random::uniform_int_distribution<int> kind(0, 4);
+      boost::random::uniform_int_distribution<int> count(1, 4);
+      for (int m = count(rng); m > 0 && !text.empty(); --m) {
+        boost::random::uniform_int_distribution<std::size_t> at(
+            0, text.size() - 1);
+        boost::random::uniform_int_distribution<std::size_t> pick(
+            0, kAlphabet.size() - 1);
+        const std::size_t i = at(rng);
+        switch (kind(rng)) {
+          case 0:
+            text[i] = static_cast<char>(text[i] ^ (1 << (i % 8)));
+            break;
+          case 1:
+            text.erase(i, std::min<std::size_t>(text.size() - i, 1 + i % 7));
+            break;
+          case 2:
+            text.insert(i, 1, kAlphabet[pick(rng)]);
+            break;
+          case 3: {
+            const std::size_t start = text.rfind('\n', i);
+            const std::size_t s = start == std::string::npos ? 0 : start + 1;
+            const std::size_t e = text.find('\n', i);
+            text.insert(
+                s, text.substr(
+                       s, (e == std::string::npos ? text.size() : e + 1) - s));
+            break;
+          }
+          default:
+            text.resize(i);
+        }
+      }
+      const ParseOutcome outcome = ParseProtocol("fuzz.toml", text);
+      ++mutated;
+      if (outcome.protocol.has_value()) {
+        ++accepted;
+        EXPECT_TRUE(outcome.diagnostics.empty());
+        EXPECT_FALSE(outcome.protocol->blocks.empty());
+      } else {
+        ASSERT_FALSE(outcome.diagnostics.empty()) << text;
+      }
+      for (const Diagnostic& d : outcome.diagnostics) {
+        const std::string formatted = FormatDiagnostic("fuzz.toml", text, d);
+        EXPECT_TRUE(formatted.starts_with("fuzz.toml:"));
+        EXPECT_EQ(formatted.back(), '\n');
+      }
+    }
+  }
+  EXPECT_GE(mutated, 3000);
+  EXPECT_GT(accepted, 0);  // some mutations land in comments or values
+  EXPECT_LT(accepted, mutated);
+}
+
+}  // namespace
+}  // namespace burrlab::protocols

@@ -1,0 +1,354 @@
+// Sessions as users meet them: `burrlab plan`, `run` (simulated observer and
+// typed answers), `study`, resuming, and bad input (existing subject, folder
+// that cannot be written, a write that fails, a resume with another protocol
+// or seed) — each a clear error, exit 1, nothing lost.
+#include "session.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "burrlab/results_schema/journal.h"
+#include "burrlab/runner/cli.h"
+#include "session_commands.h"
+
+namespace burrlab::runner {
+namespace {
+
+namespace fs = std::filesystem;
+namespace rs = results_schema;
+using ::testing::HasSubstr;
+
+// Twelve same-different probe trials, then a 2-down/1-up staircase of eight
+// drill trials on the c_e increment over bone: 20 trials of 0.5 s intervals.
+constexpr std::string_view kProtocol = R"(format = "burrlab-protocol/1"
+
+[study]
+name = "session test"
+
+[recording]
+trace_hz = 100
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+name = "sd"
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+trials = 12
+interval_s = 0.5
+
+[[blocks]]
+name = "stairs"
+method = "staircase"
+task = "drill"
+axis = "ce"
+interval_s = 0.5
+n_down = 2
+start_level = 0.5
+step_scale = "log10"
+step_down = 0.1
+step_up = 0.1
+floor = 0.01
+ceiling = 2
+max_trials = 8
+)";
+
+struct CliRun {
+  int code = -1;
+  std::string out;
+  std::string err;
+};
+
+CliRun Burrlab(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  CliRun run;
+  run.code = RunCli(args, out, err);
+  run.out = out.str();
+  run.err = err.str();
+  return run;
+}
+
+class SessionTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(BURRLAB_BINARY_DIR) / "test_tmp" /
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    protocol_ = (dir_ / "protocol.toml").string();
+    Write(protocol_, kProtocol);
+  }
+  static void Write(const std::string& path, std::string_view text) {
+    std::ofstream(path, std::ios::binary) << text;
+  }
+  static std::string Read(const fs::path& path) {
+    std::ifstream file(path, std::ios::binary);
+    std::ostringstream text;
+    text << file.rdbuf();
+    return text.str();
+  }
+  std::vector<rs::TrialRecord> Trials(const fs::path& out,
+                                      const std::string& subject) {
+    auto journal = rs::Journal::Open(out, subject);
+    EXPECT_TRUE(journal.ok()) << journal.error().message;
+    auto trials = journal->Trials();
+    EXPECT_TRUE(trials.ok());
+    return trials.value();
+  }
+  fs::path dir_;
+  std::string protocol_;
+};
+
+TEST_F(SessionTest, SimulatedRunWritesJournalAndBidsExport) {
+  const fs::path out = dir_ / "out";
+  const CliRun run =
+      Burrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
+               "--seed", "7", "--observer", "simulated"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("sub-01: 20 trials (0 resumed, 20 run now)"));
+  const std::vector<rs::TrialRecord> trials = Trials(out, "01");
+  ASSERT_EQ(trials.size(), 20u);
+  for (int i = 0; i < 12; ++i) {
+    EXPECT_EQ(trials[i].method, "same_different");
+    EXPECT_EQ(trials[i].task, "probe");
+    EXPECT_TRUE(trials[i].response == "same" ||
+                trials[i].response == "different");
+    EXPECT_TRUE(trials[i].correct.has_value());
+  }
+  for (int i = 12; i < 20; ++i) {
+    EXPECT_EQ(trials[i].method, "staircase");
+    EXPECT_EQ(trials[i].task, "drill");
+    EXPECT_EQ(trials[i].stim_unit, "fraction");
+    EXPECT_TRUE(trials[i].step_size.has_value());
+  }
+  auto journal = rs::Journal::Open(out, "01");
+  auto traces = journal->Traces(0);
+  ASSERT_TRUE(traces.ok());
+  ASSERT_EQ(traces->size(), 2u);             // two simulated intervals
+  EXPECT_EQ((*traces)[0].rows.size(), 50u);  // 0.5 s at 100 Hz
+  EXPECT_TRUE(fs::exists(out / "sub-01" / "beh" / "sub-01_task-sd_beh.tsv"));
+  EXPECT_TRUE(
+      fs::exists(out / "sub-01" / "beh" / "sub-01_task-stairs_physio.tsv.gz"));
+  EXPECT_TRUE(fs::exists(out / "dataset_description.json"));
+}
+
+TEST_F(SessionTest, SameSeedGivesByteIdenticalExports) {
+  for (const char* name : {"a", "b"}) {
+    const CliRun run = Burrlab({"run", protocol_, "--subject", "03", "--out",
+                                (dir_ / name).string(), "--seed", "99",
+                                "--observer", "simulated"});
+    ASSERT_EQ(run.code, 0) << run.err;
+  }
+  for (const char* file :
+       {"sub-03_task-sd_beh.tsv", "sub-03_task-stairs_beh.tsv",
+        "sub-03_task-sd_physio.tsv.gz", "sub-03_task-stairs_beh.json"}) {
+    const std::string a = Read(dir_ / "a" / "sub-03" / "beh" / file);
+    EXPECT_FALSE(a.empty()) << file;
+    EXPECT_EQ(a, Read(dir_ / "b" / "sub-03" / "beh" / file)) << file;
+  }
+  const CliRun other = Burrlab({"run", protocol_, "--subject", "03", "--out",
+                                (dir_ / "c").string(), "--seed", "100",
+                                "--observer", "simulated"});
+  ASSERT_EQ(other.code, 0);
+  EXPECT_NE(Read(dir_ / "a" / "sub-03" / "beh" / "sub-03_task-sd_beh.tsv"),
+            Read(dir_ / "c" / "sub-03" / "beh" / "sub-03_task-sd_beh.tsv"));
+}
+
+TEST_F(SessionTest, ExistingSubjectIsNeverOverwritten) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(Burrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
+                     "--observer", "simulated"})
+                .code,
+            0);
+  const std::string before =
+      Read(out / "sub-01" / "beh" / "sub-01_task-sd_beh.tsv");
+  const CliRun again = Burrlab({"run", protocol_, "--subject", "01", "--out",
+                                out.string(), "--observer", "simulated"});
+  EXPECT_EQ(again.code, 1);
+  EXPECT_EQ(again.err, "burrlab: sub-01 already exists in " + out.string() +
+                           "; use --resume to continue it\n");
+  EXPECT_EQ(Trials(out, "01").size(), 20u);
+  EXPECT_EQ(before, Read(out / "sub-01" / "beh" / "sub-01_task-sd_beh.tsv"));
+}
+
+TEST_F(SessionTest, UnwritableFolderIsAClearError) {
+  const fs::path file = dir_ / "a_file";
+  Write(file.string(), "x");
+  const CliRun run =
+      Burrlab({"run", protocol_, "--subject", "01", "--out",
+               (file / "out").string(), "--observer", "simulated"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_THAT(run.err, HasSubstr("burrlab: cannot create folder"));
+  EXPECT_THAT(run.err, HasSubstr("Not a directory"));
+}
+
+TEST_F(SessionTest, ResumeRefusesAnotherProtocolOrSeed) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(Burrlab({"run", protocol_, "--subject", "02", "--out", out.string(),
+                     "--seed", "5", "--observer", "simulated"})
+                .code,
+            0);
+  const CliRun seed =
+      Burrlab({"run", protocol_, "--subject", "02", "--out", out.string(),
+               "--seed", "6", "--observer", "simulated", "--resume"});
+  EXPECT_EQ(seed.code, 1);
+  EXPECT_EQ(seed.err, "burrlab: cannot resume sub-02 in " + out.string() +
+                          ": the seed differs from the journal's (5 in the "
+                          "journal, 6 now)\n");
+  std::string changed(kProtocol);
+  changed.replace(changed.find("trials = 12"), 11, "trials = 16");
+  const std::string other = (dir_ / "other.toml").string();
+  Write(other, changed);
+  const CliRun protocol =
+      Burrlab({"run", other, "--subject", "02", "--out", out.string(), "--seed",
+               "5", "--observer", "simulated", "--resume"});
+  EXPECT_EQ(protocol.code, 1);
+  EXPECT_THAT(protocol.err,
+              HasSubstr("burrlab: cannot resume sub-02 in " + out.string() +
+                        ": the protocol differs from the journal's (sha256 "));
+  EXPECT_EQ(Trials(out, "02").size(), 20u);
+  const CliRun missing =
+      Burrlab({"run", protocol_, "--subject", "09", "--out", out.string(),
+               "--observer", "simulated", "--resume"});
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_THAT(missing.err, HasSubstr("no journal for sub-09 in"));
+}
+
+TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  SessionOptions options;
+  options.out_dir = dir_ / "full";
+  options.subject = "04";
+  options.seed = 12;
+  options.journal_limit_bytes_for_testing = 96 * 1024;
+  Result<SessionSummary> failed = RunSession(*loaded, options);
+  ASSERT_FALSE(failed.ok());
+  EXPECT_THAT(failed.error().message, HasSubstr("cannot save trial "));
+  EXPECT_THAT(failed.error().message, HasSubstr("run again with --resume"));
+  auto journal = rs::Journal::Open(options.out_dir, "04");
+  ASSERT_TRUE(journal.ok());
+  EXPECT_TRUE(journal->CheckIntegrity().ok());
+  const int saved = journal->NextTrialIndex().value();
+  EXPECT_GT(saved, 0);
+  EXPECT_LT(saved, 20);
+
+  options.journal_limit_bytes_for_testing = 0;
+  options.resume = true;
+  Result<SessionSummary> resumed = RunSession(*loaded, options);
+  ASSERT_TRUE(resumed.ok()) << resumed.error().message;
+  EXPECT_EQ(resumed->trials_resumed, saved);
+  EXPECT_EQ(resumed->trials_total, 20);
+
+  SessionOptions clean = options;
+  clean.out_dir = dir_ / "clean";
+  clean.resume = false;
+  ASSERT_TRUE(RunSession(*loaded, clean).ok());
+  EXPECT_EQ(Trials(options.out_dir, "04"), Trials(clean.out_dir, "04"));
+}
+
+TEST_F(SessionTest, TypedAnswersAtThePromptAreRecorded) {
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_);
+  ASSERT_TRUE(loaded.ok());
+  std::istringstream in("maybe\nsame\ndifferent\n");
+  std::ostringstream prompt;
+  SessionOptions options;
+  options.out_dir = dir_ / "typed";
+  options.subject = "05";
+  options.responder = Responder::kTerminal;
+  options.in = &in;
+  options.prompt = &prompt;
+  Result<SessionSummary> summary = RunSession(*loaded, options);
+  ASSERT_TRUE(summary.ok()) << summary.error().message;
+  EXPECT_FALSE(summary->finished);  // input ended after two answers
+  EXPECT_EQ(summary->trials_total, 2);
+  EXPECT_THAT(prompt.str(),
+              HasSubstr("Did the two intervals feel the same or different? "
+                        "[same/different]: "));
+  EXPECT_THAT(prompt.str(), HasSubstr("please answer one of same/different"));
+  const std::vector<rs::TrialRecord> trials = Trials(options.out_dir, "05");
+  ASSERT_EQ(trials.size(), 2u);
+  EXPECT_EQ(trials[0].response, "same");
+  EXPECT_EQ(trials[1].response, "different");
+  EXPECT_TRUE(trials[0].response_time_s.has_value());
+}
+
+TEST_F(SessionTest, PlanPrintsTheTrialSequenceAsJson) {
+  const CliRun run =
+      Burrlab({"plan", protocol_, "--seed", "3", "--json", "--responses",
+               "1,1,1,1,1,1,1,1,1,1,1,1,1,1,0,1,1,1,1,1"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const auto doc = nlohmann::json::parse(run.out);
+  ASSERT_EQ(doc["trials"].size(), 20u);
+  const auto& first = doc["trials"][0];
+  EXPECT_EQ(first["index"], 0);
+  EXPECT_EQ(first["block"], "sd");
+  EXPECT_EQ(first["method"], "same_different");
+  EXPECT_TRUE(first["level"].is_null());
+  EXPECT_EQ(first["intervals"].size(), 2u);
+  const auto& stair = doc["trials"][12];
+  EXPECT_EQ(stair["method"], "staircase");
+  EXPECT_DOUBLE_EQ(stair["level"].get<double>(), 0.5);
+  EXPECT_TRUE(stair.contains("estimate"));
+  // 1,1 -> down one log10 step of 0.1; then 0 -> up.
+  EXPECT_NEAR(doc["trials"][14]["level"].get<double>(), 0.5 / std::pow(10, 0.1),
+              1e-12);
+  EXPECT_TRUE(doc["note"].is_null());
+  // The same seed gives the same text.
+  EXPECT_EQ(run.out,
+            Burrlab({"plan", protocol_, "--seed", "3", "--json", "--responses",
+                     "1,1,1,1,1,1,1,1,1,1,1,1,1,1,0,1,1,1,1,1"})
+                .out);
+}
+
+TEST_F(SessionTest, PlanStopsWhereAdaptiveResponsesRunOut) {
+  const CliRun run = Burrlab({"plan", protocol_, "--seed", "3"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_THAT(run.out,
+              HasSubstr("stopped before trial 12: block \"stairs\" "
+                        "(staircase) is adaptive and the scripted responses "
+                        "ran out (0 given)"));
+}
+
+TEST_F(SessionTest, StudyRunsEverySubjectAndRefusesToOverwrite) {
+  const fs::path out = dir_ / "study";
+  const CliRun run = Burrlab({"study", protocol_, "--simulated-subjects", "3",
+                              "--out", out.string(), "--jobs", "2"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("3 of 3 simulated subjects completed"));
+  for (const char* s : {"01", "02", "03"}) {
+    EXPECT_EQ(Trials(out, s).size(), 20u) << s;
+  }
+  const CliRun again = Burrlab(
+      {"study", protocol_, "--simulated-subjects", "3", "--out", out.string()});
+  EXPECT_EQ(again.code, 1);
+  EXPECT_EQ(again.err, "burrlab: sub-01 already exists in " + out.string() +
+                           "; use --resume to continue the study\n");
+}
+
+TEST(DefaultSubjectIndex, IsTheLabelNumberMinusOne) {
+  EXPECT_EQ(DefaultSubjectIndex("01"), 0);
+  EXPECT_EQ(DefaultSubjectIndex("12"), 11);
+  EXPECT_EQ(DefaultSubjectIndex("pilot"), 0);
+}
+
+}  // namespace
+}  // namespace burrlab::runner

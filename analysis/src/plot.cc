@@ -255,6 +255,10 @@ Result<Image> RenderPlot(const LinePlot& plot) {
       return Error{fmt::format("series '{}' has {} x values and {} y values",
                                s.label, s.x.size(), s.y.size())};
     }
+    if (!s.marker_px.empty() && s.marker_px.size() != s.x.size()) {
+      return Error{fmt::format("series '{}' has {} points and {} marker sizes",
+                               s.label, s.x.size(), s.marker_px.size())};
+    }
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
       if (plot.log_y && !(s.y[i] > 0.0)) continue;
@@ -326,8 +330,13 @@ Result<Image> RenderPlot(const LinePlot& plot) {
       const double x = px(s.x[i]), y = py(s.y[i]);
       if (s.line && have_previous)
         canvas.Line(previous_x, previous_y, x, y, colour, 2.5);
-      if (s.markers)
-        canvas.FillRect(x - 3.5, y - 3.5, x + 3.5, y + 3.5, colour);
+      if (s.markers) {
+        const double half =
+            0.5 * (s.marker_px.empty()
+                       ? 7.0
+                       : std::clamp(s.marker_px[i], 1.0, 200.0));
+        canvas.FillRect(x - half, y - half, x + half, y + half, colour);
+      }
       previous_x = x;
       previous_y = y;
       have_previous = true;

@@ -5,6 +5,7 @@
 #include <exception>
 #include <string_view>
 
+#include "analyze_commands.h"
 #include "burrlab/sim/spelling.h"
 #include "burrlab_version.h"
 #include "command_table.h"
@@ -36,6 +37,8 @@ constexpr Command kCommands[] = {
      RunRunCommand},
     {"study", "run a population of simulated subjects", RunStudyCommand},
     {"sim", "burr simulator tools: force-curve, descent, bench", RunSimCommand},
+    {"analyze", "statistics on data files: fit (psychometric), dprime",
+     RunAnalyzeCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunTopHelp},
 };

@@ -75,6 +75,24 @@ TEST(RenderPlot, RejectsBadInputNamingIt) {
             "plot size must be 200x150 to 8000x8000 pixels, got 10x600");
 }
 
+TEST(RenderPlot, DrawsMarkersOfTheGivenSize) {
+  LinePlot plot;
+  Series s{"", {0.0, 10.0}, {0.0, 20.0}, false, true, 0};
+  s.marker_px = {2.0, 30.0};
+  plot.series.push_back(s);
+  Result<Image> image = RenderPlot(plot);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  // The 30 px marker at the far corner covers 14 px around it; the 2 px one
+  // at the origin does not reach 5 px.
+  const int right = 900 - 24, top = 64;
+  EXPECT_EQ(Pixel(*image, right - 12, top + 12),
+            (std::array<int, 3>{0, 114, 178}));
+  s.marker_px = {2.0};
+  plot.series = {s};
+  EXPECT_EQ(RenderPlot(plot).error().message,
+            "series '' has 2 points and 1 marker sizes");
+}
+
 TEST(WritePlotPng, WritesAPngFileAndNamesAFileItCannotWrite) {
   LinePlot plot;
   plot.series.push_back(

@@ -21,6 +21,9 @@ struct Series {
   bool line = true;      // join consecutive points
   bool markers = false;  // draw a square at each point
   int colour = -1;       // palette index; -1 takes the series' position
+  // Side of each point's marker in pixels (e.g. growing with a count);
+  // empty: 7 px for every point.
+  std::vector<double> marker_px = {};
 };
 
 struct LinePlot {

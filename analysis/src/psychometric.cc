@@ -1,0 +1,889 @@
+// Maximum-likelihood fits of psi = gamma + (1 - gamma - lambda) F and the
+// parametric bootstrap of Wichmann & Hill (2001b) as psignifit 2.5.6 runs it:
+// simulate binomial counts from the fit, refit each simulated data set, and
+// read percentile and BCa limits off the refitted thresholds and slopes.
+//
+// The optimiser is NLopt's SLSQP on (m, ln s, gamma, lambda) of the
+// location-scale form in sigmoids.h, with levels normalised to the tested
+// range; gamma and lambda are box-constrained, m and s are kept in a wide box
+// (kLocationLimit, kScaleMin, kScaleMax) so degenerate data end at a reported
+// bound instead of running off to infinity.
+#include "burrlab/analysis/psychometric.h"
+
+#include <fmt/format.h>
+#include <nlopt.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <boost/random/binomial_distribution.hpp>
+#include <boost/random/mersenne_twister.hpp>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <set>
+
+#include "burrlab/analysis/bootstrap.h"
+#include "sigmoids.h"
+
+namespace burrlab::analysis {
+namespace {
+
+using detail::LocationScale;
+using detail::Standard;
+using detail::StandardPoint;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Search box in normalised levels (u - middle) / span: the location within 5
+// spans of the middle of the tested range, the scale from 1e-4 to 100 spans.
+constexpr double kLocationLimit = 5.0;
+constexpr double kScaleMin = 1e-4;
+constexpr double kScaleMax = 1e2;
+// psignifit 2.5.6's default initial guesses (#EST_GAMMA, #EST_LAMBDA).
+constexpr double kStartGamma = 0.01;
+constexpr double kStartLambda = 0.01;
+// Probabilities are kept at least this far from 0 and 1 inside log().
+constexpr double kTinyProbability = 1e-300;
+constexpr int kMaxEvaluations = 2000;
+// SLSQP stops when a step changes every parameter by less than this
+// fraction, or log L per trial by less than the next constant.
+constexpr double kParameterTolerance = 1e-8;
+constexpr double kLogLikelihoodTolerance = 1e-12;  // per trial
+constexpr int kMaxBootstrapSamples = 1000000;
+
+const char* const kParamNames[4] = {"alpha", "beta", "gamma", "lambda"};
+
+// What the objective needs: normalised levels, trials, counts, and which of
+// gamma and lambda are free.
+struct Problem {
+  Sigmoid sigmoid = Sigmoid::kLogistic;
+  bool gamma_free = false;
+  bool lambda_free = false;
+  double gamma_fixed = 0.5;
+  std::vector<double> u;  // (level or ln level - middle) / span
+  std::vector<double> n;  // trials
+  std::vector<double> r;  // correct responses of the data set being fitted
+  double scale = 1.0;     // 1 / total trials: the objective is per trial
+  int evaluations = 0;
+};
+
+// The internal parameter vector: m, ln s, then gamma and lambda when free.
+using Internal = std::array<double, 4>;
+
+struct Psi4 {
+  double m, s, gamma, lambda;
+};
+
+Psi4 Unpack(const Problem& problem, const double* v) {
+  std::size_t k = 2;
+  Psi4 p{v[0], std::exp(v[1]), problem.gamma_fixed, 0.0};
+  if (problem.gamma_free) p.gamma = v[k++];
+  if (problem.lambda_free) p.lambda = v[k++];
+  return p;
+}
+
+// Negative log-likelihood per trial and its gradient (NLopt minimises; per
+// trial keeps the objective's size and tolerances independent of the number
+// of trials).
+double Objective(unsigned /*dim*/, const double* v, double* gradient,
+                 void* data) {
+  Problem& problem = *static_cast<Problem*>(data);
+  ++problem.evaluations;
+  const Psi4 p = Unpack(problem, v);
+  const double w = 1.0 - p.gamma - p.lambda;
+  double log_l = 0.0, d_m = 0.0, d_log_s = 0.0, d_gamma = 0.0, d_lambda = 0.0;
+  for (std::size_t i = 0; i < problem.u.size(); ++i) {
+    const double z = (problem.u[i] - p.m) / p.s;
+    const StandardPoint f = Standard(problem.sigmoid, z);
+    const double yes = std::max(p.gamma + w * f.f, kTinyProbability);
+    const double no = std::max(p.lambda + w * f.fc, kTinyProbability);
+    const double r = problem.r[i], wrong = problem.n[i] - r;
+    log_l += (r > 0.0 ? r * std::log(yes) : 0.0) +
+             (wrong > 0.0 ? wrong * std::log(no) : 0.0);
+    if (gradient != nullptr) {
+      const double e = r / yes - wrong / no;  // d log L / d psi
+      d_m += e * (-w * f.density / p.s);
+      d_log_s += e * (-w * f.density * z);
+      d_gamma += e * f.fc;
+      d_lambda += e * (-f.f);
+    }
+  }
+  if (gradient != nullptr) {
+    std::size_t k = 0;
+    gradient[k++] = -d_m * problem.scale;
+    gradient[k++] = -d_log_s * problem.scale;
+    if (problem.gamma_free) gradient[k++] = -d_gamma * problem.scale;
+    if (problem.lambda_free) gradient[k++] = -d_lambda * problem.scale;
+  }
+  return -log_l * problem.scale;
+}
+
+struct NloptDeleter {
+  void operator()(nlopt_opt opt) const { nlopt_destroy(opt); }
+};
+
+struct Outcome {
+  Internal v{};
+  double log_likelihood = 0.0;
+  bool converged = false;
+  int evaluations = 0;
+};
+
+// The model and one NLopt optimiser, reused for every refit of a bootstrap.
+class Fitter {
+ public:
+  Fitter(std::span<const DataBlock> data, const PsychometricOptions& options)
+      : options_(options) {
+    problem_.sigmoid = options.sigmoid;
+    problem_.gamma_free = options.n_intervals == 1 && options.gamma_max > 0.0;
+    problem_.gamma_fixed =
+        options.n_intervals == 1 ? 0.0 : 1.0 / options.n_intervals;
+    problem_.lambda_free = options.lambda_max > 0.0;
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    double trials = 0.0;
+    std::vector<double> u;
+    for (const DataBlock& block : data) {
+      u.push_back(detail::UsesLogLevels(options.sigmoid) ? std::log(block.level)
+                                                         : block.level);
+      low = std::min(low, u.back());
+      high = std::max(high, u.back());
+      problem_.n.push_back(block.n_total);
+      problem_.r.push_back(block.n_correct);
+      trials += block.n_total;
+    }
+    problem_.scale = 1.0 / trials;
+    middle_ = 0.5 * (low + high);
+    span_ = high - low;
+    for (double x : u) problem_.u.push_back((x - middle_) / span_);
+    dimension_ =
+        2 + (problem_.gamma_free ? 1 : 0) + (problem_.lambda_free ? 1 : 0);
+    lower_ = {-kLocationLimit, std::log(kScaleMin), 0.0, 0.0};
+    upper_ = {kLocationLimit, std::log(kScaleMax), 0.0, 0.0};
+    std::size_t k = 2;
+    if (problem_.gamma_free) upper_[k++] = options.gamma_max;
+    if (problem_.lambda_free) upper_[k++] = options.lambda_max;
+    opt_.reset(nlopt_create(NLOPT_LD_SLSQP, dimension_));
+    nlopt_set_lower_bounds(opt_.get(), lower_.data());
+    nlopt_set_upper_bounds(opt_.get(), upper_.data());
+    nlopt_set_min_objective(opt_.get(), Objective, &problem_);
+    nlopt_set_xtol_rel(opt_.get(), kParameterTolerance);
+    nlopt_set_ftol_abs(opt_.get(), kLogLikelihoodTolerance);
+    nlopt_set_maxeval(opt_.get(), kMaxEvaluations);
+  }
+
+  // The counts of the data set to fit next (one per block).
+  void SetCounts(std::span<const int> r) {
+    for (std::size_t i = 0; i < r.size(); ++i) problem_.r[i] = r[i];
+  }
+
+  // Starting points for the optimiser, with gamma and lambda at psignifit's
+  // initial guesses: for each of 10 scales, the best of 21 locations (a
+  // likelihood can have one maximum at a moderate slope and another at a
+  // steep one, so every scale gets its own start), and the best 2 steps
+  // placed between neighbouring levels.
+  std::vector<Internal> Starts() {
+    std::vector<std::pair<double, Internal>> profile, steps;
+    const double log_low = std::log(SteepestStart());
+    for (int j = 0; j <= 9; ++j) {
+      const double log_s = log_low + j * (std::log(2.0) - log_low) / 9.0;
+      std::pair<double, Internal> best{std::numeric_limits<double>::infinity(),
+                                       {}};
+      for (int i = 0; i <= 20; ++i) {
+        const Internal v =
+            Pack({-1.0 + 0.1 * i, log_s, StartGamma(), StartLambda()});
+        const double value = Evaluate(v);
+        if (value < best.first) best = {value, v};
+      }
+      profile.push_back(best);
+    }
+    for (const auto& [m, log_s] : Steps()) {
+      const Internal v = Pack({m, log_s, StartGamma(), StartLambda()});
+      steps.emplace_back(Evaluate(v), v);
+    }
+    std::vector<Internal> starts;
+    for (auto* list : {&profile, &steps}) {
+      const std::size_t keep =
+          std::min<std::size_t>(list == &profile ? 10 : 2, list->size());
+      std::partial_sort(
+          list->begin(), list->begin() + static_cast<std::ptrdiff_t>(keep),
+          list->end(),
+          [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (std::size_t k = 0; k < keep; ++k) {
+        starts.push_back((*list)[k].second);
+      }
+    }
+    return starts;
+  }
+
+  // A local fit (SLSQP) from `start`.
+  Outcome Fit(const Internal& start) {
+    Outcome out;
+    out.v = ClampToBox(start);
+    problem_.evaluations = 0;
+    double value = 0.0;
+    const nlopt_result rc = nlopt_optimize(opt_.get(), out.v.data(), &value);
+    // gamma and lambda within round-off of a limit are put on it (SLSQP
+    // leaves values like 1e-17).
+    for (std::size_t k = 2; k < dimension_; ++k) {
+      const double tolerance = 1e-9 * (upper_[k] - lower_[k]);
+      if (std::abs(out.v[k] - lower_[k]) < tolerance) out.v[k] = lower_[k];
+      if (std::abs(out.v[k] - upper_[k]) < tolerance) out.v[k] = upper_[k];
+    }
+    out.evaluations = problem_.evaluations;
+    out.log_likelihood = -Evaluate(out.v) / problem_.scale;
+    out.converged =
+        std::isfinite(out.log_likelihood) &&
+        (rc == NLOPT_SUCCESS || rc == NLOPT_FTOL_REACHED ||
+         rc == NLOPT_XTOL_REACHED ||
+         (rc == NLOPT_ROUNDOFF_LIMITED && ProjectedGradientIsSmall(out.v)));
+    return out;
+  }
+
+  // The fit to the data: local fits from each of Starts(), then from the
+  // best of them with gamma and lambda moved to each end of their ranges
+  // (the likelihood can have a local maximum at either end); the best
+  // converged result.
+  Outcome FitFromScratch() {
+    Outcome best;
+    int evaluations = 0;
+    bool have = false;
+    const auto consider = [&](const Outcome& outcome) {
+      evaluations += outcome.evaluations;
+      if (!have || (outcome.converged && !best.converged) ||
+          (outcome.converged == best.converged &&
+           outcome.log_likelihood > best.log_likelihood)) {
+        best = outcome;
+        have = true;
+      }
+    };
+    for (const Internal& start : Starts()) consider(Fit(start));
+    std::vector<double> gammas = {0.0}, lambdas = {0.0};
+    if (problem_.gamma_free) gammas = {0.0, options_.gamma_max};
+    if (problem_.lambda_free) lambdas = {0.0, options_.lambda_max};
+    const Internal from = best.v;
+    for (double gamma : gammas) {
+      for (double lambda : lambdas) {
+        Internal start = from;
+        std::size_t k = 2;
+        if (problem_.gamma_free) start[k++] = gamma;
+        if (problem_.lambda_free) start[k++] = lambda;
+        if (k > 2) consider(Fit(start));
+      }
+    }
+    best.evaluations = evaluations;
+    return best;
+  }
+
+  // The smallest scale the starts use: a quarter of the smallest gap
+  // between levels. Steeper starts sit on a plateau (no level on the rising
+  // part) where the gradient vanishes and the optimiser cannot move.
+  double SteepestStart() {
+    if (steepest_ == 0.0) {
+      std::vector<double> u = problem_.u;
+      std::sort(u.begin(), u.end());
+      u.erase(std::unique(u.begin(), u.end()), u.end());
+      double gap = 1.0;
+      for (std::size_t i = 0; i + 1 < u.size(); ++i) {
+        gap = std::min(gap, u[i + 1] - u[i]);
+      }
+      steepest_ = std::max(kScaleMin, 0.25 * gap);
+    }
+    return steepest_;
+  }
+
+  // A refit of a bootstrap data set: a local fit from `warm` (the fit to the
+  // data, as psignifit 2.5.6 starts its refits), made no steeper than
+  // SteepestStart so the optimiser does not start on a plateau.
+  Outcome Refit(Internal warm) {
+    warm[1] = std::max(warm[1], std::log(SteepestStart()));
+    return Fit(warm);
+  }
+
+  PsychometricParams ToParams(const Internal& v) const {
+    const Psi4 p = Unpack(problem_, v.data());
+    const std::array<double, 2> ab = detail::FromLocationScale(
+        options_.sigmoid, {middle_ + span_ * p.m, span_ * p.s});
+    return {ab[0], ab[1], p.gamma, p.lambda};
+  }
+
+  // Which parameters of `v` sit on a limit of the search box.
+  std::array<Bound, 4> BoundsOf(const Internal& v) const {
+    std::array<Bound, 4> bounds{};
+    const auto check = [&](std::size_t k) {
+      const double tolerance = 1e-6 * (upper_[k] - lower_[k]);
+      if (v[k] <= lower_[k] + tolerance) return Bound::kLower;
+      if (v[k] >= upper_[k] - tolerance) return Bound::kUpper;
+      return Bound::kNone;
+    };
+    bounds[0] = check(0);
+    // ln s: for the Weibull beta = 1 / s, so the limits swap.
+    const Bound scale = check(1);
+    bounds[1] = detail::UsesLogLevels(options_.sigmoid) && scale != Bound::kNone
+                    ? (scale == Bound::kLower ? Bound::kUpper : Bound::kLower)
+                    : scale;
+    std::size_t k = 2;
+    if (problem_.gamma_free) bounds[2] = check(k++);
+    if (problem_.lambda_free) bounds[3] = check(k++);
+    return bounds;
+  }
+
+  // log L(saturated) of the current counts.
+  double SaturatedLogLikelihood() const {
+    double log_l = 0.0;
+    for (std::size_t i = 0; i < problem_.n.size(); ++i) {
+      const double r = problem_.r[i], n = problem_.n[i];
+      if (r > 0.0) log_l += r * std::log(r / n);
+      if (n - r > 0.0) log_l += (n - r) * std::log((n - r) / n);
+    }
+    return log_l;
+  }
+
+ private:
+  // (m, ln s) of steep functions centred between neighbouring levels, at
+  // two steepnesses relative to the gap.
+  const std::vector<std::pair<double, double>>& Steps() {
+    if (steps_.empty()) {
+      std::vector<double> u = problem_.u;
+      std::sort(u.begin(), u.end());
+      u.erase(std::unique(u.begin(), u.end()), u.end());
+      for (std::size_t i = 0; i + 1 < u.size(); ++i) {
+        const double gap = u[i + 1] - u[i];
+        for (double fraction : {0.25, 0.5}) {
+          steps_.emplace_back(0.5 * (u[i] + u[i + 1]),
+                              std::log(std::max(kScaleMin, fraction * gap)));
+        }
+      }
+    }
+    return steps_;
+  }
+
+  double StartGamma() const {
+    return std::min(kStartGamma, 0.5 * options_.gamma_max);
+  }
+  double StartLambda() const {
+    return std::min(kStartLambda, 0.5 * options_.lambda_max);
+  }
+
+  // A full (m, ln s, gamma, lambda) packed into the free parameters and
+  // clamped to the box.
+  Internal Pack(const Internal& full) const {
+    Internal v{full[0], full[1], 0.0, 0.0};
+    std::size_t k = 2;
+    if (problem_.gamma_free) v[k++] = full[2];
+    if (problem_.lambda_free) v[k++] = full[3];
+    return ClampToBox(v);
+  }
+
+  Internal ClampToBox(Internal v) const {
+    for (std::size_t j = 0; j < dimension_; ++j) {
+      v[j] = std::clamp(v[j], lower_[j], upper_[j]);
+    }
+    return v;
+  }
+
+  double Evaluate(const Internal& v) {
+    return Objective(dimension_, v.data(), nullptr, &problem_);
+  }
+
+  // The gradient of -log L per trial, projected on the box, is small (used
+  // when NLopt stops on round-off).
+  bool ProjectedGradientIsSmall(const Internal& v) {
+    Internal gradient{};
+    Objective(dimension_, v.data(), gradient.data(), &problem_);
+    for (std::size_t k = 0; k < dimension_; ++k) {
+      const bool at_lower = v[k] <= lower_[k] && gradient[k] > 0.0;
+      const bool at_upper = v[k] >= upper_[k] && gradient[k] < 0.0;
+      if (!at_lower && !at_upper && std::abs(gradient[k]) > 1e-5) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  PsychometricOptions options_;
+  Problem problem_;
+  unsigned dimension_ = 2;
+  Internal lower_{}, upper_{};
+  double middle_ = 0.0, span_ = 1.0;
+  std::vector<std::pair<double, double>> steps_;
+  double steepest_ = 0.0;
+  std::unique_ptr<nlopt_opt_s, NloptDeleter> opt_;
+};
+
+// d psi / d(alpha, beta, gamma, lambda) and psi, 1 - psi at each level.
+struct LevelDerivatives {
+  std::vector<std::array<double, 4>> d_psi;
+  std::vector<double> yes;  // psi
+  std::vector<double> no;   // 1 - psi
+};
+
+LevelDerivatives DerivativesAt(std::span<const DataBlock> data,
+                               const PsychometricOptions& options,
+                               const PsychometricParams& params) {
+  const bool gamma_free = options.n_intervals == 1 && options.gamma_max > 0.0;
+  const bool lambda_free = options.lambda_max > 0.0;
+  const LocationScale ls =
+      detail::ToLocationScale(options.sigmoid, params.alpha, params.beta);
+  const double w = 1.0 - params.gamma - params.lambda;
+  LevelDerivatives out;
+  for (const DataBlock& block : data) {
+    const double u = detail::UsesLogLevels(options.sigmoid)
+                         ? std::log(block.level)
+                         : block.level;
+    const double z = (u - ls.m) / ls.s;
+    const StandardPoint f = Standard(options.sigmoid, z);
+    const std::array<double, 2> ab = detail::PsiGradientAlphaBeta(
+        options.sigmoid, params.alpha, params.beta, z, f.density, w);
+    out.d_psi.push_back(
+        {ab[0], ab[1], gamma_free ? f.fc : 0.0, lambda_free ? -f.f : 0.0});
+    out.yes.push_back(std::max(params.gamma + w * f.f, kTinyProbability));
+    out.no.push_back(std::max(params.lambda + w * f.fc, kTinyProbability));
+  }
+  return out;
+}
+
+std::string BoundWarning(std::size_t k, Bound bound,
+                         const PsychometricOptions& options,
+                         const PsychometricParams& params) {
+  const char* side = bound == Bound::kLower ? "lower" : "upper";
+  switch (k) {
+    case 2:
+      return fmt::format(
+          "gamma = {:.6g} is at the {} limit of its range [0, {}]",
+          params.gamma, side, options.gamma_max);
+    case 3:
+      return fmt::format(
+          "lambda = {:.6g} is at the {} limit of its range [0, {}]",
+          params.lambda, side, options.lambda_max);
+    case 0:
+      return fmt::format(
+          "alpha = {:.6g} is at the {} limit of the search range: the data do "
+          "not locate the psychometric function",
+          params.alpha, side);
+    default:
+      return fmt::format(
+          "beta = {:.6g} is at the {} limit of the search range: the data do "
+          "not constrain the {}",
+          params.beta, side,
+          (bound == Bound::kLower) == (options.sigmoid == Sigmoid::kWeibull)
+              ? "shallowness"
+              : "steepness");
+  }
+}
+
+// The threshold or slope at `cut` for parameters `p`.
+double Threshold(const PsychometricOptions& o, double cut,
+                 const PsychometricParams& p) {
+  return SigmoidInverse(o.sigmoid, cut, p.alpha, p.beta);
+}
+double Slope(const PsychometricOptions& o, double cut,
+             const PsychometricParams& p) {
+  return SigmoidSlope(o.sigmoid, Threshold(o, cut, p), p.alpha, p.beta);
+}
+
+PsychometricFit MakeFit(const Fitter& fitter, const Outcome& outcome) {
+  PsychometricFit fit;
+  fit.params = fitter.ToParams(outcome.v);
+  fit.log_likelihood = outcome.log_likelihood;
+  fit.deviance = std::max(
+      0.0, 2.0 * (fitter.SaturatedLogLikelihood() - outcome.log_likelihood));
+  fit.converged = outcome.converged;
+  fit.evaluations = outcome.evaluations;
+  fit.at_bound = fitter.BoundsOf(outcome.v);
+  return fit;
+}
+
+std::string FormatLimits(const std::vector<double>& conf,
+                         const std::vector<double>& limits) {
+  std::string text;
+  for (std::size_t k = 0; k < conf.size(); ++k) {
+    text += fmt::format("{}{}: {:.6g}", k == 0 ? "" : ", ", conf[k], limits[k]);
+  }
+  return text;
+}
+
+}  // namespace
+
+bool PsychometricFit::AtAnyBound() const {
+  return std::any_of(at_bound.begin(), at_bound.end(),
+                     [](Bound b) { return b != Bound::kNone; });
+}
+
+Status PsychometricOptions::Validate() const {
+  if (n_intervals < 1 || n_intervals > 100) {
+    return Error{fmt::format(
+        "n_intervals must be 1 (yes/no) or the n of an n-AFC task (2 to 100), "
+        "got {}",
+        n_intervals)};
+  }
+  if (!(lambda_max >= 0.0 && lambda_max < 1.0)) {
+    return Error{
+        fmt::format("lambda_max must be in [0, 1), got {}", lambda_max)};
+  }
+  if (!(gamma_max >= 0.0 && gamma_max < 1.0)) {
+    return Error{fmt::format("gamma_max must be in [0, 1), got {}", gamma_max)};
+  }
+  const double gamma_top = n_intervals == 1 ? gamma_max : 1.0 / n_intervals;
+  if (!(gamma_top + lambda_max < 1.0)) {
+    return Error{fmt::format(
+        "{} + lambda_max must be below 1 (psi needs room to rise), got {} + {}",
+        n_intervals == 1 ? "gamma_max" : "1 / n_intervals", gamma_top,
+        lambda_max)};
+  }
+  for (std::size_t k = 0; k < cuts.size(); ++k) {
+    if (!(cuts[k] > 0.0 && cuts[k] < 1.0)) {
+      return Error{
+          fmt::format("cuts[{}] must be in (0, 1), got {}", k, cuts[k])};
+    }
+  }
+  for (std::size_t k = 0; k < conf.size(); ++k) {
+    if (!(conf[k] > 0.0 && conf[k] < 1.0)) {
+      return Error{
+          fmt::format("conf[{}] must be in (0, 1), got {}", k, conf[k])};
+    }
+  }
+  if (bootstrap_samples < 0 || bootstrap_samples > kMaxBootstrapSamples) {
+    return Error{fmt::format("bootstrap_samples must be in [0, {}], got {}",
+                             kMaxBootstrapSamples, bootstrap_samples)};
+  }
+  return {};
+}
+
+Status ValidateData(std::span<const DataBlock> data, Sigmoid sigmoid,
+                    std::size_t* bad_block) {
+  std::size_t unused = 0;
+  std::size_t& at = bad_block != nullptr ? *bad_block : unused;
+  at = data.size();
+  if (data.empty()) {
+    return Error{"no data: a psychometric fit needs at least 3 levels"};
+  }
+  std::set<double> levels;
+  long long correct = 0, trials = 0;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const DataBlock& b = data[i];
+    at = i;
+    if (!std::isfinite(b.level)) {
+      return Error{fmt::format("block {}: level {} is not a finite number",
+                               i + 1, b.level)};
+    }
+    if (b.n_total < 1) {
+      return Error{fmt::format("block {}: n_total = {} must be at least 1",
+                               i + 1, b.n_total)};
+    }
+    if (b.n_correct < 0) {
+      return Error{fmt::format("block {}: n_correct = {} must be at least 0",
+                               i + 1, b.n_correct)};
+    }
+    if (b.n_correct > b.n_total) {
+      return Error{fmt::format("block {}: n_correct = {} exceeds n_total = {}",
+                               i + 1, b.n_correct, b.n_total)};
+    }
+    if (sigmoid == Sigmoid::kWeibull && !(b.level > 0.0)) {
+      return Error{fmt::format(
+          "block {}: level {} must be positive for the Weibull, which uses "
+          "(x / alpha)^beta",
+          i + 1, b.level)};
+    }
+    levels.insert(b.level);
+    correct += b.n_correct;
+    trials += b.n_total;
+  }
+  at = data.size();
+  if (levels.size() < 3) {
+    return Error{fmt::format(
+        "only {} distinct level{}: a psychometric fit needs at least 3",
+        levels.size(), levels.size() == 1 ? "" : "s")};
+  }
+  if (correct == trials) {
+    return Error{fmt::format(
+        "all {} trials are correct (or 'yes'): the data do not constrain a "
+        "psychometric function; test lower levels",
+        trials)};
+  }
+  if (correct == 0) {
+    return Error{fmt::format(
+        "none of the {} trials is correct (or 'yes'): the data do not "
+        "constrain a psychometric function; test higher levels",
+        trials)};
+  }
+  return {};
+}
+
+Result<PsychometricFit> FitPsychometric(std::span<const DataBlock> data,
+                                        const PsychometricOptions& options) {
+  if (Status s = options.Validate(); !s.ok()) return s.error();
+  if (Status s = ValidateData(data, options.sigmoid); !s.ok()) return s.error();
+  Fitter fitter(data, options);
+  return MakeFit(fitter, fitter.FitFromScratch());
+}
+
+std::array<std::array<double, 4>, 4> FisherInformation(
+    std::span<const DataBlock> data, const PsychometricOptions& options,
+    const PsychometricParams& params) {
+  const LevelDerivatives d = DerivativesAt(data, options, params);
+  std::array<std::array<double, 4>, 4> info{};
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const double weight = data[i].n_total / (d.yes[i] * d.no[i]);
+    for (std::size_t j = 0; j < 4; ++j) {
+      for (std::size_t k = 0; k < 4; ++k) {
+        info[j][k] += weight * d.d_psi[i][j] * d.d_psi[i][k];
+      }
+    }
+  }
+  const bool fixed[4] = {false, false,
+                         !(options.n_intervals == 1 && options.gamma_max > 0.0),
+                         !(options.lambda_max > 0.0)};
+  for (std::size_t j = 0; j < 4; ++j) {
+    if (!fixed[j]) continue;
+    for (std::size_t k = 0; k < 4; ++k) info[j][k] = info[k][j] = 0.0;
+    info[j][j] = 1.0;
+  }
+  return info;
+}
+
+std::optional<std::array<std::array<double, 4>, 4>> ParameterCovariance(
+    std::span<const DataBlock> data, const PsychometricOptions& options,
+    const PsychometricParams& params) {
+  const std::array<std::array<double, 4>, 4> info =
+      FisherInformation(data, options, params);
+  Eigen::Matrix4d fisher;
+  for (int j = 0; j < 4; ++j) {
+    for (int k = 0; k < 4; ++k) fisher(j, k) = info[j][k];
+  }
+  const Eigen::FullPivLU<Eigen::Matrix4d> lu(fisher);
+  if (!lu.isInvertible()) return std::nullopt;
+  const Eigen::Matrix4d inverse = lu.inverse();
+  std::array<std::array<double, 4>, 4> covariance{};
+  for (int j = 0; j < 4; ++j) {
+    for (int k = 0; k < 4; ++k) covariance[j][k] = inverse(j, k);
+  }
+  return covariance;
+}
+
+std::array<double, 4> Score(std::span<const DataBlock> data,
+                            const PsychometricOptions& options,
+                            const PsychometricParams& params,
+                            std::span<const int> n_correct) {
+  const LevelDerivatives d = DerivativesAt(data, options, params);
+  std::array<double, 4> score{};
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const double residual =
+        (n_correct[i] - data[i].n_total * d.yes[i]) / (d.yes[i] * d.no[i]);
+    for (std::size_t j = 0; j < 4; ++j) score[j] += residual * d.d_psi[i][j];
+  }
+  return score;
+}
+
+Result<PsychometricAnalysis> AnalyzePsychometric(
+    std::span<const DataBlock> data, const PsychometricOptions& options) {
+  if (Status s = options.Validate(); !s.ok()) return s.error();
+  if (Status s = ValidateData(data, options.sigmoid); !s.ok()) return s.error();
+  PsychometricAnalysis out;
+  out.options = options;
+  Fitter fitter(data, options);
+  const Outcome best = fitter.FitFromScratch();
+  out.fit = MakeFit(fitter, best);
+  const PsychometricParams& fitted = out.fit.params;
+  if (!out.fit.converged) {
+    out.warnings.push_back(fmt::format(
+        "the fit did not converge after {} likelihood evaluations; the "
+        "estimates are unreliable",
+        out.fit.evaluations));
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (out.fit.at_bound[k] != Bound::kNone) {
+      out.warnings.push_back(
+          BoundWarning(k, out.fit.at_bound[k], options, fitted));
+    }
+  }
+
+  const std::optional<std::array<std::array<double, 4>, 4>> inverse =
+      ParameterCovariance(data, options, fitted);
+  const bool bca_possible = inverse.has_value();
+  if (!bca_possible) {
+    out.warnings.push_back(
+        "the data do not determine every parameter (the Fisher information "
+        "is singular at the fit, e.g. for a step between two neighbouring "
+        "levels); BCa intervals are unavailable");
+  }
+
+  const std::size_t cuts = options.cuts.size();
+  const std::size_t conf = options.conf.size();
+  for (double cut : options.cuts) {
+    BootstrapEstimate t, s;
+    t.cut = s.cut = cut;
+    t.value = Threshold(options, cut, fitted);
+    s.value = Slope(options, cut, fitted);
+    t.bca = t.percentile = s.bca = s.percentile =
+        std::vector<double>(conf, kNaN);
+    t.cpe = t.bias_z0 = t.acceleration = kNaN;
+    s.cpe = s.bias_z0 = s.acceleration = kNaN;
+    out.thresholds.push_back(std::move(t));
+    out.slopes.push_back(std::move(s));
+  }
+  out.deviance_p = kNaN;
+  const int samples = options.bootstrap_samples;
+  out.bootstrap_samples = samples;
+  if (samples == 0) return out;
+
+  // Least-favourable directions cov * d(quantity)/d(theta) (Davison & Hinkley
+  // 1997, p. 206-207), one per threshold and slope.
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+  for (int j = 0; j < 4 && bca_possible; ++j) {
+    for (int k = 0; k < 4; ++k) covariance(j, k) = (*inverse)[j][k];
+  }
+  std::vector<Eigen::Vector4d> directions;  // thresholds, then slopes
+  for (std::size_t c = 0; c < cuts; ++c) {
+    const std::array<double, 2> g = ThresholdGradient(
+        options.sigmoid, options.cuts[c], fitted.alpha, fitted.beta);
+    directions.push_back(covariance * Eigen::Vector4d(g[0], g[1], 0.0, 0.0));
+  }
+  for (std::size_t c = 0; c < cuts; ++c) {
+    const std::array<double, 2> g = SlopeGradient(
+        options.sigmoid, options.cuts[c], fitted.alpha, fitted.beta);
+    directions.push_back(covariance * Eigen::Vector4d(g[0], g[1], 0.0, 0.0));
+  }
+
+  // Score coefficients at the fit: ldot_j = sum_i (r_i - n_i psi_i) c_ij.
+  const LevelDerivatives at_fit = DerivativesAt(data, options, fitted);
+  std::vector<std::array<double, 4>> coefficient(data.size());
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    for (std::size_t j = 0; j < 4; ++j) {
+      coefficient[i][j] = at_fit.d_psi[i][j] / (at_fit.yes[i] * at_fit.no[i]);
+    }
+  }
+
+  boost::random::mt19937_64 rng(options.seed);
+  std::vector<boost::random::binomial_distribution<int, double>> draw;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    draw.emplace_back(
+        data[i].n_total,
+        std::clamp(Psi(options.sigmoid, fitted, data[i].level), 0.0, 1.0));
+  }
+  const std::size_t count = static_cast<std::size_t>(samples);
+  std::vector<std::vector<double>> values(2 * cuts, std::vector<double>(count));
+  std::vector<std::vector<double>> scores(2 * cuts, std::vector<double>(count));
+  std::vector<double> deviances(count);
+  std::vector<int> counts(data.size());
+  for (std::size_t b = 0; b < count; ++b) {
+    for (std::size_t i = 0; i < data.size(); ++i) counts[i] = draw[i](rng);
+    fitter.SetCounts(counts);
+    const Outcome refit = fitter.Refit(best.v);
+    out.bootstrap_not_converged += refit.converged ? 0 : 1;
+    const PsychometricParams p = fitter.ToParams(refit.v);
+    deviances[b] =
+        2.0 * (fitter.SaturatedLogLikelihood() - refit.log_likelihood);
+    Eigen::Vector4d ldot = Eigen::Vector4d::Zero();
+    for (std::size_t i = 0; i < data.size(); ++i) {
+      const double residual = counts[i] - data[i].n_total * at_fit.yes[i];
+      for (int j = 0; j < 4; ++j) ldot[j] += residual * coefficient[i][j];
+    }
+    for (std::size_t c = 0; c < cuts; ++c) {
+      values[c][b] = Threshold(options, options.cuts[c], p);
+      values[cuts + c][b] = Slope(options, options.cuts[c], p);
+    }
+    for (std::size_t q = 0; q < 2 * cuts; ++q) {
+      scores[q][b] = ldot.dot(directions[q]);
+    }
+  }
+  if (out.bootstrap_not_converged > 0) {
+    out.warnings.push_back(fmt::format(
+        "{} of {} bootstrap refits did not converge (kept in the intervals)",
+        out.bootstrap_not_converged, samples));
+  }
+  std::size_t as_large = 0;
+  for (double d : deviances) as_large += d >= out.fit.deviance;
+  out.deviance_p = static_cast<double>(as_large + 1) / (samples + 1.0);
+
+  for (std::size_t q = 0; q < 2 * cuts; ++q) {
+    BootstrapEstimate& e = q < cuts ? out.thresholds[q] : out.slopes[q - cuts];
+    const std::span<const double> bca_scores =
+        bca_possible ? std::span<const double>(scores[q])
+                     : std::span<const double>();
+    BootstrapLimits limits =
+        ComputeBootstrapLimits(values[q], bca_scores, e.value, options.conf);
+    e.cpe = limits.cpe;
+    e.bias_z0 = limits.bias_z0;
+    e.acceleration = limits.acceleration;
+    e.bca = std::move(limits.bca);
+    e.percentile = std::move(limits.percentile);
+    e.replicates = std::move(values[q]);
+    if (bca_possible) e.scores = std::move(scores[q]);
+    const char* what = q < cuts ? "threshold" : "slope";
+    for (std::size_t k = 0; k < conf; ++k) {
+      if (bca_possible && !std::isfinite(e.bca[k])) {
+        out.warnings.push_back(fmt::format(
+            "the BCa bound at {} of the {} at cut {} lies beyond the {} "
+            "bootstrap samples (reported as null; more samples may help)",
+            options.conf[k], what, e.cut, samples));
+      }
+      if (!std::isfinite(e.percentile[k])) {
+        out.warnings.push_back(fmt::format(
+            "the percentile bound at {} of the {} at cut {} lies beyond the {} "
+            "bootstrap samples (reported as null)",
+            options.conf[k], what, e.cut, samples));
+      }
+    }
+  }
+  return out;
+}
+
+std::string PsychometricAnalysis::BriefReport() const {
+  const PsychometricParams& p = fit.params;
+  std::string text = fmt::format(
+      "{} fit: alpha {:.6g}, beta {:.6g}, gamma {:.6g}, lambda {:.6g}; "
+      "deviance {:.4g}",
+      SigmoidName(options.sigmoid), p.alpha, p.beta, p.gamma, p.lambda,
+      fit.deviance);
+  if (bootstrap_samples > 0) {
+    text += fmt::format(" (bootstrap p = {:.4g})", deviance_p);
+  }
+  if (!fit.converged) text += "; NOT CONVERGED";
+  if (fit.AtAnyBound()) text += "; at a parameter bound";
+  return text;
+}
+
+std::string PsychometricAnalysis::FullReport(bool with_warnings) const {
+  const PsychometricParams& p = fit.params;
+  std::string text = fmt::format(
+      "model      psi = gamma + (1 - gamma - lambda) F, F {}, {}\n",
+      SigmoidName(options.sigmoid),
+      options.n_intervals == 1
+          ? fmt::format("yes/no (gamma in [0, {}])", options.gamma_max)
+          : fmt::format("{}-AFC (gamma = 1/{})", options.n_intervals,
+                        options.n_intervals));
+  const double values[4] = {p.alpha, p.beta, p.gamma, p.lambda};
+  for (std::size_t k = 0; k < 4; ++k) {
+    text += fmt::format(
+        "{:<10} {:.6g}{}\n", kParamNames[k], values[k],
+        fit.at_bound[k] == Bound::kNone
+            ? ""
+            : (fit.at_bound[k] == Bound::kLower ? "  (at lower bound)"
+                                                : "  (at upper bound)"));
+  }
+  text += fmt::format("log L      {:.6f}\n", fit.log_likelihood);
+  text += fmt::format("deviance   {:.6g}", fit.deviance);
+  if (bootstrap_samples > 0) {
+    text += fmt::format(" (bootstrap p = {:.4g}, {} samples)", deviance_p,
+                        bootstrap_samples);
+  }
+  text += fmt::format("\nconverged  {} ({} evaluations)\n",
+                      fit.converged ? "yes" : "NO", fit.evaluations);
+  for (const auto* group : {&thresholds, &slopes}) {
+    const bool is_threshold = group == &thresholds;
+    for (const BootstrapEstimate& e : *group) {
+      text += fmt::format("{} at cut {}: {:.6g}\n",
+                          is_threshold ? "threshold" : "slope", e.cut, e.value);
+      if (bootstrap_samples > 0) {
+        text += "  BCa        " + FormatLimits(options.conf, e.bca) + "\n";
+        text +=
+            "  percentile " + FormatLimits(options.conf, e.percentile) + "\n";
+      }
+    }
+  }
+  if (with_warnings) {
+    for (const std::string& w : warnings) text += "warning: " + w + "\n";
+  }
+  return text;
+}
+
+}  // namespace burrlab::analysis

@@ -1,0 +1,249 @@
+// CSV/TSV counts and _beh.tsv trial logs turned into psychometric blocks,
+// with a diagnostic naming the line and column of the first problem.
+#include "burrlab/analysis/psychometric_data.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+
+namespace burrlab::analysis {
+namespace {
+
+constexpr std::string_view kNa = "n/a";
+
+struct Cell {
+  std::string_view text;  // trimmed
+  int column = 1;         // 1-based column of the cell's first character
+};
+
+std::vector<Cell> SplitRow(std::string_view line, char delimiter) {
+  std::vector<Cell> cells;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = line.find(delimiter, start);
+    std::string_view cell = line.substr(start, end == std::string_view::npos
+                                                   ? std::string_view::npos
+                                                   : end - start);
+    std::size_t lead = 0;
+    while (lead < cell.size() && (cell[lead] == ' ' || cell[lead] == '\t')) {
+      ++lead;
+    }
+    cell.remove_prefix(lead);
+    while (!cell.empty() && (cell.back() == ' ' || cell.back() == '\t')) {
+      cell.remove_suffix(1);
+    }
+    cells.push_back({cell, static_cast<int>(start + lead) + 1});
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return cells;
+}
+
+std::optional<double> ParseFinite(std::string_view text) {
+  double value = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end || !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<int> ParseWhole(std::string_view text) {
+  int value = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end) return std::nullopt;
+  return value;
+}
+
+// The lines of `text` with their 1-based numbers, without line breaks.
+struct Line {
+  std::string_view text;
+  int number = 0;
+};
+std::vector<Line> SplitLines(std::string_view text) {
+  std::vector<Line> lines;
+  std::size_t start = 0;
+  int number = 1;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    lines.push_back({line, number++});
+    start = end + 1;
+  }
+  return lines;
+}
+
+bool IsBlank(std::string_view line) {
+  return std::all_of(line.begin(), line.end(),
+                     [](char c) { return c == ' ' || c == '\t'; });
+}
+
+}  // namespace
+
+std::string FormatDataDiagnostic(std::string_view path, std::string_view text,
+                                 int line, int column,
+                                 std::string_view message) {
+  if (line <= 0) return fmt::format("{}: error: {}", path, message);
+  std::string out =
+      fmt::format("{}:{}:{}: error: {}\n", path, line, column, message);
+  std::string_view source;
+  for (const Line& l : SplitLines(text)) {
+    if (l.number == line) source = l.text;
+  }
+  out += std::string(source) + "\n";
+  for (int i = 0; i + 1 < column; ++i) {
+    out += static_cast<std::size_t>(i) < source.size() && source[i] == '\t'
+               ? '\t'
+               : ' ';
+  }
+  out += '^';
+  return out;
+}
+
+Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
+                                                   std::string_view text) {
+  const std::string_view whole = text;
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  const auto fail = [&](int line, int column, const std::string& message) {
+    return Error{FormatDataDiagnostic(path, whole, line, column, message)};
+  };
+  std::vector<Line> lines = SplitLines(text);
+  std::erase_if(lines, [](const Line& l) { return IsBlank(l.text); });
+  if (lines.empty()) {
+    return fail(0, 0,
+                "the file is empty; expected a header line "
+                "level,n_correct,n_total (CSV or TSV) or a _beh.tsv with "
+                "stim_level and correct columns");
+  }
+  const Line& header_line = lines.front();
+  const char delimiter =
+      header_line.text.find('\t') != std::string_view::npos ? '\t' : ',';
+  const std::vector<Cell> header = SplitRow(header_line.text, delimiter);
+  const auto find = [&](std::string_view name) -> int {
+    for (std::size_t k = 0; k < header.size(); ++k) {
+      if (header[k].text == name) return static_cast<int>(k);
+    }
+    return -1;
+  };
+  PsychometricDataFile file;
+  const int level_at = find("level"), correct_at = find("n_correct"),
+            total_at = find("n_total");
+  const int stim_at = find("stim_level"), trial_at = find("correct");
+  if (level_at >= 0 && correct_at >= 0 && total_at >= 0) {
+    file.format = PsychometricDataFile::Format::kCounts;
+  } else if (stim_at >= 0 && trial_at >= 0) {
+    file.format = PsychometricDataFile::Format::kTrials;
+  } else {
+    return fail(header_line.number, 1,
+                fmt::format("the header names neither level, n_correct and "
+                            "n_total nor stim_level and correct (a _beh.tsv); "
+                            "columns are separated by {}",
+                            delimiter == '\t' ? "tabs" : "commas"));
+  }
+  std::map<double, DataBlock> pooled;
+  for (std::size_t n = 1; n < lines.size(); ++n) {
+    const Line& line = lines[n];
+    const std::vector<Cell> cells = SplitRow(line.text, delimiter);
+    if (cells.size() != header.size()) {
+      return fail(line.number, 1,
+                  fmt::format("the row has {} cells, the header {}",
+                              cells.size(), header.size()));
+    }
+    const auto cell = [&](int k) { return cells[static_cast<std::size_t>(k)]; };
+    if (file.format == PsychometricDataFile::Format::kCounts) {
+      const Cell level = cell(level_at), r = cell(correct_at),
+                 total = cell(total_at);
+      const std::optional<double> x = ParseFinite(level.text);
+      if (!x) {
+        return fail(
+            line.number, level.column,
+            fmt::format("level '{}' is not a finite number", level.text));
+      }
+      const std::optional<int> n_total = ParseWhole(total.text);
+      if (!n_total || *n_total < 1) {
+        return fail(line.number, total.column,
+                    fmt::format("n_total '{}' is not a whole number of at "
+                                "least 1",
+                                total.text));
+      }
+      const std::optional<int> n_correct = ParseWhole(r.text);
+      if (!n_correct || *n_correct < 0) {
+        return fail(line.number, r.column,
+                    fmt::format("n_correct '{}' is not a whole number of at "
+                                "least 0",
+                                r.text));
+      }
+      if (*n_correct > *n_total) {
+        return fail(line.number, r.column,
+                    fmt::format("n_correct = {} exceeds n_total = {}",
+                                *n_correct, *n_total));
+      }
+      file.blocks.push_back({*x, *n_correct, *n_total});
+      file.lines.push_back(line.number);
+      continue;
+    }
+    const Cell level = cell(stim_at), correct = cell(trial_at);
+    if (level.text == kNa || correct.text == kNa) {
+      ++file.skipped_rows;
+      continue;
+    }
+    const std::optional<double> x = ParseFinite(level.text);
+    if (!x) {
+      return fail(line.number, level.column,
+                  fmt::format("stim_level '{}' is not a finite number or n/a",
+                              level.text));
+    }
+    if (correct.text != "0" && correct.text != "1") {
+      return fail(
+          line.number, correct.column,
+          fmt::format("correct '{}' must be 1, 0 or n/a", correct.text));
+    }
+    DataBlock& block = pooled[*x];
+    block.level = *x;
+    block.n_correct += correct.text == "1" ? 1 : 0;
+    block.n_total += 1;
+  }
+  for (const auto& [level, block] : pooled) file.blocks.push_back(block);
+  if (file.blocks.empty()) {
+    return fail(0, 0,
+                file.format == PsychometricDataFile::Format::kCounts
+                    ? std::string("no data rows after the header")
+                    : fmt::format("no trial with a stim_level and a correct "
+                                  "answer ({} rows with n/a skipped)",
+                                  file.skipped_rows));
+  }
+  return file;
+}
+
+Result<PsychometricDataFile> ReadPsychometricData(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    return Error{fmt::format("cannot read {}: it is a directory", path)};
+  }
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    return Error{errno != 0 ? fmt::format("cannot read {}: {}", path,
+                                          std::strerror(errno))
+                            : fmt::format("cannot read {}", path)};
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return Error{fmt::format("cannot read {}", path)};
+  return ParsePsychometricData(path, text.str());
+}
+
+}  // namespace burrlab::analysis

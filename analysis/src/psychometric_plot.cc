@@ -1,0 +1,92 @@
+// Data, fitted curve and threshold intervals as line-plot series.
+#include "burrlab/analysis/psychometric_plot.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace burrlab::analysis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kLargestMarkerPx = 22.0;  // side of the block with most trials
+constexpr double kSmallestMarkerPx = 4.0;
+constexpr int kCurvePoints = 300;
+
+// The bound of `e` at conf `level`: BCa when available, else percentile;
+// NaN when neither is.
+double IntervalBound(const PsychometricOptions& options,
+                     const BootstrapEstimate& e, double level) {
+  for (std::size_t k = 0; k < options.conf.size(); ++k) {
+    if (std::abs(options.conf[k] - level) < 1e-12) {
+      return std::isfinite(e.bca[k]) ? e.bca[k] : e.percentile[k];
+    }
+  }
+  return kNaN;
+}
+
+}  // namespace
+
+LinePlot MakePsychometricPlot(std::span<const DataBlock> data,
+                              const PsychometricAnalysis& analysis,
+                              const std::string& x_label) {
+  const PsychometricOptions& o = analysis.options;
+  LinePlot plot;
+  plot.title =
+      fmt::format("{} fit, {}: alpha {:.4g}, beta {:.4g}, lambda {:.3g}",
+                  SigmoidName(o.sigmoid),
+                  o.n_intervals == 1 ? std::string("yes/no")
+                                     : fmt::format("{}-AFC", o.n_intervals),
+                  analysis.fit.params.alpha, analysis.fit.params.beta,
+                  analysis.fit.params.lambda);
+  plot.x_label = x_label;
+  plot.y_label = o.n_intervals == 1 ? "proportion 'yes'" : "proportion correct";
+
+  Series points{"data (marker area ~ trials)", {}, {}, false, true, 0};
+  int most = 1;
+  for (const DataBlock& b : data) most = std::max(most, b.n_total);
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const DataBlock& b : data) {
+    points.x.push_back(b.level);
+    points.y.push_back(static_cast<double>(b.n_correct) / b.n_total);
+    points.marker_px.push_back(std::max(
+        kSmallestMarkerPx,
+        kLargestMarkerPx * std::sqrt(static_cast<double>(b.n_total) / most)));
+    low = std::min(low, b.level);
+    high = std::max(high, b.level);
+  }
+
+  Series curve{"fitted psi", {}, {}, true, false, 1};
+  const double pad = 0.05 * (high - low);
+  double from = low - pad;
+  if (o.sigmoid == Sigmoid::kWeibull) from = std::max(from, 0.5 * low);
+  const double to = high + pad;
+  for (int i = 0; i <= kCurvePoints; ++i) {
+    const double x = from + (to - from) * i / kCurvePoints;
+    curve.x.push_back(x);
+    curve.y.push_back(Psi(o.sigmoid, analysis.fit.params, x));
+  }
+
+  Series bars{"thresholds, 95 % interval", {}, {}, true, false, 2};
+  Series centres{"", {}, {}, false, true, 2};
+  for (const BootstrapEstimate& t : analysis.thresholds) {
+    const double y = Psi(o.sigmoid, analysis.fit.params, t.value);
+    centres.x.push_back(t.value);
+    centres.y.push_back(y);
+    const double lo = IntervalBound(o, t, 0.025),
+                 hi = IntervalBound(o, t, 0.975);
+    if (std::isfinite(lo) && std::isfinite(hi)) {
+      bars.x.insert(bars.x.end(), {lo, hi, kNaN});
+      bars.y.insert(bars.y.end(), {y, y, kNaN});
+    }
+  }
+  plot.series.push_back(std::move(curve));
+  plot.series.push_back(std::move(points));
+  if (!bars.x.empty()) plot.series.push_back(std::move(bars));
+  plot.series.push_back(std::move(centres));
+  return plot;
+}
+
+}  // namespace burrlab::analysis

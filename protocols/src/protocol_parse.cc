@@ -175,6 +175,10 @@ class Parser {
   void ParseAxes(const toml::table& root, Protocol& p);
   void ParseBlocks(const toml::table& root, Protocol& p);
   void ParseBlock(const toml::table& t, int index, const Protocol& p, Block& b);
+  // The table of a [materials.<id>] or [axes.<id>] entry, or null after
+  // reporting a bad id or a value that is not a table.
+  const toml::table* EntryTable(const std::string& id, const toml::node& node,
+                                std::string_view kind, const std::string& name);
   // A material id that must be declared.
   std::optional<std::string> MaterialRef(const toml::table& t,
                                          std::string_view key,
@@ -401,6 +405,23 @@ bool ValidId(std::string_view id) {
   });
 }
 
+const toml::table* Parser::EntryTable(const std::string& id,
+                                      const toml::node& node,
+                                      std::string_view kind,
+                                      const std::string& name) {
+  if (!ValidId(id)) {
+    Fail(node, fmt::format("{} id \"{}\" must start with a letter and hold "
+                           "only letters, digits and '_' (at most 64)",
+                           kind, Echo(id)));
+    return nullptr;
+  }
+  if (!node.is_table()) {
+    Fail(node, fmt::format("{} must be a table, got {}", name, TypeName(node)));
+    return nullptr;
+  }
+  return node.as_table();
+}
+
 void Parser::ParseMaterials(const toml::table& root, Protocol& p) {
   const toml::table* materials = Table(root, "materials", "materials");
   if (materials == nullptr) return;
@@ -419,20 +440,12 @@ void Parser::ParseMaterials(const toml::table& root, Protocol& p) {
   for (const auto& [key, node] : *materials) {
     const std::string id(key.str());
     const std::string name = fmt::format("materials.{}", Echo(id));
-    if (!ValidId(id)) {
-      Fail(node, fmt::format("material id \"{}\" must start with a letter and "
-                             "hold only letters, digits and '_' (at most 64)",
-                             Echo(id)));
+    const toml::table* entry = EntryTable(id, node, "material", name);
+    if (entry == nullptr) {
       broken_materials_.insert(id);
       continue;
     }
-    if (!node.is_table()) {
-      Fail(node,
-           fmt::format("{} must be a table, got {}", name, TypeName(node)));
-      broken_materials_.insert(id);
-      continue;
-    }
-    const toml::table& t = *node.as_table();
+    const toml::table& t = *entry;
     CheckKeys(t, "[" + name + "]",
               {std::begin(kMaterialKeys), std::end(kMaterialKeys)});
     ProtocolMaterial m;
@@ -529,20 +542,12 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
   for (const auto& [key, node] : *axes) {
     const std::string id(key.str());
     const std::string name = fmt::format("axes.{}", Echo(id));
-    if (!ValidId(id)) {
-      Fail(node, fmt::format("axis id \"{}\" must start with a letter and "
-                             "hold only letters, digits and '_' (at most 64)",
-                             Echo(id)));
+    const toml::table* entry = EntryTable(id, node, "axis", name);
+    if (entry == nullptr) {
       broken_axes_.insert(id);
       continue;
     }
-    if (!node.is_table()) {
-      Fail(node,
-           fmt::format("{} must be a table, got {}", name, TypeName(node)));
-      broken_axes_.insert(id);
-      continue;
-    }
-    const toml::table& t = *node.as_table();
+    const toml::table& t = *entry;
     CheckKeys(t, "[" + name + "]",
               {std::begin(kAxisKeys), std::end(kAxisKeys)});
     Axis axis;

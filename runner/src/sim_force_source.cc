@@ -1,0 +1,28 @@
+// The simulator behind the haptic loop.
+#include "sim_force_source.h"
+
+#include <limits>
+
+namespace burrlab::runner {
+
+SimForceSource::SimForceSource(const sim::Model& model, sim::State* state,
+                               const glm::dvec3& device_to_volume_mm,
+                               const glm::dvec3& spindle_rad_s)
+    : model_(model), state_(state), offset_mm_(device_to_volume_mm) {
+  model_.sample_estimate_hold = false;
+  model_.max_force_n = std::numeric_limits<double>::infinity();
+  input_.spindle_rad_s = spindle_rad_s;
+}
+
+glm::dvec3 SimForceSource::Force(const glm::dvec3& position_mm) noexcept {
+  const glm::dvec3 burr_mm = position_mm + offset_mm_;
+  input_.velocity_mm_s =
+      has_previous_ ? (burr_mm - previous_mm_) / model_.dt_s : glm::dvec3(0.0);
+  input_.position_mm = burr_mm;
+  previous_mm_ = burr_mm;
+  has_previous_ = true;
+  sim::Step(model_, *state_, input_, &output_);
+  return output_.force_n;
+}
+
+}  // namespace burrlab::runner

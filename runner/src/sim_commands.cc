@@ -1,5 +1,5 @@
 // `burrlab sim ...`: force-depth curves as CSV, the constant-force descent rig
-// of dissertation ch. 8, and the step benchmark.
+// of dissertation ch. 8, and the step and haptic-loop benchmarks.
 #include "sim_commands.h"
 
 #include <fmt/format.h>
@@ -20,6 +20,7 @@
 #include "burrlab/sim/nrrd.h"
 #include "burrlab/stimuli/materials.h"
 #include "flags.h"
+#include "loop_bench.h"
 #include "progress.h"
 
 namespace burrlab::runner {
@@ -340,23 +341,104 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+// Longest --seconds of `sim bench --loop`.
+constexpr double kMaxLoopSeconds = 3600.0;
+
+// `sim bench --loop`: runs the haptic loop and prints its timing.
+int RunLoopBenchCommand(double seconds, bool json, std::ostream& out,
+                        std::ostream& err) {
+  LoopBenchOptions options;
+  options.seconds = seconds;
+  err << fmt::format("burrlab: running the haptic loop for {} s at {} Hz...\n",
+                     seconds, options.rate_hz);
+  Result<LoopBenchResult> result = RunLoopBench(options);
+  if (!result.ok()) return Fail(err, "sim bench: " + result.error().message);
+  const LoopBenchResult& r = *result;
+  const LoopStats& stats = r.stats;
+  if (json) {
+    nlohmann::ordered_json j;
+    j["seconds"] = seconds;
+    j["rate_hz"] = options.rate_hz;
+    j["ticks"] = r.counters.ticks;
+    j["planned_ticks"] = r.planned_ticks;
+    j["material"] = options.material;
+    j["radius_mm"] = options.radius_mm;
+    j["max_force_n"] = r.max_force_n;
+    j["sched_fifo"] = r.realtime.fifo;
+    j["memory_locked"] = r.realtime.memory_locked;
+    j["realtime_note"] = r.realtime.note;
+    j["period_error_p50_us"] = stats.p50_us;
+    j["period_error_p99_us"] = stats.p99_us;
+    j["period_error_max_us"] = stats.max_us;
+    j["overruns"] = stats.overruns;
+    j["skipped_ticks"] = r.counters.skipped_ticks;
+    j["non_finite"] = r.counters.non_finite;
+    j["clamped"] = r.counters.clamped;
+    out << j.dump(2) << '\n';
+    return 0;
+  }
+  out << fmt::format(
+      "haptic loop   {} s at {} Hz ({} ticks): simulated device ({} N "
+      "limit), octree R {} mm drilling {}\n",
+      seconds, options.rate_hz, r.counters.ticks, r.max_force_n,
+      options.radius_mm, options.material);
+  out << fmt::format(
+      "real time     {}, {}\n",
+      r.realtime.fifo ? "SCHED_FIFO" : "normal priority (no SCHED_FIFO)",
+      r.realtime.memory_locked ? "memory locked" : "memory not locked");
+  if (!r.realtime.note.empty()) {
+    out << fmt::format("note          {}\n", r.realtime.note);
+  }
+  out << fmt::format(
+      "period error  p50 {:.1f} µs, p99 {:.1f} µs, max {:.1f} µs (tick start "
+      "minus deadline)\n",
+      stats.p50_us, stats.p99_us, stats.max_us);
+  out << fmt::format(
+      "overruns      {} (force not ready within the period: zero force "
+      "sent)\n",
+      stats.overruns);
+  out << fmt::format(
+      "skipped       {} ticks (the loop fell more than a period behind)\n",
+      r.counters.skipped_ticks);
+  return 0;
+}
+
 int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Times simulator steps (force + erosion): the burr slides at 10 mm/s a "
       "quarter of its radius deep in a solid half-space. Cases: mono and "
       "octree moments x R = 1, 2, 3, 5 mm x probe and drill. A step over "
-      "1000 us misses the 1 kHz haptic deadline.",
+      "1000 us misses the 1 kHz haptic deadline. With --loop, runs the 1 kHz "
+      "haptic loop on its own thread (SCHED_FIFO and mlockall when "
+      "permitted) with a simulated device and reports how late ticks start "
+      "(p50, p99, max) and the overruns.",
       "burrlab sim bench"};
   std::vector<sim::BenchCase> cases = sim::DefaultBenchCases();
   int steps = cases.empty() ? 0 : cases.front().steps;
   bool json = false;
+  bool loop = false;
+  double seconds = 10.0;
   FlagSet flags(&app);
   flags.AddInteger("--steps",
                    fmt::format("timed steps per case (default {})", steps), 1,
                    1000000, &steps);
+  flags.AddSwitch("--loop", "benchmark the 1 kHz haptic loop instead", &loop);
+  flags.AddPositive("--seconds",
+                    "length of the --loop run, s (default 10, at most 3600)",
+                    "s", &seconds, kMaxLoopSeconds);
   flags.AddSwitch("--json", "print the results as JSON", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--seconds") && !loop) {
+    return Fail(err,
+                "--seconds needs --loop (the step benchmark uses --steps)");
+  }
+  if (flags.Given("--steps") && loop) {
+    return Fail(err,
+                "--steps and --loop are mutually exclusive; the loop runs for "
+                "--seconds");
+  }
+  if (loop) return RunLoopBenchCommand(seconds, json, out, err);
   for (sim::BenchCase& bench_case : cases) {
     if (flags.Given("--steps")) bench_case.steps = steps;
   }
@@ -500,8 +582,8 @@ constexpr Command kSimCommands[] = {
      "constant-force descent into a flat sample: steady penetration velocity",
      RunDescentCommand},
     {"bench",
-     "time simulator steps: mono and octree x R = 1, 2, 3, 5 mm x probe and "
-     "drill",
+     "time simulator steps (mono and octree x R = 1, 2, 3, 5 mm x probe and "
+     "drill), or the 1 kHz haptic loop with --loop",
      RunBench},
     {"volume", "load an NRRD volume with an intensity mapping and summarise it",
      RunVolume},

@@ -11,6 +11,8 @@ find_package(PkgConfig REQUIRED)
 # SHA-256 of protocol files (the journal's identity check on --resume); none of
 # the other listed libraries provides SHA-256.
 pkg_check_modules(NETTLE REQUIRED IMPORTED_TARGET nettle)  # PkgConfig::NETTLE
+# The Novint Falcon's FTDI bridge over USB (runner/src/devices/libusb_transport).
+pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)  # PkgConfig::LIBUSB, <libusb.h>
 if(BURRLAB_BUILD_TESTS)
   find_package(GTest REQUIRED)                       # GTest::gtest GTest::gtest_main
   find_package(benchmark REQUIRED)                   # benchmark::benchmark

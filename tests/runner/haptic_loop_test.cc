@@ -19,6 +19,9 @@
 
 #include "burrlab/sim/phantoms.h"
 #include "burrlab/stimuli/materials.h"
+#include "devices/fake_falcon_transport.h"
+#include "devices/falcon_device.h"
+#include "devices/falcon_kinematics.h"
 #include "devices/simulated_device.h"
 #include "sim_force_source.h"
 
@@ -268,6 +271,93 @@ TEST(HapticLoop, ThreadRunsTheRequestedTicksAndReportsPeriodErrors) {
   EXPECT_GE(stats.p50_us, 0.0);  // the spin never wakes a tick early
   EXPECT_LE(stats.p50_us, stats.p99_us);
   EXPECT_LE(stats.p99_us, stats.max_us);
+}
+
+// A Falcon that answers every command packet with one fixed, homed report
+// and records nothing, so the device path itself can be checked for
+// allocations.
+class QuietFalcon final : public falcon::Transport {
+ public:
+  explicit QuietFalcon(const glm::dvec3& position_mm) {
+    falcon::FakeFalconTransport encoder;  // only to encode the report
+    encoder.SetHomed(falcon::kAllHomed);
+    reply_ = falcon::EncodeReport(encoder.ReportFor(position_mm));
+  }
+  DeviceStatus Control(std::uint8_t, std::uint16_t,
+                       std::uint16_t) noexcept override {
+    return {};
+  }
+  DeviceStatus Write(std::span<const std::uint8_t> bytes) noexcept override {
+    if (bytes.size() == falcon::kPacketBytes) {
+      ++pending_;
+      last_ = falcon::Packet{};
+      std::copy(bytes.begin(), bytes.end(), last_.begin());
+    }
+    return {};
+  }
+  DeviceStatus Read(std::span<std::uint8_t> buffer,
+                    std::size_t* count) noexcept override {
+    buffer[0] = 0x31;
+    buffer[1] = 0x60;
+    *count = falcon::kModemStatusBytes;
+    if (pending_ > 0) {
+      --pending_;
+      std::copy(reply_.begin(), reply_.end(), buffer.begin() + 2);
+      *count += falcon::kPacketBytes;
+    }
+    return {};
+  }
+  const falcon::Packet& last_command() const { return last_; }
+
+ private:
+  falcon::Packet reply_{};
+  falcon::Packet last_{};
+  int pending_ = 0;
+};
+
+TEST(HapticLoop, FalconTicksAllocateNothing) {
+  QuietFalcon transport({5.0, -3.0, 125.0});
+  FalconDevice falcon(&transport);
+  ASSERT_TRUE(falcon.Open().ok());
+  ASSERT_TRUE(falcon.Home(10).ok());
+  FakeClock clock;
+  ScriptedSource source(&clock, {glm::dvec3(1.0, -2.0, 3.0)});
+  HapticLoop loop(&falcon, &source, &clock, TestOptions());
+  g_allocations = 0;
+  g_count_allocations = true;
+  RunTicks(loop, clock, 10'000);
+  g_count_allocations = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(loop.counters().device_errors, 0);
+  falcon::Command command;
+  ASSERT_TRUE(falcon::DecodeCommand(transport.last_command(), &command));
+  EXPECT_NE(command.motor, (std::array<std::int16_t, 3>{}));
+}
+
+TEST(HapticLoop, FalconUnplugMidRunIsAFaultWithZeroForce) {
+  falcon::FakeFalconTransport fake;
+  fake.homing_packets_needed = 1;
+  fake.position_mm = {0.0, 0.0, 110.0};
+  FalconDevice falcon(&fake);
+  ASSERT_TRUE(falcon.Open().ok());
+  ASSERT_TRUE(falcon.Home(10).ok());
+  FakeClock clock;
+  ScriptedSource source(&clock, {glm::dvec3(0.0, 0.0, 4.0)});
+  HapticLoop loop(&falcon, &source, &clock, TestOptions());
+  RunTicks(loop, clock, 20);
+  EXPECT_EQ(loop.counters().device_errors, 0);
+  // On the axis, 4 N along z loads the three motors equally.
+  const falcon::Command pushing = fake.commands.back();
+  EXPECT_NE(pushing.motor[0], 0);
+  EXPECT_EQ(pushing.motor[1], pushing.motor[0]);
+  EXPECT_EQ(pushing.motor[2], pushing.motor[0]);
+  fake.unplugged = true;
+  clock.now_ns = 21 * kPeriodNs;
+  const DeviceStatus status = loop.Tick(21 * kPeriodNs);
+  EXPECT_EQ(status.code, DeviceCode::kUnplugged);
+  EXPECT_TRUE(IsFault(status.code));
+  EXPECT_EQ(loop.last_force_n(), glm::dvec3(0.0));
+  EXPECT_EQ(loop.counters().device_errors, 1);
 }
 
 }  // namespace

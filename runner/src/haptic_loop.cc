@@ -45,7 +45,9 @@ HapticLoop::HapticLoop(HapticDevice* device, ForceSource* source,
       source_(source),
       clock_(clock),
       options_(options),
-      period_ns_(std::llround(1e9 / options.rate_hz)),
+      period_ns_(options.rate_hz > 0.0 && std::isfinite(options.rate_hz)
+                     ? std::llround(1e9 / options.rate_hz)
+                     : 0),
       budget_ns_(options.budget_ns > 0 ? options.budget_ns : period_ns_) {
   period_errors_ns_.reserve(options_.max_samples);
 }

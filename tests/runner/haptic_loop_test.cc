@@ -273,6 +273,20 @@ TEST(HapticLoop, ThreadRunsTheRequestedTicksAndReportsPeriodErrors) {
   EXPECT_LE(stats.p99_us, stats.max_us);
 }
 
+TEST(HapticLoop, StartRefusesANonPositiveRate) {
+  SimulatedDevice device = MakeDevice({glm::dvec3(0.0)});
+  FakeClock clock;
+  ScriptedSource source(&clock, {glm::dvec3(0.0)});
+  LoopOptions options = TestOptions();
+  options.rate_hz = 0.0;
+  HapticLoop loop(&device, &source, &clock, options);
+  const Status status = loop.Start(10);
+  ASSERT_FALSE(status.ok());
+  EXPECT_EQ(status.error().message,
+            "haptic loop: rate_hz must be positive, got 0");
+  EXPECT_EQ(device.reads(), 0);
+}
+
 // A Falcon that answers every command packet with one fixed, homed report
 // and records nothing, so the device path itself can be checked for
 // allocations.

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "analyze_results_commands.h"
 #include "burrlab/analysis/psychometric.h"
 #include "burrlab/analysis/psychometric_data.h"
 #include "burrlab/analysis/psychometric_plot.h"
@@ -405,6 +406,17 @@ constexpr Command kAnalyzeCommands[] = {
      RunFit},
     {"dprime", "d' for yes/no, 2AFC/n-AFC and same-different designs",
      RunDPrime},
+    {"scores",
+     "scores per block of a study's results: mean +- SEM, t and binomial "
+     "tests against chance, same-different d', histograms",
+     RunScoresCommand},
+    {"thresholds",
+     "thresholds per subject and block: staircase reversals, QUEST, limits, "
+     "adjustment, constant-stimuli fits",
+     RunThresholdsCommand},
+    {"kinematics",
+     "force and speed histograms, mean force and removal rate of the traces",
+     RunKinematicsCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunAnalyzeHelp},
 };

@@ -16,13 +16,16 @@ namespace {
 using results_schema::BehFile;
 using results_schema::TrialRecord;
 
-// Chance level of a block's design, or the reason it has none.
-struct Chance {
-  std::optional<double> p;
-  std::string reason;
-};
+bool IsDifferentPair(const std::string& type) {
+  return type == "AB" || type == "BA";
+}
+bool IsSamePair(const std::string& type) {
+  return type == "AA" || type == "BB";
+}
 
-Chance ChanceOf(const std::string& method, const std::string& trial_type) {
+}  // namespace
+
+ChanceLevel ChanceOf(const std::string& method, const std::string& trial_type) {
   if (method == "same_different" || method == "two_interval") return {0.5, ""};
   if (method == "constant_stimuli") {
     if (trial_type == "2afc") return {0.5, ""};
@@ -37,15 +40,6 @@ Chance ChanceOf(const std::string& method, const std::string& trial_type) {
   }
   return {std::nullopt, fmt::format("method {} has no chance level", method)};
 }
-
-bool IsDifferentPair(const std::string& type) {
-  return type == "AB" || type == "BA";
-}
-bool IsSamePair(const std::string& type) {
-  return type == "AA" || type == "BB";
-}
-
-}  // namespace
 
 SameDifferentRates RatesFromCounts(int hits, int different_trials,
                                    int false_alarms, int same_trials) {
@@ -105,7 +99,7 @@ Result<std::vector<BlockScores>> ScoreBlocks(std::span<const BehFile> files) {
         it->second.task_label = file.task;
         it->second.method = t.method;
         it->second.task = t.task;
-        const Chance chance = ChanceOf(t.method, t.trial_type);
+        const ChanceLevel chance = ChanceOf(t.method, t.trial_type);
         it->second.chance = chance.p;
         it->second.no_test_reason = chance.reason;
       }

@@ -212,6 +212,11 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
       fmt::format("yes/no guess rate range [0, G] (default {})",
                   options.gamma_max),
       "", &options.gamma_max);
+  flags.AddInteger("--max-evaluations",
+                   fmt::format("likelihood evaluations per optimiser start "
+                               "(default {}); fewer than needed: exit code 2",
+                               options.max_evaluations),
+                   1, 10000000, &options.max_evaluations);
   flags.AddSwitch("--json", "print the results as JSON", &json);
   flags
       .AddText("--plot",
@@ -417,6 +422,10 @@ constexpr Command kAnalyzeCommands[] = {
     {"kinematics",
      "force and speed histograms, mean force and removal rate of the traces",
      RunKinematicsCommand},
+    {"power",
+     "probability of a significant result from simulated studies of a "
+     "protocol",
+     RunPowerCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunAnalyzeHelp},
 };

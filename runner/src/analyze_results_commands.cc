@@ -13,11 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/kinematics.h"
 #include "burrlab/analysis/scores.h"
 #include "burrlab/analysis/thresholds.h"
 #include "burrlab/results_schema/bids_read.h"
 #include "flags.h"
+#include "progress.h"
+#include "session.h"
+#include "virtual_study.h"
 
 namespace burrlab::runner {
 namespace {
@@ -436,6 +440,198 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Power of a protocol: runs R simulated studies of N simulated subjects "
+      "whose perceptual noise is the Weber fraction W (both cues), and "
+      "reports per scored block the probability of a significant result "
+      "(one-sided t-test of proportions correct and exact binomial test of "
+      "pooled answers, each against chance at --alpha) with its 95 % "
+      "Clopper-Pearson interval. Cues come from a pool of simulator "
+      "renderings per stimulus (--cue-samples each); see "
+      "analysis/README.md.",
+      "burrlab analyze power"};
+  std::string protocol_path;
+  double weber = 0.0, weber_spread = 0.0, alpha = 0.05, lapse = -1.0;
+  int subjects = 0, runs = 0, cue_samples = 8;
+  std::uint64_t seed = 1;
+  bool json = false;
+  FlagSet flags(&app);
+  flags.AddText("--protocol", "the protocol file", &protocol_path)
+      ->type_name("FILE")
+      ->required();
+  flags
+      .AddPositive("--weber", "Weber fraction of both cues (sigma of ln cue)",
+                   "", &weber)
+      ->required();
+  flags
+      .AddInteger("--subjects", "simulated subjects per study", 2, 100000,
+                  &subjects)
+      ->required();
+  flags.AddInteger("--runs", "simulated studies", 1, 1000000, &runs)
+      ->required();
+  flags.AddUnsigned("--seed", "seed (default 1)", &seed);
+  flags.AddPositive("--alpha", "significance level (default 0.05)", "", &alpha,
+                    0.5);
+  flags.AddNonNegative("--weber-spread",
+                       "SD of ln(Weber) across subjects (default 0)", "",
+                       &weber_spread);
+  flags.AddNonNegative("--lapse", "lapse rate (default: the protocol's)", "",
+                       &lapse);
+  flags.AddInteger("--cue-samples",
+                   "simulator renderings per stimulus in the cue pool "
+                   "(default 8)",
+                   1, 1000, &cue_samples);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--lapse") && !(lapse < 1.0)) {
+    return Fail(err, fmt::format("--lapse must be below 1, got '{}'", lapse));
+  }
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_path);
+  if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  VirtualStudyOptions options;
+  options.subjects = subjects;
+  options.weber_log_sd = weber_spread;
+  options.observer = protocols::ObserverParamsFrom(loaded->protocol.observer);
+  options.observer.weber_stiffness = weber;
+  options.observer.weber_removal = weber;
+  if (flags.Given("--lapse")) options.observer.lapse = lapse;
+  if (Status s = options.observer.Validate(); !s.ok()) {
+    return Fail(err, "analyze power: " + s.error().message);
+  }
+  CuePool pool(cue_samples, 2.0, seed);
+  struct Tally {
+    std::string block;
+    std::string method;
+    analysis::ChanceLevel chance;
+    int t_significant = 0, binomial_significant = 0, t_defined = 0;
+    std::vector<double> mean_scores;  // proportion correct per study
+  };
+  std::vector<Tally> tallies;
+  ProgressBar bar(err, runs);
+  for (int r = 0; r < runs; ++r) {
+    options.seed =
+        protocols::SeedFor(seed, protocols::StreamPurpose::kPopulation,
+                           1ull << 40, static_cast<std::uint64_t>(r));
+    Result<std::vector<VirtualBlock>> study =
+        RunVirtualStudy(loaded->protocol, options, pool);
+    if (!study.ok())
+      return Fail(err, "analyze power: " + study.error().message);
+    for (const VirtualBlock& b : *study) {
+      auto it =
+          std::find_if(tallies.begin(), tallies.end(),
+                       [&](const Tally& t) { return t.block == b.block; });
+      if (it == tallies.end()) {
+        Tally t;
+        t.block = b.block;
+        t.method = std::string(protocols::MethodName(b.method));
+        t.chance = analysis::ChanceOf(t.method, b.trial_type);
+        tallies.push_back(t);
+        it = tallies.end() - 1;
+      }
+      std::vector<double> proportions;
+      int correct = 0, trials = 0;
+      for (std::size_t s = 0; s < b.correct.size(); ++s) {
+        proportions.push_back(static_cast<double>(b.correct[s]) / b.trials[s]);
+        correct += b.correct[s];
+        trials += b.trials[s];
+      }
+      it->mean_scores.push_back(static_cast<double>(correct) / trials);
+      if (!it->chance.p) continue;
+      if (Result<analysis::TTestResult> t =
+              analysis::OneSampleTTest(proportions, *it->chance.p);
+          t.ok()) {
+        ++it->t_defined;
+        it->t_significant += t->p_greater < alpha ? 1 : 0;
+      } else {
+        // All proportions equal: significant when above chance.
+        it->t_significant += proportions[0] > *it->chance.p ? 1 : 0;
+      }
+      if (Result<analysis::BinomialTestResult> t =
+              analysis::ExactBinomialTest(correct, trials, *it->chance.p);
+          t.ok()) {
+        it->binomial_significant += t->p_greater < alpha ? 1 : 0;
+      }
+    }
+    bar.Update(r + 1, fmt::format("study {}", r + 1));
+  }
+  if (tallies.empty()) {
+    return Fail(err,
+                "analyze power: the protocol has no block with correct "
+                "answers to test");
+  }
+  const auto interval = [&](int k) {
+    Result<analysis::BinomialTestResult> t =
+        analysis::ExactBinomialTest(k, runs, 0.5);
+    return std::pair(t->ci_low, t->ci_high);
+  };
+  Json j;
+  j["protocol"] = protocol_path;
+  j["weber"] = weber;
+  j["weber_spread"] = weber_spread;
+  j["lapse"] = options.observer.lapse;
+  j["subjects"] = subjects;
+  j["runs"] = runs;
+  j["alpha"] = alpha;
+  j["seed"] = seed;
+  j["cue_samples"] = cue_samples;
+  j["intervals_rendered"] = pool.rendered();
+  j["blocks"] = Json::array();
+  for (const Tally& t : tallies) {
+    Result<analysis::MeanSem> m = analysis::MeanAndSem(t.mean_scores);
+    Json b = {{"block", t.block},
+              {"method", t.method},
+              {"chance", Optional(t.chance.p)},
+              {"mean_proportion_correct",
+               m.ok() ? Json(m->mean) : Json(t.mean_scores[0])},
+              {"sd_between_studies", m.ok() ? Json(m->sd) : Json(nullptr)}};
+    if (t.chance.p) {
+      const auto [t_lo, t_hi] = interval(t.t_significant);
+      const auto [b_lo, b_hi] = interval(t.binomial_significant);
+      b["power_t_test"] = {{"p", static_cast<double>(t.t_significant) / runs},
+                           {"ci", {t_lo, t_hi}}};
+      b["power_binomial"] = {
+          {"p", static_cast<double>(t.binomial_significant) / runs},
+          {"ci", {b_lo, b_hi}}};
+    } else {
+      b["no_test_reason"] = t.chance.reason;
+    }
+    j["blocks"].push_back(b);
+  }
+  if (json) {
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  out << fmt::format(
+      "{} studies of {} simulated subjects, Weber {}{}, lapse {}, alpha {} "
+      "({} intervals rendered for the cue pool)\n",
+      runs, subjects, weber,
+      weber_spread > 0.0 ? fmt::format(" (spread {} in ln)", weber_spread)
+                         : std::string(),
+      options.observer.lapse, alpha, pool.rendered());
+  for (const Json& b : j["blocks"]) {
+    out << fmt::format("block {} ({}): mean {:.1f} % correct",
+                       b["block"].get<std::string>(),
+                       b["method"].get<std::string>(),
+                       100.0 * b["mean_proportion_correct"].get<double>());
+    if (b.contains("power_t_test")) {
+      out << fmt::format(
+          "; P(significant) t-test {:.3f} [{:.3f}, {:.3f}], binomial {:.3f} "
+          "[{:.3f}, {:.3f}]\n",
+          b["power_t_test"]["p"].get<double>(),
+          b["power_t_test"]["ci"][0].get<double>(),
+          b["power_t_test"]["ci"][1].get<double>(),
+          b["power_binomial"]["p"].get<double>(),
+          b["power_binomial"]["ci"][0].get<double>(),
+          b["power_binomial"]["ci"][1].get<double>());
+    } else {
+      out << "; not tested: " << b["no_test_reason"].get<std::string>() << '\n';
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int RunScoresCommand(const Args& args, std::ostream& out, std::ostream& err) {
@@ -448,6 +644,9 @@ int RunThresholdsCommand(const Args& args, std::ostream& out,
 int RunKinematicsCommand(const Args& args, std::ostream& out,
                          std::ostream& err) {
   return RunKinematics(args, out, err);
+}
+int RunPowerCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  return RunPower(args, out, err);
 }
 
 }  // namespace burrlab::runner

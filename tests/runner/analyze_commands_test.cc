@@ -145,6 +145,24 @@ TEST_F(AnalyzeCommand, FitReportsABoundWithAWarningOnStderr) {
             "[0, 0.05]\n");
 }
 
+TEST_F(AnalyzeCommand, FitThatDoesNotConvergeExitsTwoAndSaysSo) {
+  // Three likelihood evaluations per start cannot reach the maximum: the
+  // results are printed, flagged, and the exit code is 2.
+  const std::string data = Write("d.csv", kCounts);
+  const CliRun run = RunBurrlab({"analyze", "fit", "--data", data, "--task",
+                                 "2afc", "--sigmoid", "logistic", "--bootstrap",
+                                 "0", "--max-evaluations", "3", "--json"});
+  EXPECT_EQ(run.code, 2);
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["converged"], false);
+  EXPECT_THAT(run.err, HasSubstr("burrlab: warning: "));
+  EXPECT_THAT(run.err, HasSubstr("converge"));
+  const CliRun enough =
+      RunBurrlab({"analyze", "fit", "--data", data, "--task", "2afc",
+                  "--sigmoid", "logistic", "--bootstrap", "0", "--json"});
+  EXPECT_EQ(enough.code, 0);
+}
+
 TEST_F(AnalyzeCommand, FitRejectsEachBadInputWithAClearMessage) {
   ExpectFitError(Write("empty.csv", ""), "logistic",
                  (dir_ / "empty.csv").string() +

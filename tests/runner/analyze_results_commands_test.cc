@@ -140,3 +140,56 @@ TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {
 
 }  // namespace
 }  // namespace burrlab::runner
+
+namespace burrlab::runner {
+namespace {
+
+TEST(AnalyzePower, ReportsPowerWithIntervalsPerScoredBlock) {
+  const std::string protocol = std::string(BURRLAB_SOURCE_DIR) +
+                               "/protocols/examples/two_interval_2afc.toml";
+  const CliRun run =
+      RunBurrlab({"analyze", "power", "--protocol", protocol, "--weber", "0.5",
+                  "--subjects", "5", "--runs", "50", "--seed", "3", "--json"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const Json j = Json::parse(run.out);
+  EXPECT_EQ(j["runs"], 50);
+  ASSERT_EQ(j["blocks"].size(), 1u);
+  const Json& b = j["blocks"][0];
+  EXPECT_EQ(b["method"], "two_interval");
+  for (const char* test : {"power_t_test", "power_binomial"}) {
+    const double p = b[test]["p"].get<double>();
+    EXPECT_GE(p, b[test]["ci"][0].get<double>()) << test;
+    EXPECT_LE(p, b[test]["ci"][1].get<double>()) << test;
+  }
+  // Same seed, same answer.
+  const CliRun again =
+      RunBurrlab({"analyze", "power", "--protocol", protocol, "--weber", "0.5",
+                  "--subjects", "5", "--runs", "50", "--seed", "3", "--json"});
+  EXPECT_EQ(again.out, run.out);
+}
+
+TEST(AnalyzePower, BadInputIsOneErrorLine) {
+  const std::string examples =
+      std::string(BURRLAB_SOURCE_DIR) + "/protocols/examples/";
+  const CliRun adjustment = RunBurrlab(
+      {"analyze", "power", "--protocol", examples + "adjustment_alpha.toml",
+       "--weber", "0.3", "--subjects", "4", "--runs", "2"});
+  EXPECT_EQ(adjustment.code, 1);
+  EXPECT_EQ(adjustment.err,
+            "burrlab: analyze power: block \"adjust\": adjustment blocks "
+            "cannot be simulated virtually (no correct answer to score); "
+            "leave them out of a power analysis\n");
+  const CliRun one = RunBurrlab({"analyze", "power", "--protocol",
+                                 examples + "two_interval_2afc.toml", "--weber",
+                                 "0.3", "--subjects", "1", "--runs", "2"});
+  EXPECT_EQ(one.code, 1);
+  EXPECT_EQ(one.err.substr(0, 21), "burrlab: --subjects m");
+  const CliRun weber = RunBurrlab(
+      {"analyze", "power", "--protocol", examples + "two_interval_2afc.toml",
+       "--weber", "-1", "--subjects", "4", "--runs", "2"});
+  EXPECT_EQ(weber.code, 1);
+  EXPECT_EQ(weber.out, "");
+}
+
+}  // namespace
+}  // namespace burrlab::runner

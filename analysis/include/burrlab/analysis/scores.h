@@ -76,6 +76,15 @@ struct BlockScores {
 Result<std::vector<BlockScores>> ScoreBlocks(
     std::span<const results_schema::BehFile> files);
 
+// Probability correct by guessing in a block of `method` (as the results
+// name it, e.g. "same_different") whose trials have `trial_type`; none with
+// the reason when the design has no fixed chance level.
+struct ChanceLevel {
+  std::optional<double> p;
+  std::string reason;  // when p is none
+};
+ChanceLevel ChanceOf(const std::string& method, const std::string& trial_type);
+
 // Rates and d' of same-different counts (see SameDifferentRates).
 SameDifferentRates RatesFromCounts(int hits, int different_trials,
                                    int false_alarms, int same_trials);

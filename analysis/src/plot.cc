@@ -192,6 +192,19 @@ std::string TickLabel(double value, double step) {
   return fmt::format("{:.4g}", value);
 }
 
+// Ticks at whole numbers covering [low, high]: every one when at most 14
+// fit; else `ticks` when their step is whole, else every one up to 26.
+std::vector<double> WholeTicks(std::vector<double> ticks, double low,
+                               double high) {
+  std::vector<double> whole;
+  for (double t = std::ceil(low); t <= std::floor(high) + 1e-9; t += 1.0) {
+    whole.push_back(t);
+  }
+  if (whole.size() >= 2 && whole.size() <= 14) return whole;
+  if (ticks.size() >= 2 && ticks[1] - ticks[0] >= 1.0) return ticks;
+  return whole.size() >= 2 && whole.size() <= 26 ? whole : ticks;
+}
+
 }  // namespace
 
 std::vector<double> NiceTicks(double low, double high, int target) {
@@ -296,8 +309,12 @@ Result<Image> RenderPlot(const LinePlot& plot) {
       if (t >= low && t <= high) x_ticks.push_back(t);
     }
   }
-  const std::vector<double> y_ticks =
+  if (plot.integer_x) x_ticks = WholeTicks(x_ticks, x_lo, x_hi);
+  std::vector<double> y_ticks =
       plot.log_y ? LogTicks(y_min, y_max) : NiceTicks(y_min, y_max);
+  if (plot.integer_y && !plot.log_y) {
+    y_ticks = WholeTicks(y_ticks, y_ticks.front(), y_ticks.back());
+  }
   // On a log axis positions are log10 of the values.
   const auto ty = [&](double y) { return plot.log_y ? std::log10(y) : y; };
   const double y_lo = ty(y_ticks.front()), y_hi = ty(y_ticks.back());

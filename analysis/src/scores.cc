@@ -211,6 +211,7 @@ LinePlot ScoreHistogram(const BlockScores& block) {
     for (int k = 0; k <= n; ++k) bars.x.push_back(k);
     plot.x_label = fmt::format("correct answers out of {}", n);
     plot.x_range = std::pair(-0.5, n + 0.5);
+    plot.integer_x = true;
     width = 0.8;
   } else {
     counts.assign(21, 0.0);  // 0 %, 5 %, ..., 100 %
@@ -253,6 +254,7 @@ LinePlot ScoreHistogram(const BlockScores& block) {
   plot.title = fmt::format("{} ({}, {}){}", block.block, block.method,
                            block.task, stats);
   plot.y_label = "subjects";
+  plot.integer_y = true;
   return plot;
 }
 

@@ -39,6 +39,9 @@ struct LinePlot {
   bool log_y = false;  // logarithmic y axis; points with y <= 0 are skipped
   // Fixed x axis limits (low < high); unset: ticks around the data.
   std::optional<std::pair<double, double>> x_range;
+  // Counts: ticks only at whole numbers (every one when at most 25 fit).
+  bool integer_x = false;
+  bool integer_y = false;
   int width_px = 900;
   int height_px = 600;
 };

@@ -426,6 +426,10 @@ constexpr Command kAnalyzeCommands[] = {
      "probability of a significant result from simulated studies of a "
      "protocol",
      RunPowerCommand},
+    {"fit-observers",
+     "fit a simulated-observer population to a group result and predict "
+     "another protocol",
+     RunFitObserversCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunAnalyzeHelp},
 };

@@ -19,6 +19,7 @@
 #include "burrlab/analysis/thresholds.h"
 #include "burrlab/results_schema/bids_read.h"
 #include "flags.h"
+#include "observer_fit.h"
 #include "progress.h"
 #include "session.h"
 #include "virtual_study.h"
@@ -440,6 +441,36 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+// One block's power as JSON: P(significant) per test with its 95 %
+// Clopper-Pearson interval over the studies.
+Json PowerJson(const BlockPower& t) {
+  const auto interval = [&](int k) {
+    Result<analysis::BinomialTestResult> b =
+        analysis::ExactBinomialTest(k, t.runs, 0.5);
+    return Json{b->ci_low, b->ci_high};
+  };
+  Result<analysis::MeanSem> m = analysis::MeanAndSem(t.mean_scores);
+  Result<analysis::MeanSem> c = analysis::MeanAndSem(t.mean_counts);
+  Json b = {{"block", t.block},
+            {"method", t.method},
+            {"chance", Optional(t.chance.p)},
+            {"mean_proportion_correct",
+             m.ok() ? Json(m->mean) : Json(t.mean_scores[0])},
+            {"mean_score", c.ok() ? Json(c->mean) : Json(t.mean_counts[0])},
+            {"sd_between_studies", m.ok() ? Json(m->sd) : Json(nullptr)},
+            {"score_sd_between_studies", c.ok() ? Json(c->sd) : Json(nullptr)}};
+  if (t.chance.p) {
+    b["power_t_test"] = {{"p", static_cast<double>(t.t_significant) / t.runs},
+                         {"ci", interval(t.t_significant)}};
+    b["power_binomial"] = {
+        {"p", static_cast<double>(t.binomial_significant) / t.runs},
+        {"ci", interval(t.binomial_significant)}};
+  } else {
+    b["no_test_reason"] = t.chance.reason;
+  }
+  return b;
+}
+
 int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Power of a protocol: runs R simulated studies of N simulated subjects "
@@ -501,71 +532,13 @@ int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
     return Fail(err, "analyze power: " + s.error().message);
   }
   CuePool pool(cue_samples, 2.0, seed);
-  struct Tally {
-    std::string block;
-    std::string method;
-    analysis::ChanceLevel chance;
-    int t_significant = 0, binomial_significant = 0, t_defined = 0;
-    std::vector<double> mean_scores;  // proportion correct per study
-  };
-  std::vector<Tally> tallies;
   ProgressBar bar(err, runs);
-  for (int r = 0; r < runs; ++r) {
-    options.seed =
-        protocols::SeedFor(seed, protocols::StreamPurpose::kPopulation,
-                           1ull << 40, static_cast<std::uint64_t>(r));
-    Result<std::vector<VirtualBlock>> study =
-        RunVirtualStudy(loaded->protocol, options, pool);
-    if (!study.ok())
-      return Fail(err, "analyze power: " + study.error().message);
-    for (const VirtualBlock& b : *study) {
-      auto it =
-          std::find_if(tallies.begin(), tallies.end(),
-                       [&](const Tally& t) { return t.block == b.block; });
-      if (it == tallies.end()) {
-        Tally t;
-        t.block = b.block;
-        t.method = std::string(protocols::MethodName(b.method));
-        t.chance = analysis::ChanceOf(t.method, b.trial_type);
-        tallies.push_back(t);
-        it = tallies.end() - 1;
-      }
-      std::vector<double> proportions;
-      int correct = 0, trials = 0;
-      for (std::size_t s = 0; s < b.correct.size(); ++s) {
-        proportions.push_back(static_cast<double>(b.correct[s]) / b.trials[s]);
-        correct += b.correct[s];
-        trials += b.trials[s];
-      }
-      it->mean_scores.push_back(static_cast<double>(correct) / trials);
-      if (!it->chance.p) continue;
-      if (Result<analysis::TTestResult> t =
-              analysis::OneSampleTTest(proportions, *it->chance.p);
-          t.ok()) {
-        ++it->t_defined;
-        it->t_significant += t->p_greater < alpha ? 1 : 0;
-      } else {
-        // All proportions equal: significant when above chance.
-        it->t_significant += proportions[0] > *it->chance.p ? 1 : 0;
-      }
-      if (Result<analysis::BinomialTestResult> t =
-              analysis::ExactBinomialTest(correct, trials, *it->chance.p);
-          t.ok()) {
-        it->binomial_significant += t->p_greater < alpha ? 1 : 0;
-      }
-    }
-    bar.Update(r + 1, fmt::format("study {}", r + 1));
-  }
-  if (tallies.empty()) {
-    return Fail(err,
-                "analyze power: the protocol has no block with correct "
-                "answers to test");
-  }
-  const auto interval = [&](int k) {
-    Result<analysis::BinomialTestResult> t =
-        analysis::ExactBinomialTest(k, runs, 0.5);
-    return std::pair(t->ci_low, t->ci_high);
-  };
+  Result<std::vector<BlockPower>> powers = EstimatePower(
+      loaded->protocol, options, seed, runs, alpha, pool,
+      [&](int done) { bar.Update(done, fmt::format("study {}", done)); });
+  if (!powers.ok())
+    return Fail(err, "analyze power: " + powers.error().message);
+  const std::vector<BlockPower>& tallies = *powers;
   Json j;
   j["protocol"] = protocol_path;
   j["weber"] = weber;
@@ -578,27 +551,7 @@ int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
   j["cue_samples"] = cue_samples;
   j["intervals_rendered"] = pool.rendered();
   j["blocks"] = Json::array();
-  for (const Tally& t : tallies) {
-    Result<analysis::MeanSem> m = analysis::MeanAndSem(t.mean_scores);
-    Json b = {{"block", t.block},
-              {"method", t.method},
-              {"chance", Optional(t.chance.p)},
-              {"mean_proportion_correct",
-               m.ok() ? Json(m->mean) : Json(t.mean_scores[0])},
-              {"sd_between_studies", m.ok() ? Json(m->sd) : Json(nullptr)}};
-    if (t.chance.p) {
-      const auto [t_lo, t_hi] = interval(t.t_significant);
-      const auto [b_lo, b_hi] = interval(t.binomial_significant);
-      b["power_t_test"] = {{"p", static_cast<double>(t.t_significant) / runs},
-                           {"ci", {t_lo, t_hi}}};
-      b["power_binomial"] = {
-          {"p", static_cast<double>(t.binomial_significant) / runs},
-          {"ci", {b_lo, b_hi}}};
-    } else {
-      b["no_test_reason"] = t.chance.reason;
-    }
-    j["blocks"].push_back(b);
-  }
+  for (const BlockPower& t : tallies) j["blocks"].push_back(PowerJson(t));
   if (json) {
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
@@ -632,6 +585,162 @@ int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Fit a simulated-observer population to a published group result: the "
+      "Weber fraction W (both cues) whose virtual studies of the protocol give "
+      "the observed mean score of a block, the spread of W across subjects "
+      "that gives the observed between-subject SD (SEM x sqrt(n)), and a 95 % "
+      "interval for W from mean +- 1.96 SEM. With --predict, simulate another "
+      "protocol with that population and report its predicted scores and "
+      "power.",
+      "burrlab analyze fit-observers"};
+  std::string protocol_path, observed_text, predict_path;
+  ObserverFitOptions options;
+  double lapse = 0.0, alpha = 0.05;
+  int cue_samples = 8, runs = 200, predict_subjects = 0;
+  bool no_spread = false, json = false;
+  FlagSet flags(&app);
+  flags
+      .AddText("--protocol", "the protocol the observed results come from",
+               &protocol_path)
+      ->type_name("FILE")
+      ->required();
+  flags
+      .AddText("--observed", "the group result, mean=M,sem=S,n=N",
+               &observed_text)
+      ->type_name("mean=M,sem=S,n=N")
+      ->required();
+  flags.AddText("--block", "the block scored (default: the first scored one)",
+                &options.block);
+  flags.AddInteger("--virtual-subjects",
+                   "subjects per virtual study (default 400)", 2, 1000000,
+                   &options.virtual_subjects);
+  flags.AddUnsigned("--seed", "seed (default 1)", &options.seed);
+  flags.AddSwitch("--no-spread", "all subjects alike (fit W only)", &no_spread);
+  flags.AddNonNegative("--lapse", "lapse rate (default: the protocol's)", "",
+                       &lapse);
+  flags.AddInteger("--cue-samples",
+                   "simulator renderings per stimulus (default 8)", 1, 1000,
+                   &cue_samples);
+  flags
+      .AddText("--predict", "a protocol to predict with the fitted population",
+               &predict_path)
+      ->type_name("FILE");
+  flags.AddInteger("--predict-subjects",
+                   "subjects per predicted study (default: the observed n)", 2,
+                   100000, &predict_subjects);
+  flags.AddInteger("--runs", "predicted studies (default 200)", 1, 1000000,
+                   &runs);
+  flags.AddPositive("--alpha", "significance level (default 0.05)", "", &alpha,
+                    0.5);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  Result<ObservedGroup> observed = ParseObservedGroup(observed_text);
+  if (!observed.ok()) return Fail(err, observed.error().message);
+  if (flags.Given("--lapse") && !(lapse < 0.5)) {
+    return Fail(err, fmt::format("--lapse must be below 0.5, got '{}'", lapse));
+  }
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_path);
+  if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  options.fit_spread = !no_spread;
+  options.base = protocols::ObserverParamsFrom(loaded->protocol.observer);
+  if (flags.Given("--lapse")) options.base.lapse = lapse;
+  CuePool pool(cue_samples, 2.0, options.seed);
+  Result<ObserverFit> fit =
+      FitObservers(loaded->protocol, *observed, options, pool);
+  if (!fit.ok())
+    return Fail(err, "analyze fit-observers: " + fit.error().message);
+  Json j;
+  j["protocol"] = protocol_path;
+  j["block"] = fit->block;
+  j["trials_per_subject"] = fit->trials_per_subject;
+  j["observed"] = {{"mean", observed->mean},
+                   {"sem", observed->sem},
+                   {"n", observed->n},
+                   {"sd", fit->observed_sd}};
+  j["weber"] = fit->weber;
+  j["weber_ci"] = {fit->weber_low, fit->weber_high};
+  j["weber_spread"] = fit->weber_spread;
+  j["lapse"] = options.base.lapse;
+  j["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
+  j["virtual_subjects"] = options.virtual_subjects;
+  j["virtual_studies"] = fit->virtual_studies;
+  j["notes"] = fit->notes;
+  if (!predict_path.empty()) {
+    Result<LoadedProtocol> other = LoadProtocol(predict_path);
+    if (!other.ok()) return ReportLoadError(err, other.error());
+    VirtualStudyOptions v;
+    v.subjects = predict_subjects > 0 ? predict_subjects : observed->n;
+    v.observer = options.base;
+    v.observer.weber_stiffness = fit->weber;
+    v.observer.weber_removal = fit->weber;
+    v.weber_log_sd = fit->weber_spread;
+    CuePool other_pool(cue_samples, 2.0, options.seed);
+    ProgressBar bar(err, runs);
+    Result<std::vector<BlockPower>> powers = EstimatePower(
+        other->protocol, v, options.seed, runs, alpha, other_pool,
+        [&](int done) { bar.Update(done, fmt::format("study {}", done)); });
+    if (!powers.ok()) {
+      return Fail(
+          err, "analyze fit-observers: --predict: " + powers.error().message);
+    }
+    j["prediction"] = {{"protocol", predict_path},
+                       {"subjects", v.subjects},
+                       {"runs", runs},
+                       {"alpha", alpha},
+                       {"blocks", Json::array()}};
+    for (const BlockPower& p : *powers) {
+      j["prediction"]["blocks"].push_back(PowerJson(p));
+    }
+  }
+  if (json) {
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  out << fmt::format(
+      "block {} ({} trials): observed {} +- {} (n {}, SD {:.3g})\n", fit->block,
+      fit->trials_per_subject, observed->mean, observed->sem, observed->n,
+      fit->observed_sd);
+  out << fmt::format(
+      "fitted   Weber {:.3g} [{:.3g}, {:.3g}] (95 %), spread {:.3g} (SD of ln "
+      "W), lapse {}\n",
+      fit->weber, fit->weber_low, fit->weber_high, fit->weber_spread,
+      options.base.lapse);
+  out << fmt::format(
+      "         population mean {:.2f}, SD {:.2f} ({} virtual subjects, {} "
+      "virtual studies)\n",
+      fit->fitted_mean, fit->fitted_sd, options.virtual_subjects,
+      fit->virtual_studies);
+  for (const std::string& note : fit->notes) out << "note     " << note << '\n';
+  if (j.contains("prediction")) {
+    out << fmt::format("predicted {} ({} subjects, {} studies):\n",
+                       predict_path, j["prediction"]["subjects"].get<int>(),
+                       runs);
+    for (const Json& b : j["prediction"]["blocks"]) {
+      out << fmt::format(
+          "  block {}: mean score {:.2f} (SD {:.2f} between studies)",
+          b["block"].get<std::string>(), b["mean_score"].get<double>(),
+          b["score_sd_between_studies"].is_null()
+              ? 0.0
+              : b["score_sd_between_studies"].get<double>());
+      if (b.contains("power_t_test")) {
+        out << fmt::format(
+            "; P(significant) t-test {:.3f} [{:.3f}, {:.3f}], binomial "
+            "{:.3f}\n",
+            b["power_t_test"]["p"].get<double>(),
+            b["power_t_test"]["ci"][0].get<double>(),
+            b["power_t_test"]["ci"][1].get<double>(),
+            b["power_binomial"]["p"].get<double>());
+      } else {
+        out << '\n';
+      }
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int RunScoresCommand(const Args& args, std::ostream& out, std::ostream& err) {
@@ -647,6 +756,10 @@ int RunKinematicsCommand(const Args& args, std::ostream& out,
 }
 int RunPowerCommand(const Args& args, std::ostream& out, std::ostream& err) {
   return RunPower(args, out, err);
+}
+int RunFitObserversCommand(const Args& args, std::ostream& out,
+                           std::ostream& err) {
+  return RunFitObservers(args, out, err);
 }
 
 }  // namespace burrlab::runner

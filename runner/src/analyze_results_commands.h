@@ -20,6 +20,10 @@ int RunKinematicsCommand(const Args& args, std::ostream& out,
                          std::ostream& err);
 // Probability of a significant result from simulated studies.
 int RunPowerCommand(const Args& args, std::ostream& out, std::ostream& err);
+// Fits a simulated-observer population to a group result; optionally
+// predicts another protocol with it.
+int RunFitObserversCommand(const Args& args, std::ostream& out,
+                           std::ostream& err);
 
 }  // namespace burrlab::runner
 

@@ -8,6 +8,7 @@
 #include <boost/random/uniform_int_distribution.hpp>
 #include <cmath>
 
+#include "burrlab/analysis/group_stats.h"
 #include "burrlab/stimuli/interval.h"
 #include "session.h"
 
@@ -21,13 +22,21 @@ using protocols::TrialSpec;
 // Erosion seeds of the pool, apart from every session's streams.
 constexpr std::uint64_t kPoolPurposeIndex = 1ull << 40;
 
-// One stimulus of the pool: what the simulator renders.
+// One stimulus of the pool: what the simulator renders, as the bytes of its
+// numbers (no formatting on the per-trial path).
 std::string StimulusKey(const stimuli::IntervalOptions& o) {
-  return fmt::format(
-      "{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", o.material.c_e_n_per_mm2,
-      o.material.alpha_per_s, o.material.c_mu_n_per_mm2, o.material.mu,
-      o.material.c_i_n_s_per_mm3, static_cast<int>(o.task), o.duration_s,
-      o.radius_mm, o.probe_force_n, o.drill_force_n, o.press_period_s);
+  const double values[] = {o.material.c_e_n_per_mm2,
+                           o.material.alpha_per_s,
+                           o.material.c_mu_n_per_mm2,
+                           o.material.mu,
+                           o.material.c_i_n_s_per_mm3,
+                           static_cast<double>(o.task),
+                           o.duration_s,
+                           o.radius_mm,
+                           o.probe_force_n,
+                           o.drill_force_n,
+                           o.press_period_s};
+  return std::string(reinterpret_cast<const char*>(values), sizeof values);
 }
 
 }  // namespace
@@ -110,6 +119,10 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
         protocols::Engine::Create(protocol, s, subject_seed);
     if (!engine.ok()) return engine.error();
     std::map<int, double> standard_cues;
+    // One observer stream per subject (seeding a Mersenne twister per trial,
+    // as sessions do, would be most of the cost here).
+    boost::random::mt19937 rng = protocols::StreamFor(
+        subject_seed, StreamPurpose::kObserver, kPoolPurposeIndex);
     while (!engine->finished()) {
       const TrialSpec trial = engine->current();
       if (trial.method == Method::kAdjustment) {
@@ -119,9 +132,15 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
             "analysis",
             trial.block)};
       }
-      boost::random::mt19937 rng =
-          protocols::StreamFor(subject_seed, StreamPurpose::kObserver,
-                               static_cast<std::uint64_t>(trial.trial_index));
+      if (!options.only_block.empty() && trial.block != options.only_block) {
+        protocols::Response skip;
+        skip.answer = trial.correct_answer.empty()
+                          ? trial.response_options.front()
+                          : trial.correct_answer;
+        Result<protocols::Outcome> outcome = engine->Respond(skip);
+        if (!outcome.ok()) return outcome.error();
+        continue;
+      }
       std::vector<double> cues(trial.intervals.size(), 0.0);
       const protocols::Block& block = protocol.blocks[trial.block_index];
       for (std::size_t i = 0; i < trial.intervals.size(); ++i) {
@@ -178,6 +197,64 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
     }
   }
   return blocks;
+}
+
+Result<std::vector<BlockPower>> EstimatePower(
+    const protocols::Protocol& protocol, VirtualStudyOptions options,
+    std::uint64_t seed, int runs, double alpha, CuePool& pool,
+    const std::function<void(int)>& progress) {
+  std::vector<BlockPower> tallies;
+  for (int r = 0; r < runs; ++r) {
+    options.seed =
+        protocols::SeedFor(seed, StreamPurpose::kPopulation, 1ull << 40,
+                           static_cast<std::uint64_t>(r));
+    Result<std::vector<VirtualBlock>> study =
+        RunVirtualStudy(protocol, options, pool);
+    if (!study.ok()) return study.error();
+    for (const VirtualBlock& b : *study) {
+      auto it =
+          std::find_if(tallies.begin(), tallies.end(),
+                       [&](const BlockPower& t) { return t.block == b.block; });
+      if (it == tallies.end()) {
+        BlockPower t;
+        t.block = b.block;
+        t.method = std::string(protocols::MethodName(b.method));
+        t.chance = analysis::ChanceOf(t.method, b.trial_type);
+        tallies.push_back(t);
+        it = tallies.end() - 1;
+      }
+      ++it->runs;
+      std::vector<double> proportions;
+      int correct = 0, trials = 0;
+      for (std::size_t s = 0; s < b.correct.size(); ++s) {
+        proportions.push_back(static_cast<double>(b.correct[s]) / b.trials[s]);
+        correct += b.correct[s];
+        trials += b.trials[s];
+      }
+      it->mean_scores.push_back(static_cast<double>(correct) / trials);
+      it->mean_counts.push_back(static_cast<double>(correct) /
+                                static_cast<double>(b.correct.size()));
+      if (!it->chance.p) continue;
+      if (Result<analysis::TTestResult> t =
+              analysis::OneSampleTTest(proportions, *it->chance.p);
+          t.ok()) {
+        it->t_significant += t->p_greater < alpha ? 1 : 0;
+      } else {
+        // All proportions equal: significant when above chance.
+        it->t_significant += proportions[0] > *it->chance.p ? 1 : 0;
+      }
+      if (Result<analysis::BinomialTestResult> t =
+              analysis::ExactBinomialTest(correct, trials, *it->chance.p);
+          t.ok()) {
+        it->binomial_significant += t->p_greater < alpha ? 1 : 0;
+      }
+    }
+    if (progress) progress(r + 1);
+  }
+  if (tallies.empty()) {
+    return Error{"the protocol has no block with correct answers to test"};
+  }
+  return tallies;
 }
 
 }  // namespace burrlab::runner

@@ -12,12 +12,14 @@
 #define BURRLAB_RUNNER_VIRTUAL_STUDY_H_
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "burrlab/analysis/scores.h"
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
 #include "burrlab/protocols/protocol.h"
@@ -55,6 +57,10 @@ struct VirtualStudyOptions {
   // Spread of the Weber fractions across subjects: each subject's are the
   // typical ones times exp(N(0, s^2)), drawn per subject; 0: all alike.
   double weber_log_sd = 0.0;
+  // Non-empty: only this block is simulated and scored; the other blocks'
+  // trials are answered at once without rendering (they still run, so the
+  // block sees the trials and seeds it has in a full study).
+  std::string only_block;
 };
 
 // Correct answers per subject of one block with correct answers.
@@ -71,6 +77,26 @@ struct VirtualBlock {
 Result<std::vector<VirtualBlock>> RunVirtualStudy(
     const protocols::Protocol& protocol, const VirtualStudyOptions& options,
     CuePool& pool);
+
+// The outcome of many virtual studies for one block.
+struct BlockPower {
+  std::string block;
+  std::string method;
+  analysis::ChanceLevel chance;  // none: not tested (reason inside)
+  int runs = 0;
+  int t_significant = 0;         // one-sided t-test of proportions, p < alpha
+  int binomial_significant = 0;  // exact binomial test of pooled answers
+  std::vector<double> mean_scores;  // proportion correct of each study
+  std::vector<double> mean_counts;  // mean correct answers of each study
+};
+
+// Runs `runs` virtual studies (study r seeded from `seed` and r) and tallies
+// per scored block how often each test is significant at `alpha` against
+// chance. `progress` (may be empty) gets the studies done.
+Result<std::vector<BlockPower>> EstimatePower(
+    const protocols::Protocol& protocol, VirtualStudyOptions options,
+    std::uint64_t seed, int runs, double alpha, CuePool& pool,
+    const std::function<void(int)>& progress);
 
 }  // namespace burrlab::runner
 

@@ -12,27 +12,11 @@
 
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/results_schema/records.h"
+#include "temp_dir.h"
 
 namespace burrlab::results_schema {
 
 namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern =
-        (fs::path(testing::TempDir()) / "burrlab_export_XXXXXX").string();
-    path_ = mkdtemp(pattern.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 inline SessionInfo MakeSession(const std::string& label) {
   SessionInfo s;

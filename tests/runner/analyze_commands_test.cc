@@ -14,27 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/runner/cli.h"
+#include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
 
 using ::testing::HasSubstr;
-
-struct CliRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-CliRun RunBurrlab(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun run;
-  run.code = RunCli(args, out, err);
-  run.out = out.str();
-  run.err = err.str();
-  return run;
-}
 
 // A file in a fresh temporary folder, removed with the fixture.
 class AnalyzeCommand : public ::testing::Test {

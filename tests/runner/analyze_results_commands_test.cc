@@ -13,28 +13,13 @@
 #include <vector>
 
 #include "burrlab/results_schema/bids_read.h"
-#include "burrlab/runner/cli.h"
+#include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
-
-struct CliRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-CliRun RunBurrlab(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun run;
-  run.code = RunCli(args, out, err);
-  run.out = out.str();
-  run.err = err.str();
-  return run;
-}
 
 class AnalyzeResults : public ::testing::Test {
  protected:

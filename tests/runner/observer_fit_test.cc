@@ -8,20 +8,14 @@
 #include <cmath>
 #include <string>
 
-#include "session.h"
+#include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
 
-protocols::Protocol Example(const std::string& name) {
-  Result<LoadedProtocol> loaded = LoadProtocol(std::string(BURRLAB_SOURCE_DIR) +
-                                               "/protocols/examples/" + name);
-  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
-  return loaded.ok() ? loaded->protocol : protocols::Protocol{};
-}
-
 TEST(ObserverFit, RecoversAKnownWeberFractionWithinItsInterval) {
-  const protocols::Protocol protocol = Example("two_interval_2afc.toml");
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
   const double truth = 0.4;
   int covered = 0;
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
@@ -63,7 +57,8 @@ TEST(ObserverFit, RecoversAKnownWeberFractionWithinItsInterval) {
 }
 
 TEST(ObserverFit, SpreadExplainsAnSdAboveTheBinomial) {
-  const protocols::Protocol protocol = Example("two_interval_2afc.toml");
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
   CuePool pool(2, 2.0, 1);
   ObserverFitOptions options;
   options.virtual_subjects = 300;
@@ -95,7 +90,8 @@ TEST(ObserverFit, ObservedTextIsParsedStrictly) {
 }
 
 TEST(ObserverFit, AMeanAboveTheTrialsIsRefused) {
-  const protocols::Protocol protocol = Example("two_interval_2afc.toml");
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
   CuePool pool(1, 2.0, 1);
   Result<ObserverFit> fit =
       FitObservers(protocol, {13.0, 0.5, 20}, ObserverFitOptions{}, pool);

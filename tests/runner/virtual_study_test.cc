@@ -14,20 +14,14 @@
 #include <string>
 
 #include "burrlab/analysis/group_stats.h"
-#include "session.h"
+#include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
 
-protocols::Protocol Example(const std::string& name) {
-  Result<LoadedProtocol> loaded = LoadProtocol(std::string(BURRLAB_SOURCE_DIR) +
-                                               "/protocols/examples/" + name);
-  EXPECT_TRUE(loaded.ok()) << loaded.error().message;
-  return loaded.ok() ? loaded->protocol : protocols::Protocol{};
-}
-
 TEST(VirtualStudy, BinomialPowerOfATwoAfcBlockMatchesTheClosedForm) {
-  const protocols::Protocol protocol = Example("two_interval_2afc.toml");
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
   CuePool pool(4, 2.0, 11);
   VirtualStudyOptions options;
   options.subjects = 5;
@@ -86,7 +80,8 @@ TEST(VirtualStudy, BinomialPowerOfATwoAfcBlockMatchesTheClosedForm) {
 }
 
 TEST(VirtualStudy, SameSeedReplaysTheSameScores) {
-  const protocols::Protocol protocol = Example("two_interval_2afc.toml");
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
   CuePool pool(2, 2.0, 3);
   VirtualStudyOptions options;
   options.subjects = 4;
@@ -107,7 +102,7 @@ TEST(VirtualStudy, SameSeedReplaysTheSameScores) {
 }
 
 TEST(VirtualStudy, AdjustmentBlocksAreRefused) {
-  const protocols::Protocol protocol = Example("adjustment_alpha.toml");
+  const protocols::Protocol protocol = ExampleProtocol("adjustment_alpha.toml");
   CuePool pool(1, 2.0, 1);
   VirtualStudyOptions options;
   Result<std::vector<VirtualBlock>> study =

@@ -192,6 +192,19 @@ std::string TickLabel(double value, double step) {
   return fmt::format("{:.4g}", value);
 }
 
+// Ticks at whole numbers covering [low, high]: every one when at most 14
+// fit; else `ticks` when their step is whole, else every one up to 26.
+std::vector<double> WholeTicks(std::vector<double> ticks, double low,
+                               double high) {
+  std::vector<double> whole;
+  for (double t = std::ceil(low); t <= std::floor(high) + 1e-9; t += 1.0) {
+    whole.push_back(t);
+  }
+  if (whole.size() >= 2 && whole.size() <= 14) return whole;
+  if (ticks.size() >= 2 && ticks[1] - ticks[0] >= 1.0) return ticks;
+  return whole.size() >= 2 && whole.size() <= 26 ? whole : ticks;
+}
+
 }  // namespace
 
 std::vector<double> NiceTicks(double low, double high, int target) {
@@ -259,21 +272,49 @@ Result<Image> RenderPlot(const LinePlot& plot) {
       return Error{fmt::format("series '{}' has {} points and {} marker sizes",
                                s.label, s.x.size(), s.marker_px.size())};
     }
+    if (s.bar_width < 0.0 || !std::isfinite(s.bar_width) ||
+        (s.bar_width > 0.0 && plot.log_y)) {
+      return Error{fmt::format(
+          "series '{}': bar_width must be a finite number >= 0 on a linear "
+          "y axis",
+          s.label)};
+    }
+    const double half_bar = 0.5 * s.bar_width;
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
       if (plot.log_y && !(s.y[i] > 0.0)) continue;
-      x_min = std::min(x_min, s.x[i]);
-      x_max = std::max(x_max, s.x[i]);
-      y_min = std::min(y_min, s.y[i]);
-      y_max = std::max(y_max, s.y[i]);
+      x_min = std::min(x_min, s.x[i] - half_bar);
+      x_max = std::max(x_max, s.x[i] + half_bar);
+      y_min =
+          std::min(y_min, s.bar_width > 0.0 ? std::min(s.y[i], 0.0) : s.y[i]);
+      y_max =
+          std::max(y_max, s.bar_width > 0.0 ? std::max(s.y[i], 0.0) : s.y[i]);
     }
   }
   if (!(x_min <= x_max))
     return Error{"plot '" + plot.title + "' has no finite points"};
-  const std::vector<double> x_ticks = NiceTicks(x_min, x_max);
-  const std::vector<double> y_ticks =
+  std::vector<double> x_ticks = NiceTicks(x_min, x_max);
+  double x_lo = x_ticks.front(), x_hi = x_ticks.back();
+  const double x_step = x_ticks[1] - x_ticks[0];
+  if (plot.x_range.has_value()) {
+    const auto [low, high] = *plot.x_range;
+    if (!(low < high) || !std::isfinite(low) || !std::isfinite(high)) {
+      return Error{fmt::format("plot '{}': x range [{}, {}] is empty",
+                               plot.title, low, high)};
+    }
+    x_lo = low;
+    x_hi = high;
+    x_ticks.clear();
+    for (double t : NiceTicks(low, high)) {
+      if (t >= low && t <= high) x_ticks.push_back(t);
+    }
+  }
+  if (plot.integer_x) x_ticks = WholeTicks(x_ticks, x_lo, x_hi);
+  std::vector<double> y_ticks =
       plot.log_y ? LogTicks(y_min, y_max) : NiceTicks(y_min, y_max);
-  const double x_lo = x_ticks.front(), x_hi = x_ticks.back();
+  if (plot.integer_y && !plot.log_y) {
+    y_ticks = WholeTicks(y_ticks, y_ticks.front(), y_ticks.back());
+  }
   // On a log axis positions are log10 of the values.
   const auto ty = [&](double y) { return plot.log_y ? std::log10(y) : y; };
   const double y_lo = ty(y_ticks.front()), y_hi = ty(y_ticks.back());
@@ -298,7 +339,7 @@ Result<Image> RenderPlot(const LinePlot& plot) {
   // Grid, ticks and labels.
   for (double t : x_ticks) {
     canvas.Line(px(t), top, px(t), bottom, kGrid, 1.0);
-    const std::string label = TickLabel(t, x_ticks[1] - x_ticks[0]);
+    const std::string label = TickLabel(t, x_step);
     canvas.Text(px(t) - Canvas::TextWidth(label) / 2, bottom + 8, label,
                 kBlack);
   }
@@ -328,6 +369,11 @@ Result<Image> RenderPlot(const LinePlot& plot) {
         continue;
       }
       const double x = px(s.x[i]), y = py(s.y[i]);
+      if (s.bar_width > 0.0 && s.y[i] != 0.0) {
+        const double half = 0.5 * s.bar_width;
+        canvas.FillRect(px(s.x[i] - half) + 1, py(0.0), px(s.x[i] + half) - 1,
+                        y, colour);
+      }
       if (s.line && have_previous)
         canvas.Line(previous_x, previous_y, x, y, colour, 2.5);
       if (s.markers) {
@@ -363,6 +409,8 @@ Result<Image> RenderPlot(const LinePlot& plot) {
       const Series& s = plot.series[n];
       if (s.label.empty()) continue;
       const double y = ly + 14 + 22.0 * row++;
+      if (s.bar_width > 0.0)
+        canvas.FillRect(lx + 12, y - 6, lx + 32, y + 6, ColourOf(s, n));
       if (s.line) canvas.Line(lx + 8, y, lx + 36, y, ColourOf(s, n), 3.0);
       if (s.markers)
         canvas.FillRect(lx + 18.5, y - 3.5, lx + 25.5, y + 3.5, ColourOf(s, n));

@@ -43,7 +43,6 @@ constexpr double kStartGamma = 0.01;
 constexpr double kStartLambda = 0.01;
 // Probabilities are kept at least this far from 0 and 1 inside log().
 constexpr double kTinyProbability = 1e-300;
-constexpr int kMaxEvaluations = 2000;
 // SLSQP stops when a step changes every parameter by less than this
 // fraction, or log L per trial by less than the next constant.
 constexpr double kParameterTolerance = 1e-8;
@@ -167,7 +166,7 @@ class Fitter {
     nlopt_set_min_objective(opt_.get(), Objective, &problem_);
     nlopt_set_xtol_rel(opt_.get(), kParameterTolerance);
     nlopt_set_ftol_abs(opt_.get(), kLogLikelihoodTolerance);
-    nlopt_set_maxeval(opt_.get(), kMaxEvaluations);
+    nlopt_set_maxeval(opt_.get(), options.max_evaluations);
   }
 
   // The counts of the data set to fit next (one per block).
@@ -528,6 +527,10 @@ Status PsychometricOptions::Validate() const {
         "{} + lambda_max must be below 1 (psi needs room to rise), got {} + {}",
         n_intervals == 1 ? "gamma_max" : "1 / n_intervals", gamma_top,
         lambda_max)};
+  }
+  if (max_evaluations < 1) {
+    return Error{fmt::format("max_evaluations must be at least 1, got {}",
+                             max_evaluations)};
   }
   for (std::size_t k = 0; k < cuts.size(); ++k) {
     if (!(cuts[k] > 0.0 && cuts[k] < 1.0)) {

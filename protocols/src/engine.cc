@@ -655,6 +655,11 @@ Result<Outcome> Engine::Respond(const Response& response) {
           const Staircase& sc = s.staircases.staircase(s.current);
           extra["next_level"] = sc.level();
           extra["reversals"] = static_cast<int>(sc.reversals().size());
+          // How the estimate is formed, so analyses of the exported files
+          // can recompute it (burrlab analyze thresholds).
+          extra["threshold_reversals"] = b.threshold_reversals;
+          extra["step_scale"] =
+              std::string(StepScaleName(sc.options().step_scale));
           if (Result<double> th = sc.Threshold(b.threshold_reversals);
               th.ok()) {
             out.estimate = th.value();

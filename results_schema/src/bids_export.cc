@@ -145,6 +145,7 @@ std::string UnitsFromName(std::string_view column) {
       {"_mm_per_s", "mm/s"},
       {"_rad_per_s", "rad/s"},
       {"_n_per_mm", "N/mm"},
+      {"_mm3", "mm^3"},
       {"_per_s", "1/s"},
       {"_mm", "mm"},
       {"_hz", "Hz"},

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "analyze_results_commands.h"
 #include "burrlab/analysis/psychometric.h"
 #include "burrlab/analysis/psychometric_data.h"
 #include "burrlab/analysis/psychometric_plot.h"
@@ -211,6 +212,11 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
       fmt::format("yes/no guess rate range [0, G] (default {})",
                   options.gamma_max),
       "", &options.gamma_max);
+  flags.AddInteger("--max-evaluations",
+                   fmt::format("likelihood evaluations per optimiser start "
+                               "(default {}); fewer than needed: exit code 2",
+                               options.max_evaluations),
+                   1, 10000000, &options.max_evaluations);
   flags.AddSwitch("--json", "print the results as JSON", &json);
   flags
       .AddText("--plot",
@@ -405,6 +411,25 @@ constexpr Command kAnalyzeCommands[] = {
      RunFit},
     {"dprime", "d' for yes/no, 2AFC/n-AFC and same-different designs",
      RunDPrime},
+    {"scores",
+     "scores per block of a study's results: mean +- SEM, t and binomial "
+     "tests against chance, same-different d', histograms",
+     RunScoresCommand},
+    {"thresholds",
+     "thresholds per subject and block: staircase reversals, QUEST, limits, "
+     "adjustment, constant-stimuli fits",
+     RunThresholdsCommand},
+    {"kinematics",
+     "force and speed histograms, mean force and removal rate of the traces",
+     RunKinematicsCommand},
+    {"power",
+     "probability of a significant result from simulated studies of a "
+     "protocol",
+     RunPowerCommand},
+    {"fit-observers",
+     "fit a simulated-observer population to a group result and predict "
+     "another protocol",
+     RunFitObserversCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunAnalyzeHelp},
 };

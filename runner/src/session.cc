@@ -32,11 +32,6 @@ using protocols::PlannedInterval;
 using protocols::StreamPurpose;
 using protocols::TrialSpec;
 
-// The weakest cue an observer distinguishes from none: a drill interval too
-// short to cut (the rate over its second half can come out 0 or negative)
-// feels like 1 um/s; a probe that barely touches like 0.001 N/mm.
-constexpr double kFeltCueFloor = 1e-3;
-
 // Interval index used for the off-record stand-in of a real reference.
 constexpr std::uint64_t kStandInInterval = 1000;
 // Offset of the per-block seeds of the remembered yes/no standard.
@@ -50,27 +45,6 @@ std::string UtcNow() {
   char text[32];
   std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &tm);
   return text;
-}
-
-// The simulated-interval options of an interval of `trial`.
-stimuli::IntervalOptions IntervalOptionsFor(const protocols::Protocol& p,
-                                            const SessionOptions& options,
-                                            const TrialSpec& trial,
-                                            const stimuli::MaterialSet& set,
-                                            double duration_s,
-                                            std::uint64_t seed) {
-  stimuli::IntervalOptions o;
-  o.material = set.material;
-  o.task = trial.task;
-  o.duration_s = duration_s;
-  // One press per second, or one press over a shorter interval.
-  o.press_period_s = std::min(o.press_period_s, duration_s);
-  o.radius_mm = options.radius_mm;
-  o.probe_force_n = p.observer.probe_force_n;
-  o.drill_force_n = p.observer.drill_force_n;
-  o.trace_hz = p.trace_hz;
-  o.seed = seed;
-  return o;
 }
 
 // Everything one trial produced before the response.
@@ -166,7 +140,7 @@ Result<stimuli::IntervalResult> SessionRunner::Present(
       static_cast<std::uint64_t>(trial.trial_index), interval);
   Result<stimuli::IntervalResult> r =
       stimuli::PresentSimulatedInterval(IntervalOptionsFor(
-          loaded_.protocol, options_, trial, set, duration_s, seed));
+          loaded_.protocol, options_.radius_mm, trial, set, duration_s, seed));
   if (!r.ok()) {
     return Error{fmt::format("trial {} interval {}: {}", trial.trial_index,
                              interval + 1, r.error().message)};
@@ -219,7 +193,7 @@ Result<double> SessionRunner::StandardCue(const TrialSpec& trial) {
   const double duration =
       trial.intervals.empty() ? 10.0 : trial.intervals[0].duration_s;
   stimuli::IntervalOptions o = IntervalOptionsFor(
-      loaded_.protocol, options_, trial, *standard, duration,
+      loaded_.protocol, options_.radius_mm, trial, *standard, duration,
       protocols::SeedFor(
           options_.seed, StreamPurpose::kErosion,
           kStandardSeedBase + static_cast<std::uint64_t>(trial.block_index)));
@@ -420,6 +394,23 @@ Result<SessionSummary> SessionRunner::Run() {
 }
 
 }  // namespace
+
+stimuli::IntervalOptions IntervalOptionsFor(
+    const protocols::Protocol& p, double radius_mm, const TrialSpec& trial,
+    const stimuli::MaterialSet& set, double duration_s, std::uint64_t seed) {
+  stimuli::IntervalOptions o;
+  o.material = set.material;
+  o.task = trial.task;
+  o.duration_s = duration_s;
+  // One press per second, or one press over a shorter interval.
+  o.press_period_s = std::min(o.press_period_s, duration_s);
+  o.radius_mm = radius_mm;
+  o.probe_force_n = p.observer.probe_force_n;
+  o.drill_force_n = p.observer.drill_force_n;
+  o.trace_hz = p.trace_hz;
+  o.seed = seed;
+  return o;
+}
 
 std::string Sha256Hex(std::string_view text) {
   sha256_ctx ctx;

@@ -16,11 +16,27 @@
 #include <ostream>
 #include <string>
 
+#include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
 #include "burrlab/protocols/protocol.h"
 #include "burrlab/sim/result.h"
+#include "burrlab/stimuli/interval.h"
 
 namespace burrlab::runner {
+
+// The weakest cue an observer distinguishes from none: a drill interval too
+// short to cut (the rate over its second half can come out 0 or negative)
+// feels like 1 um/s; a probe that barely touches like 0.001 N/mm.
+inline constexpr double kFeltCueFloor = 1e-3;
+
+// The simulated-interval options of one interval of `trial` rendering `set`
+// (burr radius, the protocol's observer forces and trace rate).
+stimuli::IntervalOptions IntervalOptionsFor(const protocols::Protocol& p,
+                                            double radius_mm,
+                                            const protocols::TrialSpec& trial,
+                                            const stimuli::MaterialSet& set,
+                                            double duration_s,
+                                            std::uint64_t seed);
 
 // A protocol file read and parsed, with its text (for the journal's hash).
 struct LoadedProtocol {

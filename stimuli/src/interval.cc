@@ -271,7 +271,7 @@ class HoldingHand {
 // ---------------------------------------------------------------------------
 // Trace and cues.
 
-constexpr std::size_t kColumns = 4;
+constexpr std::size_t kColumns = 5;
 
 // Block means of the 1 kHz ticks, one row per trace period; every row is
 // allocated before the loop. The last row averages the ticks left when the
@@ -430,6 +430,7 @@ Result<IntervalResult> PresentSimulatedInterval(const IntervalOptions& o) {
 
   double z = radius + kStartGapMm;  // burr centre above the original surface
   double velocity_down = 0.0;
+  double removed_mm3 = 0.0;  // since the interval began
   sim::Output out;
   for (std::int64_t i = 0; i < ticks; ++i) {
     const double t = static_cast<double>(i) * kDtS;
@@ -469,7 +470,8 @@ Result<IntervalResult> PresentSimulatedInterval(const IntervalOptions& o) {
           2.0 * std::numbers::sqrt2 * o.material.c_e_n_per_mm2 * radius *
               radius)};
     }
-    rows.Add({z, force, depth, target});
+    removed_mm3 += out.removed_mm3;
+    rows.Add({z, force, depth, target, removed_mm3});
     if (probe) {
       if (force > peak_n) {
         peak_n = force;
@@ -486,7 +488,8 @@ Result<IntervalResult> PresentSimulatedInterval(const IntervalOptions& o) {
   if (probe) end_press(press);
 
   IntervalResult result;
-  result.columns = {"position_z_mm", "force_n", "depth_mm", "target_force_n"};
+  result.columns = {"position_z_mm", "force_n", "depth_mm", "target_force_n",
+                    "removed_mm3"};
   result.rows = rows.Finish();
   if (probe) {
     result.cue = presses > 0 ? press_stiffness_sum / presses : 0.0;

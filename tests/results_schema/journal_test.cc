@@ -22,30 +22,12 @@
 #include <vector>
 
 #include "burrlab/results_schema/records.h"
+#include "temp_dir.h"
 
 namespace burrlab::results_schema {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh folder under the test temp dir, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern =
-        (fs::path(testing::TempDir()) / "burrlab_journal_XXXXXX").string();
-    path_ = mkdtemp(pattern.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::permissions(path_, fs::perms::owner_all, fs::perm_options::add, ec);
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 SessionInfo MakeSession(const std::string& label) {
   SessionInfo s;

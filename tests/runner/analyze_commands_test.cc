@@ -14,27 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/runner/cli.h"
+#include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
 
 using ::testing::HasSubstr;
-
-struct CliRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-CliRun RunBurrlab(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun run;
-  run.code = RunCli(args, out, err);
-  run.out = out.str();
-  run.err = err.str();
-  return run;
-}
 
 // A file in a fresh temporary folder, removed with the fixture.
 class AnalyzeCommand : public ::testing::Test {
@@ -143,6 +128,24 @@ TEST_F(AnalyzeCommand, FitReportsABoundWithAWarningOnStderr) {
   EXPECT_EQ(run.err,
             "burrlab: warning: lambda = 0 is at the lower limit of its range "
             "[0, 0.05]\n");
+}
+
+TEST_F(AnalyzeCommand, FitThatDoesNotConvergeExitsTwoAndSaysSo) {
+  // Three likelihood evaluations per start cannot reach the maximum: the
+  // results are printed, flagged, and the exit code is 2.
+  const std::string data = Write("d.csv", kCounts);
+  const CliRun run = RunBurrlab({"analyze", "fit", "--data", data, "--task",
+                                 "2afc", "--sigmoid", "logistic", "--bootstrap",
+                                 "0", "--max-evaluations", "3", "--json"});
+  EXPECT_EQ(run.code, 2);
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["converged"], false);
+  EXPECT_THAT(run.err, HasSubstr("burrlab: warning: "));
+  EXPECT_THAT(run.err, HasSubstr("converge"));
+  const CliRun enough =
+      RunBurrlab({"analyze", "fit", "--data", data, "--task", "2afc",
+                  "--sigmoid", "logistic", "--bootstrap", "0", "--json"});
+  EXPECT_EQ(enough.code, 0);
 }
 
 TEST_F(AnalyzeCommand, FitRejectsEachBadInputWithAClearMessage) {

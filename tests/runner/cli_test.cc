@@ -1,6 +1,5 @@
 // The burrlab command line as a user meets it: usage, version, "did you
 // mean", one-line errors with exit code 1, and the output of the sim commands.
-#include "burrlab/runner/cli.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -15,27 +14,13 @@
 
 #include "burrlab/stimuli/materials.h"
 #include "burrlab_version.h"
+#include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
 
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
-
-struct CliRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-CliRun RunBurrlab(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun run;
-  run.code = RunCli(args, out, err);
-  run.out = out.str();
-  run.err = err.str();
-  return run;
-}
 
 // Expects exit code 1, nothing on stdout and exactly `line` on stderr.
 void ExpectError(const std::vector<std::string>& args,

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "burrlab/results_schema/journal.h"
-#include "burrlab/runner/cli.h"
+#include "run_cli.h"
 #include "session_commands.h"
 
 namespace burrlab::runner {
@@ -71,21 +71,6 @@ ceiling = 2
 max_trials = 8
 )";
 
-struct CliRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-CliRun Burrlab(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun run;
-  run.code = RunCli(args, out, err);
-  run.out = out.str();
-  run.err = err.str();
-  return run;
-}
-
 class SessionTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -120,8 +105,8 @@ class SessionTest : public ::testing::Test {
 TEST_F(SessionTest, SimulatedRunWritesJournalAndBidsExport) {
   const fs::path out = dir_ / "out";
   const CliRun run =
-      Burrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
-               "--seed", "7", "--observer", "simulated"});
+      RunBurrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
+                  "--seed", "7", "--observer", "simulated"});
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_THAT(run.out, HasSubstr("sub-01: 20 trials (0 resumed, 20 run now)"));
   const std::vector<rs::TrialRecord> trials = Trials(out, "01");
@@ -152,9 +137,9 @@ TEST_F(SessionTest, SimulatedRunWritesJournalAndBidsExport) {
 
 TEST_F(SessionTest, SameSeedGivesByteIdenticalExports) {
   for (const char* name : {"a", "b"}) {
-    const CliRun run = Burrlab({"run", protocol_, "--subject", "03", "--out",
-                                (dir_ / name).string(), "--seed", "99",
-                                "--observer", "simulated"});
+    const CliRun run = RunBurrlab({"run", protocol_, "--subject", "03", "--out",
+                                   (dir_ / name).string(), "--seed", "99",
+                                   "--observer", "simulated"});
     ASSERT_EQ(run.code, 0) << run.err;
   }
   for (const char* file :
@@ -164,9 +149,9 @@ TEST_F(SessionTest, SameSeedGivesByteIdenticalExports) {
     EXPECT_FALSE(a.empty()) << file;
     EXPECT_EQ(a, Read(dir_ / "b" / "sub-03" / "beh" / file)) << file;
   }
-  const CliRun other = Burrlab({"run", protocol_, "--subject", "03", "--out",
-                                (dir_ / "c").string(), "--seed", "100",
-                                "--observer", "simulated"});
+  const CliRun other = RunBurrlab({"run", protocol_, "--subject", "03", "--out",
+                                   (dir_ / "c").string(), "--seed", "100",
+                                   "--observer", "simulated"});
   ASSERT_EQ(other.code, 0);
   EXPECT_NE(Read(dir_ / "a" / "sub-03" / "beh" / "sub-03_task-sd_beh.tsv"),
             Read(dir_ / "c" / "sub-03" / "beh" / "sub-03_task-sd_beh.tsv"));
@@ -174,14 +159,14 @@ TEST_F(SessionTest, SameSeedGivesByteIdenticalExports) {
 
 TEST_F(SessionTest, ExistingSubjectIsNeverOverwritten) {
   const fs::path out = dir_ / "out";
-  ASSERT_EQ(Burrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
-                     "--observer", "simulated"})
+  ASSERT_EQ(RunBurrlab({"run", protocol_, "--subject", "01", "--out",
+                        out.string(), "--observer", "simulated"})
                 .code,
             0);
   const std::string before =
       Read(out / "sub-01" / "beh" / "sub-01_task-sd_beh.tsv");
-  const CliRun again = Burrlab({"run", protocol_, "--subject", "01", "--out",
-                                out.string(), "--observer", "simulated"});
+  const CliRun again = RunBurrlab({"run", protocol_, "--subject", "01", "--out",
+                                   out.string(), "--observer", "simulated"});
   EXPECT_EQ(again.code, 1);
   EXPECT_EQ(again.err, "burrlab: sub-01 already exists in " + out.string() +
                            "; use --resume to continue it\n");
@@ -193,8 +178,8 @@ TEST_F(SessionTest, UnwritableFolderIsAClearError) {
   const fs::path file = dir_ / "a_file";
   Write(file.string(), "x");
   const CliRun run =
-      Burrlab({"run", protocol_, "--subject", "01", "--out",
-               (file / "out").string(), "--observer", "simulated"});
+      RunBurrlab({"run", protocol_, "--subject", "01", "--out",
+                  (file / "out").string(), "--observer", "simulated"});
   EXPECT_EQ(run.code, 1);
   EXPECT_THAT(run.err, HasSubstr("burrlab: cannot create folder"));
   EXPECT_THAT(run.err, HasSubstr("Not a directory"));
@@ -202,13 +187,13 @@ TEST_F(SessionTest, UnwritableFolderIsAClearError) {
 
 TEST_F(SessionTest, ResumeRefusesAnotherProtocolOrSeed) {
   const fs::path out = dir_ / "out";
-  ASSERT_EQ(Burrlab({"run", protocol_, "--subject", "02", "--out", out.string(),
-                     "--seed", "5", "--observer", "simulated"})
+  ASSERT_EQ(RunBurrlab({"run", protocol_, "--subject", "02", "--out",
+                        out.string(), "--seed", "5", "--observer", "simulated"})
                 .code,
             0);
   const CliRun seed =
-      Burrlab({"run", protocol_, "--subject", "02", "--out", out.string(),
-               "--seed", "6", "--observer", "simulated", "--resume"});
+      RunBurrlab({"run", protocol_, "--subject", "02", "--out", out.string(),
+                  "--seed", "6", "--observer", "simulated", "--resume"});
   EXPECT_EQ(seed.code, 1);
   EXPECT_EQ(seed.err, "burrlab: cannot resume sub-02 in " + out.string() +
                           ": the seed differs from the journal's (5 in the "
@@ -218,16 +203,16 @@ TEST_F(SessionTest, ResumeRefusesAnotherProtocolOrSeed) {
   const std::string other = (dir_ / "other.toml").string();
   Write(other, changed);
   const CliRun protocol =
-      Burrlab({"run", other, "--subject", "02", "--out", out.string(), "--seed",
-               "5", "--observer", "simulated", "--resume"});
+      RunBurrlab({"run", other, "--subject", "02", "--out", out.string(),
+                  "--seed", "5", "--observer", "simulated", "--resume"});
   EXPECT_EQ(protocol.code, 1);
   EXPECT_THAT(protocol.err,
               HasSubstr("burrlab: cannot resume sub-02 in " + out.string() +
                         ": the protocol differs from the journal's (sha256 "));
   EXPECT_EQ(Trials(out, "02").size(), 20u);
   const CliRun missing =
-      Burrlab({"run", protocol_, "--subject", "09", "--out", out.string(),
-               "--observer", "simulated", "--resume"});
+      RunBurrlab({"run", protocol_, "--subject", "09", "--out", out.string(),
+                  "--observer", "simulated", "--resume"});
   EXPECT_EQ(missing.code, 1);
   EXPECT_THAT(missing.err, HasSubstr("no journal for sub-09 in"));
 }
@@ -293,8 +278,8 @@ TEST_F(SessionTest, TypedAnswersAtThePromptAreRecorded) {
 
 TEST_F(SessionTest, PlanPrintsTheTrialSequenceAsJson) {
   const CliRun run =
-      Burrlab({"plan", protocol_, "--seed", "3", "--json", "--responses",
-               "1,1,1,1,1,1,1,1,1,1,1,1,1,1,0,1,1,1,1,1"});
+      RunBurrlab({"plan", protocol_, "--seed", "3", "--json", "--responses",
+                  "1,1,1,1,1,1,1,1,1,1,1,1,1,1,0,1,1,1,1,1"});
   ASSERT_EQ(run.code, 0) << run.err;
   const auto doc = nlohmann::json::parse(run.out);
   ASSERT_EQ(doc["trials"].size(), 20u);
@@ -313,14 +298,14 @@ TEST_F(SessionTest, PlanPrintsTheTrialSequenceAsJson) {
               1e-12);
   EXPECT_TRUE(doc["note"].is_null());
   // The same seed gives the same text.
-  EXPECT_EQ(run.out,
-            Burrlab({"plan", protocol_, "--seed", "3", "--json", "--responses",
-                     "1,1,1,1,1,1,1,1,1,1,1,1,1,1,0,1,1,1,1,1"})
-                .out);
+  EXPECT_EQ(run.out, RunBurrlab({"plan", protocol_, "--seed", "3", "--json",
+                                 "--responses",
+                                 "1,1,1,1,1,1,1,1,1,1,1,1,1,1,0,1,1,1,1,1"})
+                         .out);
 }
 
 TEST_F(SessionTest, PlanStopsWhereAdaptiveResponsesRunOut) {
-  const CliRun run = Burrlab({"plan", protocol_, "--seed", "3"});
+  const CliRun run = RunBurrlab({"plan", protocol_, "--seed", "3"});
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_THAT(run.out,
               HasSubstr("stopped before trial 12: block \"stairs\" "
@@ -330,14 +315,14 @@ TEST_F(SessionTest, PlanStopsWhereAdaptiveResponsesRunOut) {
 
 TEST_F(SessionTest, StudyRunsEverySubjectAndRefusesToOverwrite) {
   const fs::path out = dir_ / "study";
-  const CliRun run = Burrlab({"study", protocol_, "--simulated-subjects", "3",
-                              "--out", out.string(), "--jobs", "2"});
+  const CliRun run = RunBurrlab({"study", protocol_, "--simulated-subjects",
+                                 "3", "--out", out.string(), "--jobs", "2"});
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_THAT(run.out, HasSubstr("3 of 3 simulated subjects completed"));
   for (const char* s : {"01", "02", "03"}) {
     EXPECT_EQ(Trials(out, s).size(), 20u) << s;
   }
-  const CliRun again = Burrlab(
+  const CliRun again = RunBurrlab(
       {"study", protocol_, "--simulated-subjects", "3", "--out", out.string()});
   EXPECT_EQ(again.code, 1);
   EXPECT_EQ(again.err, "burrlab: sub-01 already exists in " + out.string() +

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,7 +23,8 @@ namespace burrlab::stimuli {
 namespace {
 
 // Trace columns.
-constexpr std::size_t kPosition = 0, kForce = 1, kDepth = 2, kTarget = 3;
+constexpr std::size_t kPosition = 0, kForce = 1, kDepth = 2, kTarget = 3,
+                      kRemoved = 4;
 
 sim::Material Builtin(std::string_view name) {
   Result<MaterialSet> set = LoadBuiltinMaterial(name);
@@ -234,6 +236,17 @@ TEST(DrillInterval, HoldsTheForceWhileTheBlockWindowMoves) {
   EXPECT_LT(largest_jump, 0.01);
 }
 
+TEST(DrillInterval, RemovedColumnSumsTheErodedMaterial) {
+  // The removed_mm3 column accumulates the material eroded since the interval
+  // began: it never decreases and ends at the interval's total.
+  const IntervalResult r = Present(Drill(Builtin("pvc_k70"), 3.0, 8.0));
+  ASSERT_EQ(r.rows.size(), 8000u);
+  for (std::size_t i = 1; i < r.rows.size(); ++i) {
+    ASSERT_GE(r.rows[i][kRemoved], r.rows[i - 1][kRemoved]) << "row " << i;
+  }
+  EXPECT_NEAR(r.rows.back()[4], r.removed_mm3, 1e-9 * r.removed_mm3);
+}
+
 TEST(Interval, SameOptionsReplayTheSameTrace) {
   const IntervalOptions o = Drill(Builtin("pvc_k70"), 2.5, 3.0);
   const IntervalResult a = Present(o), b = Present(o);
@@ -261,23 +274,23 @@ TEST(Interval, TraceRowsAreBlockMeansOfTheTicks) {
   const IntervalResult rows = Present(o);
   EXPECT_EQ(rows.columns,
             (std::vector<std::string>{"position_z_mm", "force_n", "depth_mm",
-                                      "target_force_n"}));
+                                      "target_force_n", "removed_mm3"}));
   EXPECT_EQ(rows.steps, 1500);
   ASSERT_EQ(ticks.rows.size(), 1500u);
   ASSERT_EQ(rows.rows.size(), 150u);  // duration_s x trace_hz
   for (std::size_t r = 0; r < rows.rows.size(); ++r) {
-    ASSERT_EQ(rows.rows[r].size(), 4u);
+    ASSERT_EQ(rows.rows[r].size(), 5u);
     double ramp = 0.0;
-    std::vector<double> mean(4, 0.0);
+    std::vector<double> mean(5, 0.0);
     for (int i = 0; i < 10; ++i) {
       const int tick = static_cast<int>(10 * r) + i;
       ramp += RampTarget(o, tick) / 10.0;
-      for (std::size_t c = 0; c < 4; ++c) mean[c] += ticks.rows[tick][c] / 10.0;
+      for (std::size_t c = 0; c < 5; ++c) mean[c] += ticks.rows[tick][c] / 10.0;
     }
     // The time base: the target is the closed-form ramp averaged over the
     // row's ten ticks.
     EXPECT_NEAR(rows.rows[r][kTarget], ramp, 1e-12) << r;
-    for (std::size_t c = 0; c < 4; ++c) {
+    for (std::size_t c = 0; c < 5; ++c) {
       EXPECT_NEAR(rows.rows[r][c], mean[c], 1e-12) << r << " " << c;
     }
     EXPECT_NEAR(rows.rows[r][kDepth], o.radius_mm - rows.rows[r][kPosition],

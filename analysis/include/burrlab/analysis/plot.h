@@ -5,7 +5,9 @@
 #ifndef BURRLAB_ANALYSIS_PLOT_H_
 #define BURRLAB_ANALYSIS_PLOT_H_
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "burrlab/sim/result.h"
@@ -24,6 +26,9 @@ struct Series {
   // Side of each point's marker in pixels (e.g. growing with a count);
   // empty: 7 px for every point.
   std::vector<double> marker_px = {};
+  // > 0: each point is a bar from y = 0 to y, this wide in x units (a
+  // histogram); the y axis then includes 0.
+  double bar_width = 0.0;
 };
 
 struct LinePlot {
@@ -32,6 +37,11 @@ struct LinePlot {
   std::string y_label;
   std::vector<Series> series;
   bool log_y = false;  // logarithmic y axis; points with y <= 0 are skipped
+  // Fixed x axis limits (low < high); unset: ticks around the data.
+  std::optional<std::pair<double, double>> x_range;
+  // Counts: ticks only at whole numbers (every one when at most 25 fit).
+  bool integer_x = false;
+  bool integer_y = false;
   int width_px = 900;
   int height_px = 600;
 };

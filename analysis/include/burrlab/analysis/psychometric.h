@@ -78,6 +78,9 @@ struct PsychometricOptions {
   std::vector<double> conf = {0.023, 0.159, 0.841, 0.977, 0.025, 0.975};
   int bootstrap_samples = 1999;  // refitted simulated data sets; 0: none
   std::uint64_t seed = 1;        // Boost mt19937_64 seed of the bootstrap
+  // Likelihood evaluations allowed per optimiser start (as Palamedes'
+  // MaxFunEvals); a start that needs more is not converged.
+  int max_evaluations = 2000;
 
   // Names the first bad field, its value and the rule it breaks.
   Status Validate() const;

@@ -48,9 +48,11 @@ struct IntervalResult {
   // Trace columns: "position_z_mm" (burr centre above the block's original
   // surface), "force_n" (vertical force the hand feels, positive pushing the
   // burr up), "depth_mm" (lowest point of the burr below the original
-  // surface), "target_force_n" (the hand's force target). Rows at trace_hz
-  // from t = 0, block means of the 1 kHz ticks (so no aliasing); the last row
-  // averages the ticks left when duration_s is not a whole number of periods.
+  // surface), "target_force_n" (the hand's force target), "removed_mm3"
+  // (solid-equivalent material eroded since the interval began). Rows at
+  // trace_hz from t = 0, block means of the 1 kHz ticks (so no aliasing); the
+  // last row averages the ticks left when duration_s is not a whole number of
+  // periods.
   std::vector<std::string> columns;
   std::vector<std::vector<double>> rows;
   // The cue of the task, from the 1 kHz force and position the hand feels:

@@ -1,0 +1,65 @@
+// Thresholds per subject and block by each method's own estimator, from the
+// exported trials: staircases the mean of the last k reversal levels in the
+// step scale's domain (Levitt 1971), QUEST the posterior mean (Watson & Pelli
+// 1983; King-Smith et al. 1994), limits the mean of the series' transition
+// levels, adjustment the mean adjusted level, and constant stimuli a
+// maximum-likelihood psychometric fit (psychometric.h) with a bootstrap
+// interval.
+#ifndef BURRLAB_ANALYSIS_THRESHOLDS_H_
+#define BURRLAB_ANALYSIS_THRESHOLDS_H_
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "burrlab/analysis/psychometric.h"
+#include "burrlab/results_schema/bids_read.h"
+#include "burrlab/sim/result.h"
+
+namespace burrlab::analysis {
+
+struct ThresholdOptions {
+  // Staircases: reversals averaged; 0 takes each staircase's
+  // threshold_reversals from the protocol (recorded with its trials).
+  int reversals = 0;
+  // Constant stimuli: the psychometric fit.
+  Sigmoid sigmoid = Sigmoid::kLogistic;
+  double cut = 0.5;             // of F: with 2AFC, 0.5 is 75 % correct
+  int bootstrap_samples = 999;  // for the threshold's 95 % BCa interval
+  std::uint64_t seed = 1;       // bootstrap seed
+};
+
+struct ThresholdEstimate {
+  std::string subject;
+  std::string block;
+  std::string method;
+  std::string task;
+  std::optional<int> staircase_id;  // interleaved staircases: which
+  std::string estimator;            // how `value` was formed, for people
+  std::optional<double> value;      // in stim_unit; none: see `note`
+  std::string stim_unit;
+  // Spread of the values averaged (sample SD) or the posterior SD; none with
+  // fewer than 2 values.
+  std::optional<double> spread;
+  std::string spread_unit;  // stim_unit, "log10" or "dB"
+  int n = 0;                // reversals, transitions, adjustments or trials
+  // Constant stimuli: 95 % BCa bootstrap interval of the threshold, and the
+  // fit behind it.
+  std::optional<double> ci_low, ci_high;
+  std::optional<PsychometricFit> fit;
+  std::optional<double> deviance_p;
+  std::string note;  // why there is no value, or a caveat
+};
+
+// One estimate per subject, block (and staircase), in the files' order.
+// Blocks of same-different and two-interval designs have no threshold and
+// are left out. An error when no block has one, or for bad options.
+Result<std::vector<ThresholdEstimate>> EstimateThresholds(
+    std::span<const results_schema::BehFile> files,
+    const ThresholdOptions& options);
+
+}  // namespace burrlab::analysis
+
+#endif  // BURRLAB_ANALYSIS_THRESHOLDS_H_

@@ -1,0 +1,306 @@
+// Threshold estimators per method, recomputed from the exported trials.
+#include "burrlab/analysis/thresholds.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "burrlab/analysis/group_stats.h"
+
+namespace burrlab::analysis {
+namespace {
+
+using results_schema::BehFile;
+using results_schema::TrialRecord;
+using Json = nlohmann::json;
+
+Json Extra(const TrialRecord& t) {
+  Json j = Json::parse(t.extra, nullptr, false);
+  return j.is_object() ? j : Json::object();
+}
+
+std::optional<double> NumberIn(const Json& j, const char* key) {
+  if (!j.contains(key) || !j[key].is_number()) return std::nullopt;
+  return j[key].get<double>();
+}
+
+// Sample SD of `values` (n - 1), none below 2 values.
+std::optional<double> Spread(const std::vector<double>& values) {
+  Result<MeanSem> m = MeanAndSem(values);
+  if (!m.ok()) return std::nullopt;
+  return m->sd;
+}
+
+double Mean(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return sum / static_cast<double>(values.size());
+}
+
+// A staircase's step domain: how levels are averaged (Levitt 1971 averages
+// in the units the steps are taken in).
+struct Domain {
+  std::string name;  // "linear", "log10" or "db"
+  double To(double level) const {
+    if (name == "log10") return std::log10(level);
+    if (name == "db") return 20.0 * std::log10(level);
+    return level;
+  }
+  double From(double value) const {
+    if (name == "log10") return std::pow(10.0, value);
+    if (name == "db") return std::pow(10.0, value / 20.0);
+    return value;
+  }
+  std::string Unit(const std::string& stim_unit) const {
+    if (name == "log10") return "log10";
+    if (name == "db") return "dB";
+    return stim_unit;
+  }
+};
+
+ThresholdEstimate Base(const std::string& subject,
+                       const std::vector<const TrialRecord*>& trials) {
+  ThresholdEstimate e;
+  e.subject = subject;
+  e.block = trials.front()->block;
+  e.method = trials.front()->method;
+  e.task = trials.front()->task;
+  e.stim_unit = trials.front()->stim_unit;
+  e.spread_unit = e.stim_unit;
+  return e;
+}
+
+ThresholdEstimate Staircase(const std::string& subject, int id,
+                            const std::vector<const TrialRecord*>& trials,
+                            const ThresholdOptions& options) {
+  ThresholdEstimate e = Base(subject, trials);
+  e.staircase_id = id;
+  const Json last = Extra(*trials.back());
+  Domain domain{last.contains("step_scale") && last["step_scale"].is_string()
+                    ? last["step_scale"].get<std::string>()
+                    : "linear"};
+  if (domain.name != "linear" && domain.name != "log10" &&
+      domain.name != "db") {
+    domain.name = "linear";
+  }
+  int k = options.reversals;
+  if (k == 0) {
+    const std::optional<double> recorded =
+        NumberIn(last, "threshold_reversals");
+    k = recorded.has_value() ? static_cast<int>(*recorded) : 6;
+    if (!recorded.has_value()) {
+      e.note = "the trials do not record threshold_reversals; used 6";
+    }
+  }
+  std::vector<double> reversals;
+  for (const TrialRecord* t : trials) {
+    if (t->reversal.value_or(false) && t->stim_level.has_value()) {
+      reversals.push_back(domain.To(*t->stim_level));
+    }
+  }
+  e.estimator =
+      fmt::format("mean of the last {} reversals ({} scale)", k, domain.name);
+  e.spread_unit = domain.Unit(e.stim_unit);
+  if (static_cast<int>(reversals.size()) < k) {
+    e.n = static_cast<int>(reversals.size());
+    e.note = fmt::format(
+        "only {} reversals in {} trials; {} are needed (fewer with "
+        "--reversals)",
+        reversals.size(), trials.size(), k);
+    return e;
+  }
+  const std::vector<double> used(reversals.end() - k, reversals.end());
+  e.n = k;
+  e.value = domain.From(Mean(used));
+  e.spread = Spread(used);
+  return e;
+}
+
+ThresholdEstimate Quest(const std::string& subject,
+                        const std::vector<const TrialRecord*>& trials) {
+  ThresholdEstimate e = Base(subject, trials);
+  e.estimator = "QUEST posterior mean";
+  e.spread_unit = "log10";
+  e.n = static_cast<int>(trials.size());
+  const Json last = Extra(*trials.back());
+  const std::optional<double> mean = NumberIn(last, "posterior_mean_log10");
+  if (!mean.has_value()) {
+    e.note = "the last trial records no posterior_mean_log10";
+    return e;
+  }
+  e.value = std::pow(10.0, *mean);
+  e.spread = NumberIn(last, "posterior_sd_log10");
+  return e;
+}
+
+ThresholdEstimate Limits(const std::string& subject,
+                         const std::vector<const TrialRecord*>& trials) {
+  ThresholdEstimate e = Base(subject, trials);
+  e.estimator = "mean of the series' transition levels";
+  std::vector<double> transitions;
+  int series = 0;
+  for (const TrialRecord* t : trials) {
+    const Json extra = Extra(*t);
+    if (!extra.value("ends_series", false)) continue;
+    ++series;
+    if (const std::optional<double> level =
+            NumberIn(extra, "transition_level")) {
+      transitions.push_back(*level);
+    }
+  }
+  e.n = static_cast<int>(transitions.size());
+  if (transitions.empty()) {
+    e.note = fmt::format(
+        "none of the {} finished series changed its answer (each ran into "
+        "the floor or ceiling)",
+        series);
+    return e;
+  }
+  if (e.n < series) {
+    e.note =
+        fmt::format("{} of {} series had no transition", series - e.n, series);
+  }
+  e.value = Mean(transitions);
+  e.spread = Spread(transitions);
+  return e;
+}
+
+ThresholdEstimate Adjustment(const std::string& subject,
+                             const std::vector<const TrialRecord*>& trials) {
+  ThresholdEstimate e = Base(subject, trials);
+  e.estimator = "mean adjusted level";
+  std::vector<double> finals;
+  for (const TrialRecord* t : trials) {
+    if (const std::optional<double> level =
+            NumberIn(Extra(*t), "final_level")) {
+      finals.push_back(*level);
+    } else if (t->stim_level.has_value()) {
+      finals.push_back(*t->stim_level);
+    }
+  }
+  e.n = static_cast<int>(finals.size());
+  if (finals.empty()) {
+    e.note = "no adjustment was finished";
+    return e;
+  }
+  e.value = Mean(finals);
+  e.spread = Spread(finals);
+  return e;
+}
+
+ThresholdEstimate ConstantStimuli(const std::string& subject,
+                                  const std::vector<const TrialRecord*>& trials,
+                                  const ThresholdOptions& options) {
+  ThresholdEstimate e = Base(subject, trials);
+  const bool yes_no = trials.front()->trial_type != "2afc";
+  std::map<double, DataBlock> pooled;
+  for (const TrialRecord* t : trials) {
+    if (!t->stim_level.has_value()) continue;
+    DataBlock& b = pooled[*t->stim_level];
+    b.level = *t->stim_level;
+    ++b.n_total;
+    b.n_correct += yes_no ? (t->response == "yes" ? 1 : 0)
+                          : (t->correct.value_or(false) ? 1 : 0);
+  }
+  std::vector<DataBlock> data;
+  for (const auto& [level, block] : pooled) data.push_back(block);
+  PsychometricOptions o;
+  o.sigmoid = options.sigmoid;
+  o.n_intervals = yes_no ? 1 : 2;
+  o.cuts = {options.cut};
+  o.conf = {0.025, 0.975};
+  o.bootstrap_samples = options.bootstrap_samples;
+  o.seed = options.seed;
+  e.estimator =
+      fmt::format("{} fit ({}), threshold F^-1({})", SigmoidName(o.sigmoid),
+                  yes_no ? "yes/no" : "2AFC", options.cut);
+  e.n = static_cast<int>(trials.size());
+  if (Status s = ValidateData(data, o.sigmoid); !s.ok()) {
+    e.note = "no fit: " + s.error().message;
+    return e;
+  }
+  Result<PsychometricAnalysis> a = AnalyzePsychometric(data, o);
+  if (!a.ok()) {
+    e.note = "no fit: " + a.error().message;
+    return e;
+  }
+  e.fit = a->fit;
+  e.value = a->thresholds[0].value;
+  if (std::isfinite(a->thresholds[0].bca[0]))
+    e.ci_low = a->thresholds[0].bca[0];
+  if (std::isfinite(a->thresholds[0].bca[1])) {
+    e.ci_high = a->thresholds[0].bca[1];
+  }
+  if (std::isfinite(a->deviance_p)) e.deviance_p = a->deviance_p;
+  std::string notes;
+  for (const std::string& w : a->warnings)
+    notes += (notes.empty() ? "" : "; ") + w;
+  if (!a->fit.converged) {
+    notes = "the fit did not converge" + (notes.empty() ? "" : "; " + notes);
+  }
+  e.note = notes;
+  return e;
+}
+
+}  // namespace
+
+Result<std::vector<ThresholdEstimate>> EstimateThresholds(
+    std::span<const BehFile> files, const ThresholdOptions& options) {
+  if (options.reversals < 0) {
+    return Error{
+        fmt::format("reversals must be 0 (the protocol's) or more, "
+                    "got {}",
+                    options.reversals)};
+  }
+  if (!(options.cut > 0.0 && options.cut < 1.0)) {
+    return Error{fmt::format("cut must be in (0, 1), got {}", options.cut)};
+  }
+  if (options.bootstrap_samples < 0) {
+    return Error{fmt::format("bootstrap samples must be 0 or more, got {}",
+                             options.bootstrap_samples)};
+  }
+  std::vector<ThresholdEstimate> out;
+  for (const BehFile& file : files) {
+    // Trials per block in order, then per staircase.
+    std::vector<std::string> blocks;
+    std::map<std::string, std::vector<const TrialRecord*>> by_block;
+    for (const TrialRecord& t : file.table.trials) {
+      auto& list = by_block[t.block];
+      if (list.empty()) blocks.push_back(t.block);
+      list.push_back(&t);
+    }
+    for (const std::string& block : blocks) {
+      const std::vector<const TrialRecord*>& trials = by_block[block];
+      const std::string& method = trials.front()->method;
+      if (method == "staircase") {
+        std::map<int, std::vector<const TrialRecord*>> tracks;
+        for (const TrialRecord* t : trials) {
+          tracks[t->staircase_id.value_or(0)].push_back(t);
+        }
+        for (const auto& [id, track] : tracks) {
+          out.push_back(Staircase(file.subject, id, track, options));
+        }
+      } else if (method == "quest") {
+        out.push_back(Quest(file.subject, trials));
+      } else if (method == "limits") {
+        out.push_back(Limits(file.subject, trials));
+      } else if (method == "adjustment") {
+        out.push_back(Adjustment(file.subject, trials));
+      } else if (method == "constant_stimuli") {
+        out.push_back(ConstantStimuli(file.subject, trials, options));
+      }
+    }
+  }
+  if (out.empty()) {
+    return Error{
+        "no block has a threshold (staircase, quest, limits, adjustment or "
+        "constant_stimuli); same-different and two-interval blocks are "
+        "scored with burrlab analyze scores"};
+  }
+  return out;
+}
+
+}  // namespace burrlab::analysis

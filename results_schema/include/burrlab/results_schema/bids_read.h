@@ -1,0 +1,69 @@
+// Reading burrlab's BIDS-style exports back (bids_export.h writes them): the
+// _beh.tsv of each subject and block as TrialRecords, and the _physio.tsv.gz
+// traces row by row, so analyses work from the files a lab archives and
+// shares. Parsers take (path, text) so tests need no files; errors read
+// "path:line:col: error: message".
+#ifndef BURRLAB_RESULTS_SCHEMA_BIDS_READ_H_
+#define BURRLAB_RESULTS_SCHEMA_BIDS_READ_H_
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "burrlab/results_schema/records.h"
+#include "burrlab/results_schema/status.h"
+
+namespace burrlab::results_schema {
+
+// Largest _beh.tsv read (bytes): a million trials of typical rows.
+inline constexpr std::uintmax_t kMaxBehBytes = 512ull << 20;
+
+// The trials of one _beh.tsv (header = BehColumns(), in any order; other
+// columns are ignored). rng_state is not exported and stays empty; extra is
+// "{}" where the file says n/a.
+struct BehTable {
+  std::uint64_t seed = 0;  // the seed column (the same on every row)
+  std::vector<TrialRecord> trials;
+};
+Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text);
+
+// One subject's traces of one block: the _physio.json sidecar and its data.
+struct PhysioFile {
+  std::filesystem::path data_path;  // ..._physio.tsv.gz
+  double sampling_frequency_hz = 0.0;
+  double start_time_s = 0.0;
+  // All columns: trial_index, interval_index, time, then the trace's own.
+  std::vector<std::string> columns;
+};
+
+// One subject's block as exported.
+struct BehFile {
+  std::string subject;  // label without "sub-"
+  std::string task;     // the task label of the file name
+  std::filesystem::path path;
+  BehTable table;
+  std::vector<PhysioFile> physio;  // one per recording kind (often one)
+};
+
+// Every DIR/sub-*/beh/sub-*_task-*_beh.tsv, sorted by subject label, then by
+// the first trial index of the block (the order the subject ran them). Files
+// that are not burrlab's (other names) are left alone; a malformed burrlab
+// file is an error naming it. A folder without any is an error.
+Result<std::vector<BehFile>> ReadBidsDataset(const std::filesystem::path& dir);
+
+// Reads a _physio.json sidecar; data_path is the .tsv.gz beside it.
+Result<PhysioFile> ReadPhysioSidecar(const std::filesystem::path& json_path);
+
+// Streams the rows of `file`'s data: `row` gets one value per column (n/a as
+// NaN) and returns false to stop early. Errors name the file and line.
+Status ForEachPhysioRow(
+    const PhysioFile& file,
+    const std::function<bool(std::span<const double>)>& row);
+
+}  // namespace burrlab::results_schema
+
+#endif  // BURRLAB_RESULTS_SCHEMA_BIDS_READ_H_

@@ -1,0 +1,461 @@
+// Reading the BIDS-style exports back: _beh.tsv tables, dataset discovery,
+// _physio sidecars and streamed .tsv.gz rows.
+#include "burrlab/results_schema/bids_read.h"
+
+#include <fmt/format.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "burrlab/results_schema/bids_export.h"
+#include "text.h"
+
+namespace burrlab::results_schema {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr std::string_view kNa = "n/a";
+
+// Splits a line at tabs, keeping the 0-based byte offset of each cell.
+struct Cell {
+  std::string_view text;
+  std::size_t offset = 0;
+};
+std::vector<Cell> SplitTabs(std::string_view line) {
+  std::vector<Cell> cells;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t tab = line.find('\t', start);
+    cells.push_back({line.substr(start, tab - start), start});
+    if (tab == std::string_view::npos) break;
+    start = tab + 1;
+  }
+  return cells;
+}
+
+std::optional<double> ParseDouble(std::string_view text) {
+  double value = 0.0;
+  const auto [end, ec] =
+      std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() ||
+      !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+template <typename Int>
+std::optional<Int> ParseInt(std::string_view text) {
+  Int value = 0;
+  const auto [end, ec] =
+      std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty()) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+// Reads a whole file of at most `limit` bytes.
+Result<std::string> ReadSmallFile(const fs::path& path, std::uintmax_t limit) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec)
+    return Error{
+        fmt::format("cannot read {}: {}", path.string(), ec.message())};
+  if (size > limit) {
+    return Error{
+        fmt::format("cannot read {}: {} bytes is more than the {} "
+                    "bytes accepted",
+                    path.string(), size, limit)};
+  }
+  errno = 0;
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    return Error{fmt::format("cannot read {}: {}", path.string(),
+                             std::strerror(errno != 0 ? errno : EIO))};
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) return Error{fmt::format("cannot read {}", path.string())};
+  return text.str();
+}
+
+// "sub-<label>_task-<task>[_recording-<k>]_<suffix>" -> (label, task, k).
+struct BidsName {
+  std::string subject, task, recording;
+};
+std::optional<BidsName> ParseBidsName(std::string_view name,
+                                      std::string_view suffix) {
+  if (!name.starts_with("sub-") || !name.ends_with(suffix)) return std::nullopt;
+  name.remove_suffix(suffix.size());
+  name.remove_prefix(4);
+  const std::size_t task = name.find("_task-");
+  if (task == std::string_view::npos || task == 0) return std::nullopt;
+  BidsName out;
+  out.subject = std::string(name.substr(0, task));
+  std::string_view rest = name.substr(task + 6);
+  const std::size_t recording = rest.find("_recording-");
+  if (recording != std::string_view::npos) {
+    out.recording = std::string(rest.substr(recording + 11));
+    rest = rest.substr(0, recording);
+  }
+  out.task = std::string(rest);
+  if (out.task.empty() || !ValidateSubjectLabel(out.subject)) {
+    return std::nullopt;
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
+  const auto fail = [&](int line, std::size_t column, const std::string& what) {
+    return Error{line > 0 ? fmt::format("{}:{}:{}: error: {}", path, line,
+                                        column + 1, what)
+                          : fmt::format("{}: error: {}", path, what)};
+  };
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  std::vector<std::string_view> lines;
+  for (std::size_t start = 0; start < text.size();) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    if (line.ends_with('\r')) line.remove_suffix(1);
+    lines.push_back(line);
+    start = end + 1;
+  }
+  if (lines.empty() || lines[0].empty()) {
+    return fail(0, 0,
+                "the file is empty; expected a _beh.tsv with the header "
+                "trial_index\tblock\t...");
+  }
+  const std::vector<Cell> header = SplitTabs(lines[0]);
+  std::map<std::string, std::size_t, std::less<>> index;
+  for (std::size_t k = 0; k < header.size(); ++k) {
+    index.emplace(std::string(header[k].text), k);
+  }
+  std::vector<std::size_t> at;  // BehColumns() position -> file column
+  for (const std::string& name : BehColumns()) {
+    const auto it = index.find(name);
+    if (it == index.end()) {
+      return fail(1, 0,
+                  fmt::format("the header has no column '{}' (a burrlab "
+                              "_beh.tsv has {})",
+                              name, fmt::join(BehColumns(), ", ")));
+    }
+    at.push_back(it->second);
+  }
+  enum Col {
+    kTrialIndex,
+    kBlock,
+    kMethod,
+    kTask,
+    kTrialType,
+    kStimLevel,
+    kStimUnit,
+    kMaterials,
+    kCorrectAnswer,
+    kResponse,
+    kCorrect,
+    kResponseTime,
+    kStaircaseId,
+    kReversal,
+    kStepSize,
+    kEstimate,
+    kSeed,
+    kExtra
+  };
+  BehTable table;
+  bool have_seed = false;
+  for (std::size_t n = 1; n < lines.size(); ++n) {
+    if (lines[n].empty()) continue;
+    const int line = static_cast<int>(n) + 1;
+    const std::vector<Cell> cells = SplitTabs(lines[n]);
+    if (cells.size() != header.size()) {
+      return fail(line, 0,
+                  fmt::format("{} cells, but the header has {} columns",
+                              cells.size(), header.size()));
+    }
+    const auto cell = [&](Col c) -> const Cell& { return cells[at[c]]; };
+    const auto bad = [&](Col c, std::string_view rule) {
+      return fail(
+          line, cell(c).offset,
+          fmt::format("{} {} {}", BehColumns()[c], Quoted(cell(c).text), rule));
+    };
+    const auto text_of = [&](Col c) {
+      return cell(c).text == kNa ? std::string() : std::string(cell(c).text);
+    };
+    const auto number = [&](Col c, std::optional<double>* out) -> bool {
+      if (cell(c).text == kNa) return true;
+      *out = ParseDouble(cell(c).text);
+      return out->has_value();
+    };
+    const auto flag = [&](Col c, std::optional<bool>* out) -> bool {
+      if (cell(c).text == kNa) return true;
+      if (cell(c).text != "0" && cell(c).text != "1") return false;
+      *out = cell(c).text == "1";
+      return true;
+    };
+    TrialRecord t;
+    const std::optional<int> index_value =
+        ParseInt<int>(cell(kTrialIndex).text);
+    if (!index_value || *index_value < 0) {
+      return bad(kTrialIndex, "is not a whole number of at least 0");
+    }
+    t.trial_index = *index_value;
+    t.block = std::string(cell(kBlock).text);
+    t.method = std::string(cell(kMethod).text);
+    t.task = std::string(cell(kTask).text);
+    if (!IsKnownTask(t.task)) return bad(kTask, "is not 'probe' or 'drill'");
+    t.trial_type = text_of(kTrialType);
+    if (!number(kStimLevel, &t.stim_level)) {
+      return bad(kStimLevel, "is not a finite number or n/a");
+    }
+    t.stim_unit = text_of(kStimUnit);
+    if (cell(kMaterials).text != kNa) {
+      std::string_view m = cell(kMaterials).text;
+      for (std::size_t s = 0;;) {
+        const std::size_t plus = m.find('+', s);
+        t.interval_materials.emplace_back(m.substr(s, plus - s));
+        if (plus == std::string_view::npos) break;
+        s = plus + 1;
+      }
+    }
+    t.correct_answer = text_of(kCorrectAnswer);
+    t.response = text_of(kResponse);
+    if (!flag(kCorrect, &t.correct)) return bad(kCorrect, "is not 1, 0 or n/a");
+    if (!number(kResponseTime, &t.response_time_s) ||
+        (t.response_time_s && *t.response_time_s < 0.0)) {
+      return bad(kResponseTime, "is not a time of at least 0 s or n/a");
+    }
+    if (cell(kStaircaseId).text != kNa) {
+      t.staircase_id = ParseInt<int>(cell(kStaircaseId).text);
+      if (!t.staircase_id || *t.staircase_id < 0) {
+        return bad(kStaircaseId, "is not a whole number of at least 0 or n/a");
+      }
+    }
+    if (!flag(kReversal, &t.reversal)) {
+      return bad(kReversal, "is not 1, 0 or n/a");
+    }
+    if (!number(kStepSize, &t.step_size)) {
+      return bad(kStepSize, "is not a finite number or n/a");
+    }
+    if (!number(kEstimate, &t.estimate)) {
+      return bad(kEstimate, "is not a finite number or n/a");
+    }
+    const std::optional<std::uint64_t> seed =
+        ParseInt<std::uint64_t>(cell(kSeed).text);
+    if (!seed) return bad(kSeed, "is not a whole number of at least 0");
+    if (have_seed && *seed != table.seed) {
+      return bad(kSeed, fmt::format("differs from the seed {} of the rows "
+                                    "above (one file holds one session)",
+                                    table.seed));
+    }
+    table.seed = *seed;
+    have_seed = true;
+    if (cell(kExtra).text != kNa) {
+      const auto extra =
+          nlohmann::json::parse(cell(kExtra).text, nullptr, false);
+      if (extra.is_discarded() || !extra.is_object()) {
+        return bad(kExtra, "is not a JSON object or n/a");
+      }
+      t.extra = std::string(cell(kExtra).text);
+    }
+    if (!table.trials.empty() &&
+        t.trial_index <= table.trials.back().trial_index) {
+      return bad(kTrialIndex,
+                 fmt::format("does not follow trial {} (rows are in trial "
+                             "order)",
+                             table.trials.back().trial_index));
+    }
+    table.trials.push_back(std::move(t));
+  }
+  if (table.trials.empty()) {
+    return fail(0, 0, "the file has a header but no trials");
+  }
+  return table;
+}
+
+Result<PhysioFile> ReadPhysioSidecar(const fs::path& json_path) {
+  Result<std::string> text = ReadSmallFile(json_path, 16u << 20);
+  if (!text) return text.error();
+  const auto j = nlohmann::json::parse(*text, nullptr, false);
+  const auto fail = [&](const std::string& what) {
+    return Error{fmt::format("{}: error: {}", json_path.string(), what)};
+  };
+  if (j.is_discarded() || !j.is_object()) return fail("not a JSON object");
+  PhysioFile f;
+  const std::string name = json_path.filename().string();
+  if (!name.ends_with("_physio.json")) {
+    return fail("a physio sidecar's name ends in _physio.json");
+  }
+  f.data_path =
+      json_path.parent_path() / (name.substr(0, name.size() - 5) + ".tsv.gz");
+  if (!j.contains("SamplingFrequency") || !j["SamplingFrequency"].is_number() ||
+      !(j["SamplingFrequency"].get<double>() > 0.0)) {
+    return fail("SamplingFrequency must be a number above 0");
+  }
+  f.sampling_frequency_hz = j["SamplingFrequency"].get<double>();
+  if (j.contains("StartTime") && j["StartTime"].is_number()) {
+    f.start_time_s = j["StartTime"].get<double>();
+  }
+  if (!j.contains("Columns") || !j["Columns"].is_array() ||
+      j["Columns"].empty()) {
+    return fail("Columns must be a non-empty array of names");
+  }
+  for (const auto& c : j["Columns"]) {
+    if (!c.is_string())
+      return fail("Columns must be a non-empty array of names");
+    f.columns.push_back(c.get<std::string>());
+  }
+  return f;
+}
+
+Status ForEachPhysioRow(
+    const PhysioFile& file,
+    const std::function<bool(std::span<const double>)>& row) {
+  errno = 0;
+  std::unique_ptr<gzFile_s, int (*)(gzFile)> gz(
+      gzopen(file.data_path.c_str(), "rb"), &gzclose);
+  if (gz == nullptr) {
+    return Error{fmt::format("cannot read {}: {}", file.data_path.string(),
+                             std::strerror(errno != 0 ? errno : ENOMEM))};
+  }
+  std::vector<double> values(file.columns.size());
+  std::string line;
+  char buffer[1 << 16];
+  int line_number = 0;
+  const auto parse = [&]() -> Status {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::size_t k = 0, start = 0;
+    while (true) {
+      const std::size_t tab = line.find('\t', start);
+      const std::string_view cell =
+          std::string_view(line).substr(start, tab - start);
+      if (k >= values.size()) break;
+      if (cell == kNa) {
+        values[k] = std::numeric_limits<double>::quiet_NaN();
+      } else if (const std::optional<double> v = ParseDouble(cell)) {
+        values[k] = *v;
+      } else {
+        return Error{
+            fmt::format("{}:{}:{}: error: {} {} is not a number or n/a",
+                        file.data_path.string(), line_number, start + 1,
+                        file.columns[k], Quoted(cell))};
+      }
+      ++k;
+      if (tab == std::string::npos) break;
+      start = tab + 1;
+    }
+    const std::size_t cells =
+        static_cast<std::size_t>(std::count(line.begin(), line.end(), '\t')) +
+        1;
+    if (cells != values.size()) {
+      return Error{fmt::format(
+          "{}:{}:1: error: {} cells, but the sidecar names {} columns",
+          file.data_path.string(), line_number, cells, values.size())};
+    }
+    return {};
+  };
+  while (true) {
+    if (gzgets(gz.get(), buffer, sizeof buffer) == nullptr) break;
+    line += buffer;
+    if (line.empty() || line.back() != '\n') {
+      if (!gzeof(gz.get())) continue;  // a longer line: read on
+    } else {
+      line.pop_back();
+    }
+    if (line.empty()) continue;
+    if (Status s = parse(); !s) return s;
+    line.clear();
+    if (!row(values)) return {};
+  }
+  int errnum = 0;
+  const char* message = gzerror(gz.get(), &errnum);
+  if (errnum != Z_OK && errnum != Z_STREAM_END) {
+    return Error{
+        fmt::format("cannot read {}: {}", file.data_path.string(),
+                    errnum == Z_ERRNO ? std::strerror(errno) : message)};
+  }
+  return {};
+}
+
+Result<std::vector<BehFile>> ReadBidsDataset(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    return Error{fmt::format("cannot read {}: not a folder", dir.string())};
+  }
+  std::vector<BehFile> files;
+  std::vector<fs::path> subjects;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.starts_with("sub-") && e.is_directory(ec)) {
+      subjects.push_back(e.path());
+    }
+  }
+  if (ec)
+    return Error{fmt::format("cannot read {}: {}", dir.string(), ec.message())};
+  std::sort(subjects.begin(), subjects.end());
+  for (const fs::path& subject : subjects) {
+    const fs::path beh = subject / "beh";
+    if (!fs::is_directory(beh, ec)) continue;
+    std::vector<fs::path> entries;
+    for (const fs::directory_entry& e : fs::directory_iterator(beh, ec)) {
+      entries.push_back(e.path());
+    }
+    std::sort(entries.begin(), entries.end());
+    std::vector<BehFile> mine;
+    for (const fs::path& path : entries) {
+      const std::optional<BidsName> name =
+          ParseBidsName(path.filename().string(), "_beh.tsv");
+      if (!name || !name->recording.empty() ||
+          "sub-" + name->subject != subject.filename().string()) {
+        continue;
+      }
+      Result<std::string> text = ReadSmallFile(path, kMaxBehBytes);
+      if (!text) return text.error();
+      Result<BehTable> table = ParseBehTsv(path.string(), *text);
+      if (!table) return table.error();
+      BehFile f;
+      f.subject = name->subject;
+      f.task = name->task;
+      f.path = path;
+      f.table = std::move(table.value());
+      for (const fs::path& other : entries) {
+        const std::optional<BidsName> p =
+            ParseBidsName(other.filename().string(), "_physio.json");
+        if (!p || p->subject != f.subject || p->task != f.task) continue;
+        Result<PhysioFile> physio = ReadPhysioSidecar(other);
+        if (!physio) return physio.error();
+        f.physio.push_back(std::move(physio.value()));
+      }
+      mine.push_back(std::move(f));
+    }
+    std::sort(mine.begin(), mine.end(), [](const BehFile& a, const BehFile& b) {
+      return a.table.trials.front().trial_index <
+             b.table.trials.front().trial_index;
+    });
+    for (BehFile& f : mine) files.push_back(std::move(f));
+  }
+  if (files.empty()) {
+    return Error{fmt::format(
+        "{} holds no burrlab results (no sub-*/beh/sub-*_task-*_beh.tsv); "
+        "give the --out folder of 'burrlab run' or 'burrlab study'",
+        dir.string())};
+  }
+  return files;
+}
+
+}  // namespace burrlab::results_schema

@@ -1,0 +1,179 @@
+// Tests of the threshold estimators on hand-made tracks: staircase reversal
+// means in the step domain, QUEST's posterior, limits transitions, mean
+// adjusted levels and the constant-stimuli fit on the pooled counts.
+#include "burrlab/analysis/thresholds.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace burrlab::analysis {
+namespace {
+
+using results_schema::BehFile;
+using results_schema::TrialRecord;
+
+TrialRecord Trial(int i, const std::string& method, double level,
+                  const std::string& extra = "{}") {
+  TrialRecord t;
+  t.trial_index = i;
+  t.block = method;
+  t.method = method;
+  t.task = "probe";
+  t.trial_type = "2afc";
+  t.stim_level = level;
+  t.stim_unit = "ratio";
+  t.extra = extra;
+  return t;
+}
+
+BehFile File(std::vector<TrialRecord> trials) {
+  BehFile f;
+  f.subject = "01";
+  f.task = trials.front().block;
+  f.table.trials = std::move(trials);
+  return f;
+}
+
+// Reversals at 0.4, 0.1, 0.8, 0.2, 0.4 on a log10 staircase asking for 4.
+BehFile LogStaircase(const std::string& extra_k = "4") {
+  const std::vector<double> levels = {1.0, 0.4, 0.2, 0.1, 0.8, 0.2, 0.4, 0.3};
+  const std::vector<bool> reversal = {false, true, false, true,
+                                      true,  true, true,  false};
+  std::vector<TrialRecord> trials;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    TrialRecord t = Trial(
+        static_cast<int>(i), "staircase", levels[i],
+        R"({"step_scale":"log10","threshold_reversals":)" + extra_k + "}");
+    t.staircase_id = 0;
+    t.reversal = reversal[i];
+    trials.push_back(t);
+  }
+  return File(trials);
+}
+
+TEST(Thresholds, StaircaseAveragesTheLastReversalsInLogUnits) {
+  Result<std::vector<ThresholdEstimate>> e =
+      EstimateThresholds(std::vector<BehFile>{LogStaircase()}, {});
+  ASSERT_TRUE(e.ok()) << e.error().message;
+  ASSERT_EQ(e->size(), 1u);
+  const ThresholdEstimate& t = (*e)[0];
+  const double logs[4] = {std::log10(0.1), std::log10(0.8), std::log10(0.2),
+                          std::log10(0.4)};
+  const double mean = (logs[0] + logs[1] + logs[2] + logs[3]) / 4.0;
+  double ss = 0.0;
+  for (double l : logs) ss += (l - mean) * (l - mean);
+  EXPECT_NEAR(*t.value, std::pow(10.0, mean), 1e-12);
+  EXPECT_NEAR(*t.spread, std::sqrt(ss / 3.0), 1e-12);
+  EXPECT_EQ(t.spread_unit, "log10");
+  EXPECT_EQ(t.n, 4);
+  EXPECT_EQ(t.staircase_id, 0);
+  EXPECT_EQ(t.estimator, "mean of the last 4 reversals (log10 scale)");
+}
+
+TEST(Thresholds, ReversalsFlagOverridesTheProtocol) {
+  ThresholdOptions o;
+  o.reversals = 2;
+  Result<std::vector<ThresholdEstimate>> e =
+      EstimateThresholds(std::vector<BehFile>{LogStaircase()}, o);
+  ASSERT_TRUE(e.ok());
+  EXPECT_NEAR(*(*e)[0].value, std::sqrt(0.2 * 0.4), 1e-12);
+  o.reversals = 6;
+  e = EstimateThresholds(std::vector<BehFile>{LogStaircase()}, o);
+  ASSERT_TRUE(e.ok());
+  EXPECT_FALSE((*e)[0].value.has_value());
+  EXPECT_EQ((*e)[0].note,
+            "only 5 reversals in 8 trials; 6 are needed (fewer with "
+            "--reversals)");
+}
+
+TEST(Thresholds, QuestReportsThePosteriorMeanAndSd) {
+  std::vector<TrialRecord> trials = {
+      Trial(0, "quest", 0.3,
+            R"({"posterior_mean_log10":-0.5,"posterior_sd_log10":0.4})"),
+      Trial(1, "quest", 0.2,
+            R"({"posterior_mean_log10":-0.6,"posterior_sd_log10":0.25})")};
+  Result<std::vector<ThresholdEstimate>> e =
+      EstimateThresholds(std::vector<BehFile>{File(trials)}, {});
+  ASSERT_TRUE(e.ok());
+  EXPECT_NEAR(*(*e)[0].value, std::pow(10.0, -0.6), 1e-12);
+  EXPECT_EQ(*(*e)[0].spread, 0.25);
+  EXPECT_EQ((*e)[0].n, 2);
+}
+
+TEST(Thresholds, LimitsAverageTheTransitions) {
+  std::vector<TrialRecord> trials = {
+      Trial(0, "limits", 0.1, R"({"ends_series":false})"),
+      Trial(1, "limits", 0.15,
+            R"({"ends_series":true,"transition_level":0.125})"),
+      Trial(2, "limits", 0.6,
+            R"({"ends_series":true,"transition_level":0.475})"),
+      Trial(3, "limits", 0.8,
+            R"({"ends_series":true,"transition_level":null})")};
+  Result<std::vector<ThresholdEstimate>> e =
+      EstimateThresholds(std::vector<BehFile>{File(trials)}, {});
+  ASSERT_TRUE(e.ok());
+  EXPECT_NEAR(*(*e)[0].value, 0.3, 1e-12);
+  EXPECT_EQ((*e)[0].n, 2);
+  EXPECT_EQ((*e)[0].note, "1 of 3 series had no transition");
+}
+
+TEST(Thresholds, AdjustmentAveragesTheFinalLevels) {
+  std::vector<TrialRecord> trials = {
+      Trial(0, "adjustment", 1.2, R"({"final_level":1.2})"),
+      Trial(1, "adjustment", 1.0, R"({"final_level":1.0})"),
+      Trial(2, "adjustment", 1.1, R"({"final_level":1.1})")};
+  Result<std::vector<ThresholdEstimate>> e =
+      EstimateThresholds(std::vector<BehFile>{File(trials)}, {});
+  ASSERT_TRUE(e.ok());
+  EXPECT_NEAR(*(*e)[0].value, 1.1, 1e-12);
+  EXPECT_NEAR(*(*e)[0].spread, 0.1, 1e-12);
+}
+
+TEST(Thresholds, ConstantStimuliFitsThePooledCounts) {
+  // 2AFC: correct counts per level out of 20.
+  const std::vector<double> levels = {1.05, 1.1, 1.2, 1.3, 1.5, 2.0};
+  const std::vector<int> correct = {10, 11, 13, 16, 19, 20};
+  std::vector<TrialRecord> trials;
+  std::vector<DataBlock> data;
+  int i = 0;
+  for (std::size_t l = 0; l < levels.size(); ++l) {
+    data.push_back({levels[l], correct[l], 20});
+    for (int r = 0; r < 20; ++r) {
+      TrialRecord t = Trial(i++, "constant_stimuli", levels[l]);
+      t.correct = r < correct[l];
+      trials.push_back(t);
+    }
+  }
+  ThresholdOptions o;
+  o.bootstrap_samples = 199;
+  Result<std::vector<ThresholdEstimate>> e =
+      EstimateThresholds(std::vector<BehFile>{File(trials)}, o);
+  ASSERT_TRUE(e.ok());
+  PsychometricOptions p;
+  p.cuts = {0.5};
+  p.conf = {0.025, 0.975};
+  p.bootstrap_samples = 199;
+  Result<PsychometricAnalysis> direct = AnalyzePsychometric(data, p);
+  ASSERT_TRUE(direct.ok());
+  EXPECT_EQ(*(*e)[0].value, direct->thresholds[0].value);
+  EXPECT_EQ(*(*e)[0].ci_low, direct->thresholds[0].bca[0]);
+  EXPECT_EQ(*(*e)[0].ci_high, direct->thresholds[0].bca[1]);
+  EXPECT_EQ((*e)[0].n, 120);
+}
+
+TEST(Thresholds, SameDifferentOnlyIsAnError) {
+  std::vector<TrialRecord> trials = {Trial(0, "same_different", 1.0)};
+  Result<std::vector<ThresholdEstimate>> e =
+      EstimateThresholds(std::vector<BehFile>{File(trials)}, {});
+  ASSERT_FALSE(e.ok());
+  EXPECT_EQ(e.error().message,
+            "no block has a threshold (staircase, quest, limits, adjustment "
+            "or constant_stimuli); same-different and two-interval blocks are "
+            "scored with burrlab analyze scores");
+}
+
+}  // namespace
+}  // namespace burrlab::analysis

@@ -1,0 +1,167 @@
+// Tests of reading the exports back: every journaled field survives the
+// _beh.tsv round trip, physio rows stream back as journaled, datasets are
+// found per subject and block in run order, and malformed files get errors
+// naming the file, line and column.
+#include "burrlab/results_schema/bids_read.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "burrlab/results_schema/bids_export.h"
+#include "export_fixtures.h"
+
+namespace burrlab::results_schema {
+namespace {
+
+TEST(BidsRead, ExportedTrialsReadBackFieldForField) {
+  TempDir dir;
+  WriteJournal(dir.path(), "07", 10);
+  ASSERT_TRUE(ExportBids(dir.path(), "07").ok());
+  Result<std::vector<BehFile>> files = ReadBidsDataset(dir.path());
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  ASSERT_EQ(files->size(), 2u);
+  EXPECT_EQ((*files)[0].task, "practice");
+  EXPECT_EQ((*files)[1].task, "sameDifferentMain");
+  int next = 0;
+  for (const BehFile& f : *files) {
+    EXPECT_EQ(f.subject, "07");
+    EXPECT_EQ(f.table.seed, 1234567890123u);
+    for (const TrialRecord& read : f.table.trials) {
+      TrialRecord expected = MakeTrial(next++);
+      EXPECT_EQ(nlohmann::json::parse(read.extra),
+                nlohmann::json::parse(expected.extra));
+      expected.rng_state.clear();  // not exported
+      expected.extra = read.extra;
+      EXPECT_EQ(read, expected) << "trial " << read.trial_index;
+    }
+  }
+  EXPECT_EQ(next, 10);
+}
+
+TEST(BidsRead, PhysioRowsStreamBackAsJournaled) {
+  TempDir dir;
+  WriteJournal(dir.path(), "07", 4);
+  ASSERT_TRUE(ExportBids(dir.path(), "07").ok());
+  Result<std::vector<BehFile>> files = ReadBidsDataset(dir.path());
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  ASSERT_EQ((*files)[0].physio.size(), 1u);
+  const PhysioFile& physio = (*files)[0].physio[0];
+  EXPECT_EQ(physio.sampling_frequency_hz, 1000.0);
+  EXPECT_EQ(physio.columns,
+            (std::vector<std::string>{"trial_index", "interval_index", "time",
+                                      "force_n", "depth_mm"}));
+  std::vector<std::vector<double>> expected;
+  for (int i = 0; i < 4; ++i) {
+    for (const TraceSamples& t : MakeTraces(i)) {
+      for (std::size_t r = 0; r < t.rows.size(); ++r) {
+        expected.push_back({double(i), double(t.interval_index),
+                            t.start_time_s + double(r) / 1000.0, t.rows[r][0],
+                            t.rows[r][1]});
+      }
+    }
+  }
+  std::vector<std::vector<double>> rows;
+  ASSERT_TRUE(ForEachPhysioRow(physio, [&](std::span<const double> row) {
+                rows.emplace_back(row.begin(), row.end());
+                return true;
+              }).ok());
+  EXPECT_EQ(rows, expected);
+  int seen = 0;  // stopping early
+  ASSERT_TRUE(ForEachPhysioRow(physio, [&](std::span<const double>) {
+                return ++seen < 3;
+              }).ok());
+  EXPECT_EQ(seen, 3);
+}
+
+TEST(BidsRead, SubjectsAreSortedAndOtherFilesIgnored) {
+  TempDir dir;
+  WriteJournal(dir.path(), "b2", 3);
+  WriteJournal(dir.path(), "a1", 3);
+  ASSERT_TRUE(ExportBids(dir.path(), "b2").ok());
+  ASSERT_TRUE(ExportBids(dir.path(), "a1").ok());
+  std::ofstream(dir.path() / "sub-a1" / "beh" / "notes.txt") << "x";
+  std::ofstream(dir.path() / "sub-a1" / "beh" / "sub-a1_task-x_events.tsv")
+      << "onset\n";
+  Result<std::vector<BehFile>> files = ReadBidsDataset(dir.path());
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  ASSERT_EQ(files->size(), 2u);
+  EXPECT_EQ((*files)[0].subject, "a1");
+  EXPECT_EQ((*files)[1].subject, "b2");
+}
+
+TEST(BidsRead, EmptyFolderSaysWhatItWants) {
+  TempDir dir;
+  Result<std::vector<BehFile>> files = ReadBidsDataset(dir.path());
+  ASSERT_FALSE(files.ok());
+  EXPECT_EQ(
+      files.error().message,
+      dir.path().string() +
+          " holds no burrlab results (no sub-*/beh/sub-*_task-*_beh.tsv); "
+          "give the --out folder of 'burrlab run' or 'burrlab study'");
+  EXPECT_EQ(
+      ReadBidsDataset(dir.path() / "missing").error().message,
+      "cannot read " + (dir.path() / "missing").string() + ": not a folder");
+}
+
+const char kHeader[] =
+    "trial_index\tblock\tmethod\ttask\ttrial_type\tstim_level\tstim_unit\t"
+    "interval_materials\tcorrect_answer\tresponse\tcorrect\tresponse_time\t"
+    "staircase_id\treversal\tstep_size\testimate\tseed\textra\n";
+
+std::string Row(std::string stim_level, std::string correct,
+                std::string seed = "5") {
+  return "0\tb\tconstant_stimuli\tprobe\tn/a\t" + stim_level +
+         "\tratio\tx+y\t1\t1\t" + correct + "\t0.5\tn/a\tn/a\tn/a\tn/a\t" +
+         seed + "\tn/a\n";
+}
+
+TEST(BidsRead, MalformedTablesNameFileLineAndColumn) {
+  const auto error = [](const std::string& text) {
+    Result<BehTable> t = ParseBehTsv("b.tsv", text);
+    return t.ok() ? std::string("ok") : t.error().message;
+  };
+  EXPECT_EQ(error(""),
+            "b.tsv: error: the file is empty; expected a _beh.tsv with the "
+            "header trial_index\tblock\t...");
+  EXPECT_EQ(error(kHeader),
+            "b.tsv: error: the file has a header but no trials");
+  EXPECT_EQ(error(std::string(kHeader) + Row("1.5", "yes")),
+            "b.tsv:2:50: error: correct \"yes\" is not 1, 0 or n/a");
+  EXPECT_EQ(error(std::string(kHeader) + Row("big", "1")),
+            "b.tsv:2:32: error: stim_level \"big\" is not a finite number or "
+            "n/a");
+  EXPECT_EQ(error(std::string(kHeader) + Row("inf", "1")),
+            "b.tsv:2:32: error: stim_level \"inf\" is not a finite number or "
+            "n/a");
+  EXPECT_EQ(error(std::string(kHeader) + "0\tb\n"),
+            "b.tsv:2:1: error: 2 cells, but the header has 18 columns");
+  std::string two = std::string(kHeader) + Row("1", "1");
+  two += Row("1", "1");
+  EXPECT_EQ(error(two),
+            "b.tsv:3:1: error: trial_index \"0\" does not follow trial 0 (rows "
+            "are in trial order)");
+  std::string seeds = std::string(kHeader) + Row("1", "1");
+  seeds += "1" + Row("1", "1", "6").substr(1);
+  EXPECT_EQ(error(seeds),
+            "b.tsv:3:70: error: seed \"6\" differs from the seed 5 of the rows "
+            "above (one file holds one session)");
+  std::string no_task = kHeader;
+  no_task.replace(no_task.find("\ttask\t"), 6, "\tjob\t");
+  EXPECT_EQ(error(no_task + Row("1", "1")).substr(0, 50),
+            "b.tsv:1:1: error: the header has no column 'task' ");
+  Result<BehTable> ok =
+      ParseBehTsv("b.tsv", std::string(kHeader) + Row("1.5", "1"));
+  ASSERT_TRUE(ok.ok());
+  EXPECT_EQ(ok->trials[0].stim_level, 1.5);
+  EXPECT_EQ(ok->trials[0].interval_materials,
+            (std::vector<std::string>{"x", "y"}));
+  EXPECT_EQ(ok->trials[0].extra, "{}");
+}
+
+}  // namespace
+}  // namespace burrlab::results_schema

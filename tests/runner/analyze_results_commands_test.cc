@@ -1,0 +1,180 @@
+// `burrlab analyze scores|thresholds|kinematics DIR` on the results of real
+// simulated studies: the staircase thresholds equal the engine's own
+// estimates, the scores JSON carries the tests and the histogram, and a
+// folder without results is one error line and exit 1.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "burrlab/results_schema/bids_read.h"
+#include "run_cli.h"
+
+namespace burrlab::runner {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+class AnalyzeResults : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("burrlab_results_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Runs `burrlab study` on an example protocol into dir_/name.
+  std::string Study(const std::string& example, int subjects,
+                    const std::string& name) {
+    const std::string out = (dir_ / name).string();
+    const CliRun run = RunBurrlab(
+        {"study",
+         std::string(BURRLAB_SOURCE_DIR) + "/protocols/examples/" + example,
+         "--simulated-subjects", std::to_string(subjects), "--out", out,
+         "--seed", "7", "--jobs", "1"});
+    EXPECT_EQ(run.code, 0) << run.err;
+    return out;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(AnalyzeResults, StaircaseThresholdsEqualTheEngineEstimates) {
+  const std::string results = Study("staircase_1up3down.toml", 1, "stairs");
+  const CliRun run = RunBurrlab({"analyze", "thresholds", results, "--json"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const Json j = Json::parse(run.out);
+  // The engine's estimate after each staircase's last trial.
+  auto files = results_schema::ReadBidsDataset(results);
+  ASSERT_TRUE(files.ok());
+  std::map<int, double> engine;
+  for (const auto& t : (*files)[0].table.trials) {
+    if (t.estimate) engine[*t.staircase_id] = *t.estimate;
+  }
+  ASSERT_EQ(j["thresholds"].size(), 2u);
+  ASSERT_GE(engine.size(), 1u);
+  for (const Json& t : j["thresholds"]) {
+    EXPECT_EQ(t["estimator"], "mean of the last 6 reversals (log10 scale)");
+    EXPECT_EQ(t["spread_unit"], "log10");
+    const int id = t["staircase_id"].get<int>();
+    if (engine.contains(id)) {
+      EXPECT_NEAR(t["value"].get<double>(), engine.at(id), 1e-12);
+      EXPECT_EQ(t["n"], 6);
+    } else {  // the track ended before its sixth reversal: no estimate either
+      EXPECT_TRUE(t["value"].is_null());
+      EXPECT_EQ(t["note"].get<std::string>().substr(0, 5), "only ");
+    }
+  }
+}
+
+TEST_F(AnalyzeResults, ScoresJsonHasTheTestsAndTheHistogram) {
+  const std::string results = Study("two_interval_2afc.toml", 2, "twoafc");
+  const std::string plots = (dir_ / "plots").string();
+  const CliRun run =
+      RunBurrlab({"analyze", "scores", results, "--json", "--plots", plots});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const Json j = Json::parse(run.out);
+  ASSERT_EQ(j["blocks"].size(), 1u);
+  const Json& b = j["blocks"][0];
+  EXPECT_EQ(b["method"], "two_interval");
+  EXPECT_EQ(b["chance"], 0.5);
+  EXPECT_EQ(b["trials_per_subject"], 12);
+  EXPECT_EQ(b["subjects"].size(), 2u);
+  int correct = 0;
+  for (const Json& s : b["subjects"]) correct += s["correct"].get<int>();
+  EXPECT_EQ(b["binomial"]["successes"], correct);
+  EXPECT_EQ(b["binomial"]["trials"], 24);
+  EXPECT_TRUE(b["t_test"].is_object() || !b["warnings"].empty());
+  EXPECT_TRUE(fs::exists(b["histogram"].get<std::string>()));
+
+  const CliRun kin = RunBurrlab({"analyze", "kinematics", results, "--json"});
+  ASSERT_EQ(kin.code, 0) << kin.err;
+  const Json k = Json::parse(kin.out);
+  ASSERT_EQ(k["kinematics"].size(), 2u);
+  EXPECT_EQ(k["kinematics"][0]["task"], "probe");
+  EXPECT_EQ(k["kinematics"][0]["intervals"], 24);
+  EXPECT_NEAR(k["kinematics"][0]["duration_s"].get<double>(), 120.0, 1e-6);
+  EXPECT_NEAR(k["kinematics"][0]["removal_rate_mm3_per_s"].get<double>(), 0.0,
+              1e-12);  // probing removes nothing
+}
+
+TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {
+  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+    const CliRun run = RunBurrlab({"analyze", command, dir_.string()});
+    EXPECT_EQ(run.code, 1) << command;
+    EXPECT_EQ(run.out, "");
+    EXPECT_EQ(run.err, "burrlab: " + dir_.string() +
+                           " holds no burrlab results (no "
+                           "sub-*/beh/sub-*_task-*_beh.tsv); give the --out "
+                           "folder of 'burrlab run' or 'burrlab study'\n");
+  }
+  const CliRun missing =
+      RunBurrlab({"analyze", "scores", (dir_ / "nope").string()});
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_EQ(missing.err, "burrlab: cannot read " + (dir_ / "nope").string() +
+                             ": not a folder\n");
+}
+
+}  // namespace
+}  // namespace burrlab::runner
+
+namespace burrlab::runner {
+namespace {
+
+TEST(AnalyzePower, ReportsPowerWithIntervalsPerScoredBlock) {
+  const std::string protocol = std::string(BURRLAB_SOURCE_DIR) +
+                               "/protocols/examples/two_interval_2afc.toml";
+  const CliRun run =
+      RunBurrlab({"analyze", "power", "--protocol", protocol, "--weber", "0.5",
+                  "--subjects", "5", "--runs", "50", "--seed", "3", "--json"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const Json j = Json::parse(run.out);
+  EXPECT_EQ(j["runs"], 50);
+  ASSERT_EQ(j["blocks"].size(), 1u);
+  const Json& b = j["blocks"][0];
+  EXPECT_EQ(b["method"], "two_interval");
+  for (const char* test : {"power_t_test", "power_binomial"}) {
+    const double p = b[test]["p"].get<double>();
+    EXPECT_GE(p, b[test]["ci"][0].get<double>()) << test;
+    EXPECT_LE(p, b[test]["ci"][1].get<double>()) << test;
+  }
+  // Same seed, same answer.
+  const CliRun again =
+      RunBurrlab({"analyze", "power", "--protocol", protocol, "--weber", "0.5",
+                  "--subjects", "5", "--runs", "50", "--seed", "3", "--json"});
+  EXPECT_EQ(again.out, run.out);
+}
+
+TEST(AnalyzePower, BadInputIsOneErrorLine) {
+  const std::string examples =
+      std::string(BURRLAB_SOURCE_DIR) + "/protocols/examples/";
+  const CliRun adjustment = RunBurrlab(
+      {"analyze", "power", "--protocol", examples + "adjustment_alpha.toml",
+       "--weber", "0.3", "--subjects", "4", "--runs", "2"});
+  EXPECT_EQ(adjustment.code, 1);
+  EXPECT_EQ(adjustment.err,
+            "burrlab: analyze power: block \"adjust\": adjustment blocks "
+            "cannot be simulated virtually (no correct answer to score); "
+            "leave them out of a power analysis\n");
+  const CliRun one = RunBurrlab({"analyze", "power", "--protocol",
+                                 examples + "two_interval_2afc.toml", "--weber",
+                                 "0.3", "--subjects", "1", "--runs", "2"});
+  EXPECT_EQ(one.code, 1);
+  EXPECT_EQ(one.err.substr(0, 21), "burrlab: --subjects m");
+  const CliRun weber = RunBurrlab(
+      {"analyze", "power", "--protocol", examples + "two_interval_2afc.toml",
+       "--weber", "-1", "--subjects", "4", "--runs", "2"});
+  EXPECT_EQ(weber.code, 1);
+  EXPECT_EQ(weber.out, "");
+}
+
+}  // namespace
+}  // namespace burrlab::runner

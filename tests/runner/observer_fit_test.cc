@@ -1,0 +1,105 @@
+// Tests of the observer-population fit: group results simulated with a known
+// Weber fraction are fitted back with intervals that hold it, and the
+// --observed text is parsed strictly.
+#include "observer_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "run_cli.h"
+
+namespace burrlab::runner {
+namespace {
+
+TEST(ObserverFit, RecoversAKnownWeberFractionWithinItsInterval) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
+  const double truth = 0.4;
+  int covered = 0;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    // The "published" result: 20 subjects of Weber 0.4.
+    CuePool pool(2, 2.0, seed);
+    VirtualStudyOptions study;
+    study.subjects = 20;
+    study.seed = 100 + seed;
+    study.observer.weber_stiffness = truth;
+    study.observer.weber_removal = truth;
+    Result<std::vector<VirtualBlock>> result =
+        RunVirtualStudy(protocol, study, pool);
+    ASSERT_TRUE(result.ok()) << result.error().message;
+    double sum = 0.0, sum2 = 0.0;
+    for (int c : (*result)[0].correct) {
+      sum += c;
+      sum2 += double(c) * c;
+    }
+    ObservedGroup observed;
+    observed.n = 20;
+    observed.mean = sum / 20.0;
+    observed.sem = std::sqrt((sum2 - sum * sum / 20.0) / 19.0 / 20.0);
+
+    ObserverFitOptions options;
+    options.virtual_subjects = 300;
+    options.seed = 7 + seed;
+    options.fit_spread = false;
+    options.base = study.observer;
+    Result<ObserverFit> fit = FitObservers(protocol, observed, options, pool);
+    ASSERT_TRUE(fit.ok()) << fit.error().message;
+    EXPECT_EQ(fit->block, "probe2afc");
+    EXPECT_EQ(fit->trials_per_subject, 12);
+    EXPECT_LT(fit->weber_low, fit->weber);
+    EXPECT_LT(fit->weber, fit->weber_high);
+    EXPECT_NEAR(fit->fitted_mean, observed.mean, 0.1);
+    covered += fit->weber_low <= truth && truth <= fit->weber_high ? 1 : 0;
+  }
+  EXPECT_GE(covered, 3);  // 95 % intervals
+}
+
+TEST(ObserverFit, SpreadExplainsAnSdAboveTheBinomial) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
+  CuePool pool(2, 2.0, 1);
+  ObserverFitOptions options;
+  options.virtual_subjects = 300;
+  // 9 of 12 with SD 2.2 (binomial alone gives about 1.5).
+  ObservedGroup observed{9.0, 2.2 / std::sqrt(20.0), 20};
+  Result<ObserverFit> fit = FitObservers(protocol, observed, options, pool);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_GT(fit->weber_spread, 0.1);
+  EXPECT_NEAR(fit->fitted_sd, 2.2, 0.25);
+  EXPECT_NEAR(fit->fitted_mean, 9.0, 0.15);
+}
+
+TEST(ObserverFit, ObservedTextIsParsedStrictly) {
+  Result<ObservedGroup> g = ParseObservedGroup("n=20,mean=9.3,sem=0.4");
+  ASSERT_TRUE(g.ok());
+  EXPECT_EQ(g->mean, 9.3);
+  EXPECT_EQ(g->sem, 0.4);
+  EXPECT_EQ(g->n, 20);
+  for (const std::string bad :
+       {"mean=9.3,sem=0.4", "mean=9.3,sem=0,n=20", "mean=x,sem=0.4,n=20",
+        "mean=9.3,sem=0.4,n=2.5", "mean=9.3;sem=0.4;n=20", ""}) {
+    Result<ObservedGroup> r = ParseObservedGroup(bad);
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_EQ(r.error().message,
+              "--observed must be mean=M,sem=S,n=N (M >= 0, S > 0, N >= 2), "
+              "got '" +
+                  bad + "'");
+  }
+}
+
+TEST(ObserverFit, AMeanAboveTheTrialsIsRefused) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
+  CuePool pool(1, 2.0, 1);
+  Result<ObserverFit> fit =
+      FitObservers(protocol, {13.0, 0.5, 20}, ObserverFitOptions{}, pool);
+  ASSERT_FALSE(fit.ok());
+  EXPECT_EQ(fit.error().message,
+            "the observed mean 13 is above the 12 trials of block "
+            "\"probe2afc\"");
+}
+
+}  // namespace
+}  // namespace burrlab::runner

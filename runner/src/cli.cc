@@ -8,6 +8,7 @@
 #include "analyze_commands.h"
 #include "burrlab/sim/spelling.h"
 #include "burrlab_version.h"
+#include "calibrate_command.h"
 #include "command_table.h"
 #include "demo.h"
 #include "session_commands.h"
@@ -36,9 +37,14 @@ constexpr Command kCommands[] = {
      "--resume continues it",
      RunRunCommand},
     {"study", "run a population of simulated subjects", RunStudyCommand},
-    {"sim", "burr simulator tools: force-curve, descent, bench", RunSimCommand},
+    {"sim", "burr simulator tools: force-curve, descent, measure, bench",
+     RunSimCommand},
     {"analyze", "statistics on data files: fit (psychometric), dprime",
      RunAnalyzeCommand},
+    {"calibrate",
+     "fit c_e and alpha to measured descent velocities, with identifiability "
+     "and profile-likelihood intervals",
+     RunCalibrateCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunTopHelp},
 };

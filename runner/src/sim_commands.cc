@@ -9,13 +9,16 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "burrlab/analysis/synthetic_measurement.h"
 #include "burrlab/sim/bench.h"
 #include "burrlab/sim/descent.h"
+#include "burrlab/sim/effects.h"
 #include "burrlab/sim/force_curve.h"
 #include "burrlab/sim/nrrd.h"
 #include "burrlab/stimuli/materials.h"
@@ -498,6 +501,125 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+// "0.5,1,2" as positive forces in N.
+Result<std::vector<double>> ParseForces(const std::string& text) {
+  std::vector<double> forces;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    Result<double> f = ParsePositive(
+        "--forces",
+        text.substr(start, comma == std::string::npos ? std::string::npos
+                                                      : comma - start),
+        "N");
+    if (!f.ok()) return f.error();
+    forces.push_back(*f);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return forces;
+}
+
+// "ID=VALUE[,ID=VALUE...]" into the effects.
+Status ParseEffects(const std::string& text, sim::Effects* effects) {
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(
+        start, comma == std::string::npos ? std::string::npos : comma - start);
+    const std::size_t equals = item.find('=');
+    if (equals == std::string::npos) {
+      return Error{fmt::format(
+          "--effect must be ID=VALUE (e.g. motor_power_limit=0.01), got '{}'",
+          item)};
+    }
+    Result<double> value = ParseNumber("--effect", item.substr(equals + 1));
+    if (!value.ok() && item.substr(equals + 1) != "inf") return value.error();
+    if (Status s = sim::SetEffect(
+            item.substr(0, equals),
+            value.ok() ? *value : std::numeric_limits<double>::infinity(),
+            effects);
+        !s.ok()) {
+      return Error{"--effect: " + s.error().message};
+    }
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return {};
+}
+
+int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
+  std::string effects_help = "hidden effects, ID=VALUE[,ID=VALUE]: ";
+  for (const sim::EffectSpec& spec : sim::EffectLibrary()) {
+    effects_help += fmt::format("{} ({}), ", spec.id, spec.help);
+  }
+  effects_help.resize(effects_help.size() - 2);
+  CLI::App app{
+      "Synthetic measured data for `burrlab calibrate`: the constant-force "
+      "descent rig (dissertation ch. 8) run once per force level until "
+      "settled, at a discretisation the calibration does not use (voxel "
+      "R/12, 5 ms period; the fitter's surrogate is the continuum limit), "
+      "with hidden physical effects and log-normal run-to-run noise. Prints "
+      "CSV: run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s.",
+      "burrlab sim measure"};
+  analysis::SyntheticMeasurementOptions options;
+  std::string material_name, forces_text, effects_text;
+  int replicates = options.replicates;
+  FlagSet flags(&app);
+  flags.AddText("--material", MaterialFlagHelp(), &material_name)
+      ->type_name("NAME")
+      ->required();
+  flags.AddText("--forces", "force levels, N, comma-separated", &forces_text)
+      ->type_name("F1,F2,...")
+      ->required();
+  flags
+      .AddInteger("--replicates", "runs per force level", 1, 10000, &replicates)
+      ->required();
+  flags.AddText("--effect", effects_help, &effects_text)->type_name("ID=VALUE");
+  flags.AddNonNegative(
+      "--noise-cv",
+      fmt::format("run-to-run coefficient of variation of the velocity "
+                  "(log-normal; default {})",
+                  options.noise_cv),
+      "", &options.noise_cv);
+  flags.AddUnsigned(
+      "--seed",
+      fmt::format("erosion and noise seed (default {})", options.seed),
+      &options.seed);
+  flags.AddPositive(
+      "--radius-mm",
+      fmt::format("burr radius R, mm (default {})", options.radius_mm), "mm",
+      &options.radius_mm, kMaxRadiusMm);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  options.replicates = replicates;
+  Result<std::vector<double>> forces = ParseForces(forces_text);
+  if (!forces.ok()) return Fail(err, forces.error().message);
+  options.forces_n = *forces;
+  if (!effects_text.empty()) {
+    if (Status s = ParseEffects(effects_text, &options.effects); !s.ok()) {
+      return Fail(err, s.error().message);
+    }
+  }
+  Result<stimuli::MaterialSet> set = LoadMaterial(material_name);
+  if (!set.ok()) return Fail(err, set.error().message);
+  options.material = set->material;
+  Result<analysis::SyntheticMeasurement> m =
+      analysis::MeasureSynthetic(options);
+  if (!m.ok()) return Fail(err, "sim measure: " + m.error().message);
+  for (double f : m->skipped_forces_n) {
+    err << fmt::format(
+        "burrlab: warning: no steady velocity at {} N (the burr did not cut "
+        "deeper than R/3); the level is left out\n",
+        f);
+  }
+  if (m->runs.empty()) {
+    return Fail(err, "sim measure: no force level gave a steady velocity");
+  }
+  out << analysis::FormatMeasuredCsv(*m, set->name, options);
+  return 0;
+}
+
 // `burrlab sim volume FILE.nrrd`: loads a CT-derived volume as the simulator
 // would and summarises it, so users can check a scan and its mapping.
 int RunVolume(const Args& args, std::ostream& out, std::ostream& err) {
@@ -585,6 +707,10 @@ constexpr Command kSimCommands[] = {
      "time simulator steps (mono and octree x R = 1, 2, 3, 5 mm x probe and "
      "drill), or the 1 kHz haptic loop with --loop",
      RunBench},
+    {"measure",
+     "synthetic measured data (CSV) for calibrate: the descent rig with "
+     "hidden effects and run-to-run noise",
+     RunMeasure},
     {"volume", "load an NRRD volume with an intensity mapping and summarise it",
      RunVolume},
     {"help", "list the sim commands; 'sim help COMMAND' shows the flags of one",

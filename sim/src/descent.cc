@@ -28,6 +28,7 @@ Status Positive(const char* name, double value) {
 
 Status DescentOptions::Validate() const {
   if (Status s = material.Validate(); !s.ok()) return s;
+  if (Status s = effects.Validate(); !s.ok()) return s;
   for (const Status& s :
        {Positive("force_n", force_n), Positive("radius_mm", radius_mm),
         Positive("voxel_mm", voxel_mm), Positive("duration_s", duration_s),
@@ -51,6 +52,19 @@ Status DescentOptions::Validate() const {
     return Error{fmt::format("duration_s / dt_s = {} steps is too many",
                              duration_s / dt_s)};
   }
+  if (!std::isfinite(sample_depth_mm) || sample_depth_mm < 0.0 ||
+      (sample_depth_mm > 0.0 && sample_depth_mm < 2.0 * radius_mm + 1.0)) {
+    return Error{fmt::format(
+        "sample_depth_mm must be 0 (automatic) or at least 2 R + 1 mm = {} "
+        "mm, got {}",
+        2.0 * radius_mm + 1.0, sample_depth_mm)};
+  }
+  if (sample_depth_mm / voxel_mm > 4096.0) {
+    return Error{
+        fmt::format("sample_depth_mm / voxel_mm = {} voxels is too "
+                    "deep a sample",
+                    sample_depth_mm / voxel_mm)};
+  }
   if (radius_mm / voxel_mm > 200.0) {
     return Error{fmt::format("radius / voxel = {} is too fine a sample",
                              radius_mm / voxel_mm)};
@@ -64,7 +78,8 @@ Result<DescentResult> RunDescent(const DescentOptions& o) {
   const double v = o.voxel_mm;
   // A flat sample: solid below a surface that lies on a voxel boundary, air
   // above.
-  const double room_below_mm = 3.0 * radius + 2.0;
+  const double room_below_mm =
+      o.sample_depth_mm > 0.0 ? o.sample_depth_mm : 3.0 * radius + 2.0;
   const double room_above_mm = radius + 1.0;
   const int nxy = static_cast<int>(std::ceil((2.0 * radius + 2.0) / v)) + 2;
   const int below = static_cast<int>(std::ceil(room_below_mm / v));
@@ -77,6 +92,7 @@ Result<DescentResult> RunDescent(const DescentOptions& o) {
   const double surface_z = below * v;
   Model model;
   model.material = o.material;
+  model.effects = o.effects;
   model.radius_mm = radius;
   model.dt_s = o.dt_s;
   model.sample_estimate_hold =

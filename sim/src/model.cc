@@ -39,6 +39,7 @@ Status Material::Validate() const {
 
 Status Model::Validate() const {
   if (Status s = material.Validate(); !s.ok()) return s;
+  if (Status s = effects.Validate(); !s.ok()) return s;
   if (Status s = CheckNonNegative("radius_mm", radius_mm, true); !s.ok())
     return s;
   if (Status s = CheckNonNegative("dt_s", dt_s, true); !s.ok()) return s;

@@ -276,14 +276,36 @@ void Step(const Model& model, State& state, const Input& input,
   // Erode: only a spinning burr cuts (a probing burr has no friction and no
   // erosion).
   const double alpha = model.material.alpha_per_s;
-  if (Norm(input.spindle_rad_s) > 0.0 && alpha > 0.0 && moments.m0_mm3 > 0.0) {
+  // Effects that slow the cutting (sim/effects.h): the blades engage only with
+  // the elastic force above the threshold, and the motor cannot remove more
+  // than its power allows (the load is estimated from the recent removal).
+  const Effects& effects = model.effects;
+  double engaged = 1.0;
+  if (effects.cutting_threshold_n > 0.0) {
+    const double elastic_n = Norm(out->elastic_n);
+    engaged = elastic_n > effects.cutting_threshold_n
+                  ? 1.0 - effects.cutting_threshold_n / elastic_n
+                  : 0.0;
+  }
+  double power_scale = 1.0;
+  const bool power_limited = std::isfinite(effects.max_removal_mm3_per_s);
+  if (power_limited) {
+    const double demand =
+        engaged * state.unlimited_removal_mm3_per_s_;  // what the blades ask
+    if (demand > effects.max_removal_mm3_per_s) {
+      power_scale = effects.max_removal_mm3_per_s / demand;
+    }
+  }
+  const double scale = engaged * power_scale;
+  if (Norm(input.spindle_rad_s) > 0.0 && alpha > 0.0 && scale > 0.0 &&
+      moments.m0_mm3 > 0.0) {
     const double v = state.volume_.voxel_mm();
     ErosionVisitor erosion{&state.volume_,
                            &state.octree_,
                            &state.erosion_rng_,
                            model.radius_mm / v,
                            EqualVolumeSphereRadius(v) / v,
-                           alpha * model.dt_s,
+                           alpha * scale * model.dt_s,
                            state.max_erosion_factor_};
     erosion.centre_vox = input.position_mm / v;
     internal::WalkSphere(state.octree_, state.volume_, input.position_mm / v,
@@ -292,6 +314,14 @@ void Step(const Model& model, State& state, const Input& input,
     out->removed_mm3 = static_cast<double>(erosion.removed_units) /
                        kSolidOccupancy * v * v * v;
     state.counters_.removed_mm3 += out->removed_mm3;
+    if (power_limited) {
+      // First-order filter (0.1 s) of the removal rate at scale 1.
+      constexpr double kLoadFilterS = 0.1;
+      const double unlimited = out->removed_mm3 / (model.dt_s * scale);
+      state.unlimited_removal_mm3_per_s_ +=
+          model.dt_s / (kLoadFilterS + model.dt_s) *
+          (unlimited - state.unlimited_removal_mm3_per_s_);
+    }
   }
   // Filter and clamp what goes to the device.
   if (!IsFinite(out->model_force_n)) {

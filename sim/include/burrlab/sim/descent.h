@@ -16,6 +16,7 @@ namespace burrlab::sim {
 
 struct DescentOptions {
   Material material;       // sample material
+  Effects effects;         // physical effects beyond the base model (null)
   double force_n = 2.0;    // force held by the controller
   double radius_mm = 3.0;  // burr radius
   double spindle_rad_s =
@@ -32,6 +33,9 @@ struct DescentOptions {
   double filter_hz = 100.0;  // force measurement bandwidth (rig: ~100 Hz, §8.5)
   double max_speed_mm_s = 5.0;   // arm speed limit (also the approach speed)
   double trace_period_s = 0.01;  // trace sampling period
+  // Depth of the virtual sample below its surface; 0 = 3R + 2 mm. Long
+  // descents (slow settling at high speed) need more.
+  double sample_depth_mm = 0.0;
 
   // Names the first bad field.
   Status Validate() const;

@@ -6,6 +6,7 @@
 
 #include <limits>
 
+#include "burrlab/sim/effects.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::sim {
@@ -54,6 +55,7 @@ struct Model {
   bool sample_estimate_hold = true;  // filter the device force (§6.4.3)
   double max_force_n =
       std::numeric_limits<double>::infinity();  // clamp on |force|
+  Effects effects;  // physical effects beyond the base model; null by default
 
   // Names the first field with a bad value and the rule it breaks.
   Status Validate() const;

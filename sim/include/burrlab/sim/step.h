@@ -73,6 +73,9 @@ class State {
   SampleEstimateHold seh_;
   StepCounters counters_;
   double max_erosion_factor_ = 1.0;
+  // motor_power_limit: filtered removal rate the burr would reach without the
+  // limit (mm^3/s), the motor's load.
+  double unlimited_removal_mm3_per_s_ = 0.0;
 };
 
 // Advances the simulation by model.dt_s. `output` must not be null.

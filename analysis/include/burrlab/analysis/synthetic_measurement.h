@@ -1,0 +1,72 @@
+// Synthetic "measured" burring data (issue 5, item 4): the full virtual
+// descent rig (sim/descent.h) run at another discretisation than the
+// calibration's (voxels of R/12, finer than the rig's default R/10 at R = 3 mm,
+// and a 5 ms control period instead of 1 ms; the fitter's surrogate is the
+// continuum limit), run long enough to settle, with
+// physical effects hidden in the simulated model and log-normal run-to-run
+// noise. The calibration sees only the CSV it produces.
+#ifndef BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
+#define BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "burrlab/sim/effects.h"
+#include "burrlab/sim/model.h"
+#include "burrlab/sim/result.h"
+
+namespace burrlab::analysis {
+
+struct SyntheticMeasurementOptions {
+  sim::Material material;         // the truth
+  sim::Effects effects;           // hidden effects (null: none)
+  std::vector<double> forces_n;   // force levels, N
+  int replicates = 3;             // runs per force level
+  double noise_cv = 0.1;          // coefficient of variation of the log-normal
+                                  // run-to-run factor (0: none)
+  std::uint64_t seed = 1;         // erosion streams and noise
+  double radius_mm = 1.0;         // burr radius R
+  double spindle_rad_s = 2094.0;  // burr spin
+  double voxels_per_radius = 12;  // rig discretisation: voxel = R / this
+  double dt_s = 5e-3;             // rig control and simulation period
+
+  // Names the first bad field.
+  Status Validate() const;
+};
+
+struct SyntheticRun {
+  int run = 0;  // 1-based
+  double force_n = 0.0;
+  double velocity_mm_s = 0.0;      // rig velocity times the noise factor
+  double rig_velocity_mm_s = 0.0;  // the rig's steady velocity, noise-free
+};
+
+struct SyntheticMeasurement {
+  std::vector<SyntheticRun> runs;        // force levels in the given order,
+                                         // replicates together
+  std::vector<double> skipped_forces_n;  // levels where the rig reached no
+                                         // steady velocity (the burr did not
+                                         // cut, e.g. below a cutting threshold)
+};
+
+// The rig's steady velocity at one force with the options' discretisation;
+// an error when the rig fails, 0 when it reached no steady state.
+Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& options,
+                                    double force_n, std::uint64_t seed);
+
+// Runs the rig once per force level (its own erosion stream) and draws the
+// replicates' noise: velocity = rig velocity x exp(s z), z ~ N(0, 1),
+// s^2 = ln(1 + cv^2) (median = the rig's velocity).
+Result<SyntheticMeasurement> MeasureSynthetic(
+    const SyntheticMeasurementOptions& options);
+
+// The CSV of measured_data.h:
+// run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s.
+std::string FormatMeasuredCsv(const SyntheticMeasurement& measurement,
+                              const std::string& material_name,
+                              const SyntheticMeasurementOptions& options);
+
+}  // namespace burrlab::analysis
+
+#endif  // BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_

@@ -1,0 +1,201 @@
+// The steady-state surrogate of the descent rig: quadrature of the continuum
+// profile, a table of y(kappa) and its monotone inverse.
+#include "burrlab/analysis/descent_surrogate.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace burrlab::analysis {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// 16-point Gauss-Legendre nodes and weights on [-1, 1] (positive half).
+constexpr std::array<double, 8> kNodes = {
+    0.0950125098376374, 0.2816035507792589, 0.4580167776572274,
+    0.6178762444026438, 0.7554044083550030, 0.8656312023878318,
+    0.9445750230732326, 0.9894009349916499};
+constexpr std::array<double, 8> kWeights = {
+    0.1894506104550685, 0.1826034150449236, 0.1691565193950025,
+    0.1495959888165767, 0.1246289712555339, 0.0951585116824928,
+    0.0622535239386479, 0.0271524594117541};
+
+// int_a^b g by 16-point Gauss-Legendre.
+template <typename G>
+double Gauss(double a, double b, const G& g) {
+  const double mid = 0.5 * (a + b), half = 0.5 * (b - a);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < kNodes.size(); ++k) {
+    sum +=
+        kWeights[k] * (g(mid - half * kNodes[k]) + g(mid + half * kNodes[k]));
+  }
+  return sum * half;
+}
+
+// int_0^length g over panels [2^-(k+1), 2^-k] length, k < 24, and the rest
+// near 0: the integrands vary on the scale kappa^(-1/3) near 0. A decreasing
+// integrand stops at the first panel where it is negligible.
+template <bool kDecreasing, typename G>
+double GeometricPanels(double length, const G& g) {
+  constexpr int kPanels = 24;
+  double lo = std::ldexp(length, -kPanels);
+  double sum = Gauss(0.0, lo, g);
+  for (int k = 0; k < kPanels; ++k) {
+    if (kDecreasing && g(lo) < 1e-18 * sum) break;
+    sum += Gauss(lo, 2.0 * lo, g);
+    lo *= 2.0;
+  }
+  return sum;
+}
+
+// m0 / R^3 at kappa (R = 1). Columns at distance s from the axis are
+// parametrised by w = sqrt(1 - s^2) (s ds = w dw); along a column the erosion
+// integral from the entry point z = -w is
+// Phi(z) = w^2 (z + w) - (z^3 + w^3) / 3, and rho / rho0 = exp(-kappa Phi).
+double M0AtKappa(double kappa) {
+  const auto column = [kappa](double w) {
+    // int_{-w}^{w} exp(-kappa Phi) dz in d = z + w, panels shrinking towards
+    // the entry point where the layer is thin.
+    const auto integrand = [kappa, w](double d) {
+      const double z = d - w;
+      const double phi = w * w * d - (z * z * z + w * w * w) / 3.0;
+      return std::exp(-kappa * std::max(phi, 0.0));
+    };
+    return GeometricPanels<true>(2.0 * w, integrand);
+  };
+  return 2.0 * kPi *
+         GeometricPanels<false>(1.0, [&](double w) { return w * column(w); });
+}
+
+// h / R from m0 / R^3 = pi x^2 (1 - x/3) (eq. 7.2), x in [0, 2].
+double DepthRatioFromM0(double m0) {
+  double lo = 0.0, hi = 2.0;
+  for (int i = 0; i < 80; ++i) {
+    const double x = 0.5 * (lo + hi);
+    (kPi * x * x * (1.0 - x / 3.0) < m0 ? lo : hi) = x;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// ln y against ln kappa on a grid, with Fritsch-Carlson slopes of ln kappa as
+// a function of ln y (y decreases with kappa).
+class LoadTable {
+ public:
+  LoadTable() {
+    constexpr int kPoints = 241;
+    constexpr double kLnKappaMin = -6.0 * std::numbers::ln10 / 2.0;  // 1e-3
+    constexpr double kLnKappaMax = 7.0 * std::numbers::ln10;         // 1e7
+    for (int i = 0; i < kPoints; ++i) {
+      const double ln_kappa =
+          kLnKappaMax - (kLnKappaMax - kLnKappaMin) * i / (kPoints - 1);
+      ln_kappa_.push_back(ln_kappa);
+      ln_y_.push_back(std::log(LoadAtKappa(std::exp(ln_kappa))));
+    }
+    // Now ln_y_ increases with i. Secants and monotone slopes.
+    const std::size_t n = ln_y_.size();
+    std::vector<double> secant(n - 1);
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      secant[i] = (ln_kappa_[i + 1] - ln_kappa_[i]) / (ln_y_[i + 1] - ln_y_[i]);
+    }
+    slope_.resize(n);
+    slope_[0] = secant[0];
+    slope_[n - 1] = secant[n - 2];
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      slope_[i] = secant[i - 1] * secant[i] <= 0.0
+                      ? 0.0
+                      : 2.0 / (1.0 / secant[i - 1] + 1.0 / secant[i]);
+    }
+  }
+
+  double max_ln_y() const { return ln_y_.back(); }
+
+  // ln kappa and d ln kappa / d ln y at ln y; beyond the table's low end
+  // (very slow cutting) the last slope continues.
+  void Evaluate(double ln_y, double* ln_kappa, double* slope) const {
+    if (ln_y <= ln_y_.front()) {
+      *slope = slope_.front();
+      *ln_kappa = ln_kappa_.front() + slope_.front() * (ln_y - ln_y_.front());
+      return;
+    }
+    const std::size_t i = static_cast<std::size_t>(
+        std::upper_bound(ln_y_.begin(), ln_y_.end(), ln_y) - ln_y_.begin() - 1);
+    const std::size_t j = std::min(i, ln_y_.size() - 2);
+    const double h = ln_y_[j + 1] - ln_y_[j];
+    const double t = std::clamp((ln_y - ln_y_[j]) / h, 0.0, 1.0);
+    const double t2 = t * t, t3 = t2 * t;
+    const double y0 = ln_kappa_[j], y1 = ln_kappa_[j + 1];
+    const double m0 = slope_[j] * h, m1 = slope_[j + 1] * h;
+    *ln_kappa = (2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * m0 +
+                (-2 * t3 + 3 * t2) * y1 + (t3 - t2) * m1;
+    *slope = ((6 * t2 - 6 * t) * y0 + (3 * t2 - 4 * t + 1) * m0 +
+              (-6 * t2 + 6 * t) * y1 + (3 * t2 - 2 * t) * m1) /
+             h;
+  }
+
+ private:
+  std::vector<double> ln_kappa_, ln_y_, slope_;
+};
+
+const LoadTable& Table() {
+  static const LoadTable table;
+  return table;
+}
+
+}  // namespace
+
+double LoadAtKappa(double kappa) {
+  const double x = DepthRatioFromM0(M0AtKappa(kappa));
+  return x * std::sqrt(x);
+}
+
+double RemovalAreaAtKappa(double kappa) {
+  return 2.0 * kPi * GeometricPanels<false>(1.0, [kappa](double w) {
+           return w * -std::expm1(-4.0 / 3.0 * kappa * w * w * w);
+         });
+}
+
+double MaxSteadyLoad() { return std::exp(Table().max_ln_y()); }
+
+double KappaAtLoad(double load) {
+  double ln_kappa = 0.0, slope = 0.0;
+  Table().Evaluate(std::log(load), &ln_kappa, &slope);
+  return std::exp(ln_kappa);
+}
+
+double KappaLogSlopeAtLoad(double load) {
+  double ln_kappa = 0.0, slope = 0.0;
+  Table().Evaluate(std::log(load), &ln_kappa, &slope);
+  return slope;
+}
+
+double SteadyVelocityMmS(const SteadyDescentInput& in) {
+  const double r = in.radius_mm;
+  const sim::Effects& fx = in.effects;
+  // Only the elastic force carries the load in steady vertical descent (the
+  // cheap friction is horizontal; the impact term c_i R^2 (h/R) v is below
+  // 1e-3 of it at these speeds and is left out).
+  const double load = in.force_n / (in.c_e_n_per_mm2 * r * r);
+  if (load >= MaxSteadyLoad()) return std::numeric_limits<double>::infinity();
+  double engaged = 1.0;
+  if (fx.cutting_threshold_n > 0.0) {
+    if (in.force_n <= fx.cutting_threshold_n) return 0.0;
+    engaged = 1.0 - fx.cutting_threshold_n / in.force_n;
+  }
+  // The erosion profile depends on kappa_eff = scale alpha R / v only, and the
+  // load fixes kappa_eff.
+  const double kappa = KappaAtLoad(load);
+  double v = engaged * in.alpha_per_s * r / kappa;
+  if (std::isfinite(fx.max_removal_mm3_per_s)) {
+    const double removal = v * r * r * RemovalAreaAtKappa(kappa);
+    if (removal > fx.max_removal_mm3_per_s) {
+      v *= fx.max_removal_mm3_per_s / removal;
+    }
+  }
+  return v;
+}
+
+}  // namespace burrlab::analysis

@@ -1,0 +1,248 @@
+// The measured-data CSV of the calibration workflow, with a diagnostic naming
+// the line and column of the first problem.
+#include "burrlab/analysis/measured_data.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "burrlab/analysis/psychometric_data.h"
+
+namespace burrlab::analysis {
+namespace {
+
+struct Cell {
+  std::string_view text;  // trimmed
+  int column = 1;         // 1-based column of the cell's first character
+};
+
+std::string_view Trim(std::string_view cell, int* lead_out) {
+  std::size_t lead = 0;
+  while (lead < cell.size() && (cell[lead] == ' ' || cell[lead] == '\t')) {
+    ++lead;
+  }
+  cell.remove_prefix(lead);
+  while (!cell.empty() && (cell.back() == ' ' || cell.back() == '\t')) {
+    cell.remove_suffix(1);
+  }
+  *lead_out = static_cast<int>(lead);
+  return cell;
+}
+
+std::vector<Cell> SplitRow(std::string_view line) {
+  std::vector<Cell> cells;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = line.find(',', start);
+    int lead = 0;
+    const std::string_view cell =
+        Trim(line.substr(start, end == std::string_view::npos
+                                    ? std::string_view::npos
+                                    : end - start),
+             &lead);
+    cells.push_back({cell, static_cast<int>(start) + lead + 1});
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return cells;
+}
+
+std::optional<double> ParseFinite(std::string_view text) {
+  double value = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (text.empty() || ec != std::errc() || ptr != end ||
+      !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+struct Line {
+  std::string_view text;
+  int number = 0;
+};
+
+std::vector<Line> SplitLines(std::string_view text) {
+  std::vector<Line> lines;
+  std::size_t start = 0;
+  int number = 1;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    lines.push_back({line, number++});
+    start = end + 1;
+  }
+  return lines;
+}
+
+bool IsBlank(std::string_view line) {
+  return std::all_of(line.begin(), line.end(),
+                     [](char c) { return c == ' ' || c == '\t'; });
+}
+
+}  // namespace
+
+Result<MeasuredData> ParseMeasuredData(std::string_view path,
+                                       std::string_view text) {
+  const std::string_view whole = text;
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  const auto fail = [&](int line, int column, const std::string& message) {
+    return Error{FormatDataDiagnostic(path, whole, line, column, message)};
+  };
+  std::vector<Line> lines = SplitLines(text);
+  std::erase_if(lines, [](const Line& l) { return IsBlank(l.text); });
+  if (lines.empty()) {
+    return fail(0, 0,
+                "the file is empty; expected a header line with the columns "
+                "force_n,velocity_mm_s");
+  }
+  const Line& header_line = lines.front();
+  const std::vector<Cell> header = SplitRow(header_line.text);
+  const auto find = [&](std::string_view name) -> int {
+    for (std::size_t k = 0; k < header.size(); ++k) {
+      if (header[k].text == name) return static_cast<int>(k);
+    }
+    return -1;
+  };
+  for (std::size_t k = 0; k < header.size(); ++k) {
+    for (std::size_t m = 0; m < k; ++m) {
+      if (!header[k].text.empty() && header[k].text == header[m].text) {
+        return fail(header_line.number, header[k].column,
+                    fmt::format("the column {} appears twice in the header",
+                                header[k].text));
+      }
+    }
+  }
+  const int force_at = find("force_n"), velocity_at = find("velocity_mm_s");
+  if (force_at < 0 || velocity_at < 0) {
+    return fail(header_line.number, 1,
+                fmt::format("the header has no {} column; measured data need "
+                            "the columns force_n and velocity_mm_s "
+                            "(comma-separated)",
+                            force_at < 0 ? "force_n" : "velocity_mm_s"));
+  }
+  const int run_at = find("run"), material_at = find("material"),
+            radius_at = find("burr_radius_mm"),
+            spindle_at = find("spindle_rad_s");
+  MeasuredData data;
+  int radius_line = 0, spindle_line = 0;
+  std::set<double> levels;
+  for (std::size_t n = 1; n < lines.size(); ++n) {
+    const Line& line = lines[n];
+    const std::vector<Cell> cells = SplitRow(line.text);
+    if (cells.size() != header.size()) {
+      return fail(line.number, 1,
+                  fmt::format("the row has {} cells, the header {}",
+                              cells.size(), header.size()));
+    }
+    const auto cell = [&](int k) { return cells[static_cast<std::size_t>(k)]; };
+    MeasuredRun run;
+    run.line = line.number;
+    const Cell force = cell(force_at), velocity = cell(velocity_at);
+    const std::optional<double> f = ParseFinite(force.text);
+    if (!f || *f <= 0.0) {
+      return fail(line.number, force.column,
+                  fmt::format("force_n '{}' is not a positive finite number "
+                              "of N",
+                              force.text));
+    }
+    const std::optional<double> v = ParseFinite(velocity.text);
+    if (!v || *v <= 0.0) {
+      return fail(line.number, velocity.column,
+                  fmt::format("velocity_mm_s '{}' is not a positive finite "
+                              "number of mm/s (the fit is on log v; leave out "
+                              "runs that did not cut)",
+                              velocity.text));
+    }
+    run.force_n = *f;
+    run.velocity_mm_s = *v;
+    if (run_at >= 0) run.run = std::string(cell(run_at).text);
+    if (material_at >= 0) run.material = std::string(cell(material_at).text);
+    if (radius_at >= 0) {
+      const Cell c = cell(radius_at);
+      const std::optional<double> r = ParseFinite(c.text);
+      if (!r || *r <= 0.0) {
+        return fail(line.number, c.column,
+                    fmt::format("burr_radius_mm '{}' is not a positive finite "
+                                "number of mm",
+                                c.text));
+      }
+      if (data.burr_radius_mm && *data.burr_radius_mm != *r) {
+        return fail(line.number, c.column,
+                    fmt::format("burr_radius_mm {} differs from {} on line {}; "
+                                "calibrate one burr at a time",
+                                *r, *data.burr_radius_mm, radius_line));
+      }
+      data.burr_radius_mm = *r;
+      radius_line = line.number;
+    }
+    if (spindle_at >= 0) {
+      const Cell c = cell(spindle_at);
+      const std::optional<double> w = ParseFinite(c.text);
+      if (!w || *w < 0.0) {
+        return fail(line.number, c.column,
+                    fmt::format("spindle_rad_s '{}' is not a finite number of "
+                                "at least 0 rad/s",
+                                c.text));
+      }
+      if (data.spindle_rad_s && *data.spindle_rad_s != *w) {
+        return fail(line.number, c.column,
+                    fmt::format("spindle_rad_s {} differs from {} on line {}; "
+                                "calibrate one spindle speed at a time",
+                                *w, *data.spindle_rad_s, spindle_line));
+      }
+      data.spindle_rad_s = *w;
+      spindle_line = line.number;
+    }
+    levels.insert(run.force_n);
+    data.runs.push_back(std::move(run));
+  }
+  data.force_levels = static_cast<int>(levels.size());
+  const int runs = static_cast<int>(data.runs.size());
+  if (runs == 0) return fail(0, 0, "no data rows after the header");
+  if (runs <= kCalibrationParameters) {
+    return fail(
+        0, 0,
+        fmt::format("only {} run{}: fitting c_e and alpha needs more "
+                    "runs than parameters (at least {})",
+                    runs, runs == 1 ? "" : "s", kCalibrationParameters + 1));
+  }
+  if (data.force_levels < 2) {
+    return fail(0, 0,
+                fmt::format("all {} runs are at one force level ({} N); v(F) "
+                            "needs at least 2 force levels",
+                            runs, data.runs.front().force_n));
+  }
+  return data;
+}
+
+Result<MeasuredData> ReadMeasuredData(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    return Error{fmt::format("cannot read {}: it is a directory", path)};
+  }
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    return Error{errno != 0 ? fmt::format("cannot read {}: {}", path,
+                                          std::strerror(errno))
+                            : fmt::format("cannot read {}", path)};
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return Error{fmt::format("cannot read {}", path)};
+  return ParseMeasuredData(path, text.str());
+}
+
+}  // namespace burrlab::analysis

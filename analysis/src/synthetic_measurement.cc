@@ -1,0 +1,132 @@
+// Synthetic measured data from the full descent rig plus log-normal noise.
+#include "burrlab/analysis/synthetic_measurement.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <boost/random/mersenne_twister.hpp>
+#include <boost/random/normal_distribution.hpp>
+#include <cmath>
+
+#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/sim/descent.h"
+
+namespace burrlab::analysis {
+
+Status SyntheticMeasurementOptions::Validate() const {
+  if (Status s = material.Validate(); !s.ok()) return s;
+  if (Status s = effects.Validate(); !s.ok()) return s;
+  if (forces_n.empty()) return Error{"forces_n must name at least one force"};
+  for (double f : forces_n) {
+    if (!std::isfinite(f) || f <= 0.0) {
+      return Error{fmt::format(
+          "every force must be a positive finite number of N, got {}", f)};
+    }
+  }
+  if (replicates < 1 || replicates > 10000) {
+    return Error{
+        fmt::format("replicates must lie in [1, 10000], got {}", replicates)};
+  }
+  if (!std::isfinite(noise_cv) || noise_cv < 0.0) {
+    return Error{fmt::format("noise_cv must be finite and at least 0, got {}",
+                             noise_cv)};
+  }
+  if (!std::isfinite(radius_mm) || radius_mm <= 0.0) {
+    return Error{fmt::format("radius_mm must be positive, got {}", radius_mm)};
+  }
+  if (!(voxels_per_radius >= 2.0 && voxels_per_radius <= 40.0)) {
+    return Error{fmt::format("voxels_per_radius must lie in [2, 40], got {}",
+                             voxels_per_radius)};
+  }
+  if (!std::isfinite(dt_s) || dt_s <= 0.0 || dt_s > 0.01) {
+    return Error{fmt::format("dt_s must lie in (0, 0.01] s, got {}", dt_s)};
+  }
+  return {};
+}
+
+Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& o,
+                                    double force_n, std::uint64_t seed) {
+  sim::DescentOptions rig;
+  rig.material = o.material;
+  rig.effects = o.effects;
+  rig.force_n = force_n;
+  rig.radius_mm = o.radius_mm;
+  rig.spindle_rad_s = o.spindle_rad_s;
+  rig.voxel_mm = o.radius_mm / o.voxels_per_radius;
+  rig.dt_s = o.dt_s;
+  rig.seed = seed;
+  // The erosion profile in the burr settles as the material inside is
+  // renewed: over a few residence times h / v (h the immersion) and a few
+  // 1/alpha. The rig takes the slope over the second half of its window, so
+  // the window is 6 residence times (predicted by the surrogate), at least
+  // 8/alpha and 10 s.
+  const double alpha = std::max(o.material.alpha_per_s, 1e-3);
+  double window_s = std::max(10.0, 8.0 / alpha);
+  SteadyDescentInput predict;
+  predict.force_n = force_n;
+  predict.c_e_n_per_mm2 = o.material.c_e_n_per_mm2;
+  predict.alpha_per_s = o.material.alpha_per_s;
+  predict.radius_mm = o.radius_mm;
+  predict.effects = o.effects;
+  const double load =
+      force_n / (o.material.c_e_n_per_mm2 * o.radius_mm * o.radius_mm);
+  const double v_predicted = SteadyVelocityMmS(predict);
+  if (v_predicted > 0.0 && std::isfinite(v_predicted)) {
+    const double immersion_mm = std::pow(load, 2.0 / 3.0) * o.radius_mm;
+    window_s = std::max(window_s, 6.0 * immersion_mm / v_predicted);
+  }
+  rig.steady_window_s = std::min(window_s, 3000.0);
+  // Deep enough that the burr does not reach the bottom within the window.
+  if (v_predicted > 0.0 && std::isfinite(v_predicted)) {
+    rig.sample_depth_mm = std::clamp(
+        3.0 * o.radius_mm + 2.0 + 1.3 * v_predicted * rig.steady_window_s,
+        3.0 * o.radius_mm + 2.0, 300.0 * rig.voxel_mm);
+  }
+  rig.duration_s = rig.steady_window_s + 200.0;
+  rig.trace_period_s = std::max(0.01, rig.steady_window_s / 2000.0);
+  Result<sim::DescentResult> result = sim::RunDescent(rig);
+  if (!result.ok()) return result.error();
+  return result->steady_reached ? result->steady_velocity_mm_s : 0.0;
+}
+
+Result<SyntheticMeasurement> MeasureSynthetic(
+    const SyntheticMeasurementOptions& o) {
+  if (Status s = o.Validate(); !s.ok()) return s.error();
+  SyntheticMeasurement out;
+  boost::random::mt19937_64 noise_rng(o.seed ^ 0x9e3779b97f4a7c15ULL);
+  boost::random::normal_distribution<double> normal;
+  const double s = std::sqrt(std::log1p(o.noise_cv * o.noise_cv));
+  int run = 0;
+  for (std::size_t level = 0; level < o.forces_n.size(); ++level) {
+    const double force = o.forces_n[level];
+    Result<double> v = RigSteadyVelocityMmS(o, force, o.seed * 1000 + level);
+    if (!v.ok()) {
+      return Error{
+          fmt::format("the rig at {} N: {}", force, v.error().message)};
+    }
+    if (!(*v > 0.0)) {
+      out.skipped_forces_n.push_back(force);
+      continue;
+    }
+    for (int k = 0; k < o.replicates; ++k) {
+      const double factor = s > 0.0 ? std::exp(s * normal(noise_rng)) : 1.0;
+      out.runs.push_back({++run, force, *v * factor, *v});
+    }
+  }
+  return out;
+}
+
+std::string FormatMeasuredCsv(const SyntheticMeasurement& m,
+                              const std::string& material_name,
+                              const SyntheticMeasurementOptions& o) {
+  std::string csv =
+      "run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s\n";
+  for (const SyntheticRun& r : m.runs) {
+    csv +=
+        fmt::format("{},{},{},{},{},{:.9g}\n", r.run, material_name,
+                    o.radius_mm, o.spindle_rad_s, r.force_n, r.velocity_mm_s);
+  }
+  return csv;
+}
+
+}  // namespace burrlab::analysis

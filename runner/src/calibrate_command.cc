@@ -1,0 +1,118 @@
+// `burrlab calibrate`: measured CSV -> c_e, alpha, intervals, identifiability.
+#include "calibrate_command.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "burrlab/analysis/calibration.h"
+#include "burrlab/analysis/measured_data.h"
+#include "flags.h"
+
+namespace burrlab::runner {
+namespace {
+
+nlohmann::ordered_json IntervalJson(
+    const std::optional<analysis::Interval>& ci) {
+  return ci ? nlohmann::ordered_json::array({(*ci)[0], (*ci)[1]})
+            : nlohmann::ordered_json(nullptr);
+}
+
+std::string IntervalText(const std::optional<analysis::Interval>& ci) {
+  return ci ? fmt::format("[{:.4g}, {:.4g}]", (*ci)[0], (*ci)[1])
+            : std::string("not identifiable");
+}
+
+}  // namespace
+
+int RunCalibrateCommand(const Args& args, std::ostream& out,
+                        std::ostream& err) {
+  CLI::App app{
+      "Fits the elastic constant c_e (N/mm^2) and the erosion constant alpha "
+      "(1/s) to measured steady penetration velocities of a constant-force "
+      "descent (dissertation §8.6-8.7): least squares on log v through a "
+      "steady-state surrogate of the virtual rig, identifiability checked by "
+      "the SVD of the Jacobian and the profile likelihood, profile-likelihood "
+      "intervals. The data format is in analysis/README.md.",
+      "burrlab calibrate"};
+  std::string measured_path;
+  analysis::CalibrationOptions options;
+  bool json = false;
+  FlagSet flags(&app);
+  flags
+      .AddText("--measured",
+               "measured data, CSV with force_n,velocity_mm_s per run",
+               &measured_path)
+      ->type_name("FILE.csv")
+      ->required();
+  flags.AddPositive("--radius-mm",
+                    "burr radius R, mm (default: the file's burr_radius_mm)",
+                    "mm", &options.radius_mm);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  Result<analysis::MeasuredData> data =
+      analysis::ReadMeasuredData(measured_path);
+  if (!data.ok()) {
+    err << "burrlab: " << data.error().message << '\n';
+    return 1;
+  }
+  if (flags.Given("--radius-mm")) {
+    if (data->burr_radius_mm && *data->burr_radius_mm != options.radius_mm) {
+      return Fail(err, fmt::format("--radius-mm {} differs from "
+                                   "burr_radius_mm {} in {}",
+                                   options.radius_mm, *data->burr_radius_mm,
+                                   measured_path));
+    }
+  } else if (data->burr_radius_mm) {
+    options.radius_mm = *data->burr_radius_mm;
+  } else {
+    return Fail(err, fmt::format("no burr radius: give --radius-mm R or a "
+                                 "burr_radius_mm column in {}",
+                                 measured_path));
+  }
+  Result<analysis::CalibrationSummary> fit =
+      analysis::Calibrate(*data, options);
+  if (!fit.ok()) return Fail(err, "calibrate: " + fit.error().message);
+  const analysis::CalibrationSummary& r = *fit;
+  if (json) {
+    nlohmann::ordered_json j;
+    j["c_e"] = r.c_e_n_per_mm2;
+    j["alpha"] = r.alpha_per_s;
+    j["ci"] = {{"c_e", IntervalJson(r.c_e_ci)},
+               {"alpha", IntervalJson(r.alpha_ci)}};
+    j["identifiable"] = {
+        {"both", r.identifiable},
+        {"sentence", r.identifiability},
+        {"combination",
+         {{"expression", analysis::CombinationName(r.combination_exponent)},
+          {"exponent", r.combination_exponent},
+          {"value", r.combination_value},
+          {"ci", IntervalJson(r.combination_ci)}}}};
+    j["rmse_log_v"] = r.rmse_log_v;
+    j["sigma_log_v"] = r.sigma_log_v;
+    j["jacobian_singular_values"] = r.singular_values;
+    j["condition_number"] = r.condition_number;
+    j["confidence"] = options.confidence;
+    j["radius_mm"] = options.radius_mm;
+    j["runs"] = r.runs;
+    j["force_levels"] = r.force_levels;
+    j["units"] = {{"c_e", "N/mm^2"}, {"alpha", "1/s"}};
+    out << j.dump(2) << '\n';
+    return 0;
+  }
+  out << fmt::format("data             {} runs at {} force levels, R = {} mm\n",
+                     r.runs, r.force_levels, options.radius_mm);
+  out << fmt::format("c_e              {:.4g} N/mm^2  95 % {}\n",
+                     r.c_e_n_per_mm2, IntervalText(r.c_e_ci));
+  out << fmt::format("alpha            {:.4g} 1/s     95 % {}\n", r.alpha_per_s,
+                     IntervalText(r.alpha_ci));
+  out << fmt::format("rmse log v       {:.4g}\n", r.rmse_log_v);
+  out << fmt::format("identifiability  {}\n", r.identifiability);
+  return 0;
+}
+
+}  // namespace burrlab::runner

@@ -15,83 +15,9 @@
 #include <sstream>
 
 #include "burrlab/analysis/psychometric_data.h"
+#include "csv_text.h"
 
 namespace burrlab::analysis {
-namespace {
-
-struct Cell {
-  std::string_view text;  // trimmed
-  int column = 1;         // 1-based column of the cell's first character
-};
-
-std::string_view Trim(std::string_view cell, int* lead_out) {
-  std::size_t lead = 0;
-  while (lead < cell.size() && (cell[lead] == ' ' || cell[lead] == '\t')) {
-    ++lead;
-  }
-  cell.remove_prefix(lead);
-  while (!cell.empty() && (cell.back() == ' ' || cell.back() == '\t')) {
-    cell.remove_suffix(1);
-  }
-  *lead_out = static_cast<int>(lead);
-  return cell;
-}
-
-std::vector<Cell> SplitRow(std::string_view line) {
-  std::vector<Cell> cells;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t end = line.find(',', start);
-    int lead = 0;
-    const std::string_view cell =
-        Trim(line.substr(start, end == std::string_view::npos
-                                    ? std::string_view::npos
-                                    : end - start),
-             &lead);
-    cells.push_back({cell, static_cast<int>(start) + lead + 1});
-    if (end == std::string_view::npos) break;
-    start = end + 1;
-  }
-  return cells;
-}
-
-std::optional<double> ParseFinite(std::string_view text) {
-  double value = 0.0;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  if (text.empty() || ec != std::errc() || ptr != end ||
-      !std::isfinite(value)) {
-    return std::nullopt;
-  }
-  return value;
-}
-
-struct Line {
-  std::string_view text;
-  int number = 0;
-};
-
-std::vector<Line> SplitLines(std::string_view text) {
-  std::vector<Line> lines;
-  std::size_t start = 0;
-  int number = 1;
-  while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back({line, number++});
-    start = end + 1;
-  }
-  return lines;
-}
-
-bool IsBlank(std::string_view line) {
-  return std::all_of(line.begin(), line.end(),
-                     [](char c) { return c == ' ' || c == '\t'; });
-}
-
-}  // namespace
 
 Result<MeasuredData> ParseMeasuredData(std::string_view path,
                                        std::string_view text) {
@@ -108,7 +34,7 @@ Result<MeasuredData> ParseMeasuredData(std::string_view path,
                 "force_n,velocity_mm_s");
   }
   const Line& header_line = lines.front();
-  const std::vector<Cell> header = SplitRow(header_line.text);
+  const std::vector<Cell> header = SplitRow(header_line.text, ',');
   const auto find = [&](std::string_view name) -> int {
     for (std::size_t k = 0; k < header.size(); ++k) {
       if (header[k].text == name) return static_cast<int>(k);
@@ -140,7 +66,7 @@ Result<MeasuredData> ParseMeasuredData(std::string_view path,
   std::set<double> levels;
   for (std::size_t n = 1; n < lines.size(); ++n) {
     const Line& line = lines[n];
-    const std::vector<Cell> cells = SplitRow(line.text);
+    const std::vector<Cell> cells = SplitRow(line.text, ',');
     if (cells.size() != header.size()) {
       return fail(line.number, 1,
                   fmt::format("the row has {} cells, the header {}",

@@ -18,27 +18,12 @@
 #include <vector>
 
 #include "burrlab/analysis/descent_surrogate.h"
-#include "burrlab/runner/cli.h"
+#include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
 
 using ::testing::HasSubstr;
-
-struct CliRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-CliRun RunBurrlab(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun run;
-  run.code = RunCli(args, out, err);
-  run.out = out.str();
-  run.err = err.str();
-  return run;
-}
 
 class CalibrateCommand : public ::testing::Test {
  protected:

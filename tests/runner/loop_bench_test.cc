@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/runner/cli.h"
+#include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
@@ -37,21 +37,6 @@ TEST(LoopBench, UnknownMaterialIsAnError) {
   options.seconds = 0.01;
   options.material = "granite";
   EXPECT_FALSE(RunLoopBench(options).ok());
-}
-
-struct CliRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-CliRun RunBurrlab(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  CliRun run;
-  run.code = RunCli(args, out, err);
-  run.out = out.str();
-  run.err = err.str();
-  return run;
 }
 
 TEST(LoopBench, CommandReportsPeriodErrorsAsJson) {

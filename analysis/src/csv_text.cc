@@ -1,9 +1,16 @@
 // Lines, cells and strict numbers for the analysis data-file parsers.
 #include "csv_text.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace burrlab::analysis {
 
@@ -59,6 +66,24 @@ std::optional<double> ParseFinite(std::string_view text) {
     return std::nullopt;
   }
   return value;
+}
+
+Result<std::string> ReadTextFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    return Error{fmt::format("cannot read {}: it is a directory", path)};
+  }
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    return Error{errno != 0 ? fmt::format("cannot read {}: {}", path,
+                                          std::strerror(errno))
+                            : fmt::format("cannot read {}", path)};
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return Error{fmt::format("cannot read {}", path)};
+  return text.str();
 }
 
 }  // namespace burrlab::analysis

@@ -5,8 +5,11 @@
 #define BURRLAB_ANALYSIS_SRC_CSV_TEXT_H_
 
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
+
+#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 
@@ -31,6 +34,9 @@ bool IsBlank(std::string_view line);
 // The whole text as a finite number (no NaN, infinity, overflow or trailing
 // characters).
 std::optional<double> ParseFinite(std::string_view text);
+
+// The whole file; "cannot read PATH: reason" when it cannot be read.
+Result<std::string> ReadTextFile(const std::string& path);
 
 }  // namespace burrlab::analysis
 

@@ -154,21 +154,9 @@ Result<MeasuredData> ParseMeasuredData(std::string_view path,
 }
 
 Result<MeasuredData> ReadMeasuredData(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    return Error{fmt::format("cannot read {}: it is a directory", path)};
-  }
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return Error{errno != 0 ? fmt::format("cannot read {}: {}", path,
-                                          std::strerror(errno))
-                            : fmt::format("cannot read {}", path)};
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return Error{fmt::format("cannot read {}", path)};
-  return ParseMeasuredData(path, text.str());
+  Result<std::string> text = ReadTextFile(path);
+  if (!text.ok()) return text.error();
+  return ParseMeasuredData(path, *text);
 }
 
 }  // namespace burrlab::analysis

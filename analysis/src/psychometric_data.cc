@@ -168,21 +168,9 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
 }
 
 Result<PsychometricDataFile> ReadPsychometricData(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    return Error{fmt::format("cannot read {}: it is a directory", path)};
-  }
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return Error{errno != 0 ? fmt::format("cannot read {}: {}", path,
-                                          std::strerror(errno))
-                            : fmt::format("cannot read {}", path)};
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return Error{fmt::format("cannot read {}", path)};
-  return ParsePsychometricData(path, text.str());
+  Result<std::string> text = ReadTextFile(path);
+  if (!text.ok()) return text.error();
+  return ParsePsychometricData(path, *text);
 }
 
 }  // namespace burrlab::analysis

@@ -41,7 +41,7 @@ build-asan: deps $(BUILD_DIR)/asan/build.ninja
 
 demo: deps $(BUILD_DIR)/release/build.ninja
 	cmake --build $(BUILD_DIR)/release -j $(JOBS) --target burrlab
-	$(BUILD_DIR)/release/runner/burrlab demo --plots $(BUILD_DIR)/demo
+	$(BUILD_DIR)/release/runner/burrlab demo --out $(BUILD_DIR)/demo
 
 test-release: build
 	cd $(BUILD_DIR)/release && ctest --output-on-failure -j $(JOBS)

@@ -40,10 +40,13 @@ Status ObserverParams::Validate() const {
     }
     return {};
   };
-  if (Status s = positive("weber_stiffness", weber_stiffness, 5.0); !s.ok()) {
+  if (Status s =
+          positive("weber_stiffness", weber_stiffness, kMaxWeberFraction);
+      !s.ok()) {
     return s;
   }
-  if (Status s = positive("weber_removal", weber_removal, 5.0); !s.ok()) {
+  if (Status s = positive("weber_removal", weber_removal, kMaxWeberFraction);
+      !s.ok()) {
     return s;
   }
   if (!(lapse >= 0.0 && lapse < 0.5)) {

@@ -523,7 +523,8 @@ int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   VirtualStudyOptions options;
   options.subjects = subjects;
-  options.weber_log_sd = weber_spread;
+  options.spread_stiffness = weber_spread;
+  options.spread_removal = weber_spread;
   options.observer = protocols::ObserverParamsFrom(loaded->protocol.observer);
   options.observer.weber_stiffness = weber;
   options.observer.weber_removal = weber;
@@ -587,15 +588,18 @@ int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
 
 int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
-      "Fit a simulated-observer population to a published group result: the "
-      "Weber fraction W (both cues) whose virtual studies of the protocol give "
-      "the observed mean score of a block, the spread of W across subjects "
-      "that gives the observed between-subject SD (SEM x sqrt(n)), and a 95 % "
-      "interval for W from mean +- 1.96 SEM. With --predict, simulate another "
-      "protocol with that population and report its predicted scores and "
-      "power.",
+      "Fit a simulated-observer population to published group results: for "
+      "each observed block, the Weber fraction W of the block's cue "
+      "(stiffness when probing, removal rate when drilling) whose virtual "
+      "studies of the protocol give the observed mean score, the spread of W "
+      "across subjects that gives the observed between-subject SD (SEM x "
+      "sqrt(n)), and a 95 % interval for W from mean +- 1.96 SEM. Give "
+      "--observed once per block (block=NAME,mean=M,sem=S,n=N). With "
+      "--predict, simulate another protocol with that population and report "
+      "its predicted scores and power.",
       "burrlab analyze fit-observers"};
-  std::string protocol_path, observed_text, predict_path;
+  std::string protocol_path, predict_path, block;
+  std::vector<std::string> observed_texts;
   ObserverFitOptions options;
   double lapse = 0.0, alpha = 0.05;
   int cue_samples = 8, runs = 200, predict_subjects = 0;
@@ -606,13 +610,16 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                &protocol_path)
       ->type_name("FILE")
       ->required();
-  flags
-      .AddText("--observed", "the group result, mean=M,sem=S,n=N",
-               &observed_text)
-      ->type_name("mean=M,sem=S,n=N")
+  app.add_option("--observed", observed_texts,
+                 "a group result, [block=NAME,]mean=M,sem=S,n=N (once per "
+                 "block)")
+      ->type_name("[block=NAME,]mean=M,sem=S,n=N")
+      ->allow_extra_args(false)
       ->required();
-  flags.AddText("--block", "the block scored (default: the first scored one)",
-                &options.block);
+  flags.AddText("--block",
+                "the block scored, with one --observed (default: the first "
+                "scored one)",
+                &block);
   flags.AddInteger("--virtual-subjects",
                    "subjects per virtual study (default 400)", 2, 1000000,
                    &options.virtual_subjects);
@@ -637,8 +644,33 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddSwitch("--json", "print the results as JSON", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
-  Result<ObservedGroup> observed = ParseObservedGroup(observed_text);
-  if (!observed.ok()) return Fail(err, observed.error().message);
+  std::vector<ObservedGroup> observed;
+  for (const std::string& text : observed_texts) {
+    Result<ObservedGroup> g = ParseObservedGroup(text);
+    if (!g.ok()) return Fail(err, g.error().message);
+    observed.push_back(*g);
+  }
+  if (!block.empty()) {
+    if (observed.size() > 1) {
+      return Fail(err,
+                  "--block goes with one --observed; with several, name each "
+                  "one's block inside it (block=NAME,mean=...)");
+    }
+    if (!observed[0].block.empty() && observed[0].block != block) {
+      return Fail(err, fmt::format("--block {} but --observed names block {}",
+                                   block, observed[0].block));
+    }
+    observed[0].block = block;
+  }
+  if (observed.size() > 1) {
+    for (std::size_t i = 0; i < observed.size(); ++i) {
+      if (observed[i].block.empty()) {
+        return Fail(err, fmt::format("--observed {} needs block=NAME when "
+                                     "--observed is given more than once",
+                                     observed_texts[i]));
+      }
+    }
+  }
   if (flags.Given("--lapse") && !(lapse < 0.5)) {
     return Fail(err, fmt::format("--lapse must be below 0.5, got '{}'", lapse));
   }
@@ -648,35 +680,47 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   options.base = protocols::ObserverParamsFrom(loaded->protocol.observer);
   if (flags.Given("--lapse")) options.base.lapse = lapse;
   CuePool pool(cue_samples, 2.0, options.seed);
-  Result<ObserverFit> fit =
-      FitObservers(loaded->protocol, *observed, options, pool);
-  if (!fit.ok())
-    return Fail(err, "analyze fit-observers: " + fit.error().message);
+  std::vector<ObserverFit> fits;
   Json j;
   j["protocol"] = protocol_path;
-  j["block"] = fit->block;
-  j["trials_per_subject"] = fit->trials_per_subject;
-  j["observed"] = {{"mean", observed->mean},
-                   {"sem", observed->sem},
-                   {"n", observed->n},
-                   {"sd", fit->observed_sd}};
-  j["weber"] = fit->weber;
-  j["weber_ci"] = {fit->weber_low, fit->weber_high};
-  j["weber_spread"] = fit->weber_spread;
   j["lapse"] = options.base.lapse;
-  j["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
   j["virtual_subjects"] = options.virtual_subjects;
-  j["virtual_studies"] = fit->virtual_studies;
-  j["notes"] = fit->notes;
+  j["fits"] = Json::array();
+  for (const ObservedGroup& g : observed) {
+    Result<ObserverFit> fit = FitObservers(loaded->protocol, g, options, pool);
+    if (!fit.ok())
+      return Fail(err, "analyze fit-observers: " + fit.error().message);
+    fits.push_back(*fit);
+    Json f;
+    f["block"] = fit->block;
+    f["cue"] = fit->task == protocols::Task::kProbe ? "stiffness" : "removal";
+    f["trials_per_subject"] = fit->trials_per_subject;
+    f["observed"] = {
+        {"mean", g.mean}, {"sem", g.sem}, {"n", g.n}, {"sd", fit->observed_sd}};
+    f["weber"] = fit->weber;
+    f["weber_ci"] = {fit->weber_low, fit->weber_high};
+    f["weber_spread"] = fit->weber_spread;
+    f["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
+    f["virtual_studies"] = fit->virtual_studies;
+    f["notes"] = fit->notes;
+    j["fits"].push_back(f);
+  }
+  std::vector<std::string> population_notes;
+  Result<VirtualStudyOptions> population =
+      PopulationOf(fits, options.base, &population_notes);
+  if (!population.ok()) {
+    return Fail(err, "analyze fit-observers: " + population.error().message);
+  }
+  j["population"] = {{"weber_stiffness", population->observer.weber_stiffness},
+                     {"weber_removal", population->observer.weber_removal},
+                     {"spread_stiffness", population->spread_stiffness},
+                     {"spread_removal", population->spread_removal},
+                     {"notes", population_notes}};
   if (!predict_path.empty()) {
     Result<LoadedProtocol> other = LoadProtocol(predict_path);
     if (!other.ok()) return ReportLoadError(err, other.error());
-    VirtualStudyOptions v;
-    v.subjects = predict_subjects > 0 ? predict_subjects : observed->n;
-    v.observer = options.base;
-    v.observer.weber_stiffness = fit->weber;
-    v.observer.weber_removal = fit->weber;
-    v.weber_log_sd = fit->weber_spread;
+    VirtualStudyOptions v = *population;
+    v.subjects = predict_subjects > 0 ? predict_subjects : observed[0].n;
     CuePool other_pool(cue_samples, 2.0, options.seed);
     ProgressBar bar(err, runs);
     Result<std::vector<BlockPower>> powers = EstimatePower(
@@ -699,21 +743,31 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
   }
-  out << fmt::format(
-      "block {} ({} trials): observed {} +- {} (n {}, SD {:.3g})\n", fit->block,
-      fit->trials_per_subject, observed->mean, observed->sem, observed->n,
-      fit->observed_sd);
-  out << fmt::format(
-      "fitted   Weber {:.3g} [{:.3g}, {:.3g}] (95 %), spread {:.3g} (SD of ln "
-      "W), lapse {}\n",
-      fit->weber, fit->weber_low, fit->weber_high, fit->weber_spread,
-      options.base.lapse);
-  out << fmt::format(
-      "         population mean {:.2f}, SD {:.2f} ({} virtual subjects, {} "
-      "virtual studies)\n",
-      fit->fitted_mean, fit->fitted_sd, options.virtual_subjects,
-      fit->virtual_studies);
-  for (const std::string& note : fit->notes) out << "note     " << note << '\n';
+  for (const Json& f : j["fits"]) {
+    out << fmt::format(
+        "block {} ({} trials, {} cue): observed {} +- {} (n {}, SD {:.3g})\n",
+        f["block"].get<std::string>(), f["trials_per_subject"].get<int>(),
+        f["cue"].get<std::string>(), f["observed"]["mean"].get<double>(),
+        f["observed"]["sem"].get<double>(), f["observed"]["n"].get<int>(),
+        f["observed"]["sd"].get<double>());
+    out << fmt::format(
+        "fitted   Weber {:.3g} [{:.3g}, {:.3g}] (95 %), spread {:.3g} (SD of "
+        "ln W), lapse {}\n",
+        f["weber"].get<double>(), f["weber_ci"][0].get<double>(),
+        f["weber_ci"][1].get<double>(), f["weber_spread"].get<double>(),
+        options.base.lapse);
+    out << fmt::format(
+        "         population mean {:.2f}, SD {:.2f} ({} virtual subjects, {} "
+        "virtual studies)\n",
+        f["fitted"]["mean"].get<double>(), f["fitted"]["sd"].get<double>(),
+        options.virtual_subjects, f["virtual_studies"].get<int>());
+    for (const Json& note : f["notes"]) {
+      out << "note     " << note.get<std::string>() << '\n';
+    }
+  }
+  for (const std::string& note : population_notes) {
+    out << "note     " << note << '\n';
+  }
   if (j.contains("prediction")) {
     out << fmt::format("predicted {} ({} subjects, {} studies):\n",
                        predict_path, j["prediction"]["subjects"].get<int>(),

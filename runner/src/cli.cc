@@ -10,9 +10,9 @@
 #include "burrlab_version.h"
 #include "calibrate_command.h"
 #include "command_table.h"
-#include "demo.h"
 #include "session_commands.h"
 #include "sim_commands.h"
+#include "study_demo.h"
 #include "validate_command.h"
 
 namespace burrlab::runner {
@@ -23,8 +23,8 @@ int RunTopHelp(const Args& args, std::ostream& out, std::ostream& err);
 // Every command of `burrlab`; later issues add run, validate, analyze, ...
 constexpr Command kCommands[] = {
     {"demo",
-     "the simulator on the built-in materials: force-depth curves and "
-     "constant-force descents",
+     "re-run the dissertation's chapter 13 study with simulated subjects: "
+     "fit, simulate, analyse, compare",
      RunDemoCommand},
     {"validate",
      "check protocol files; print every problem with its line and column",
@@ -37,7 +37,8 @@ constexpr Command kCommands[] = {
      "--resume continues it",
      RunRunCommand},
     {"study", "run a population of simulated subjects", RunStudyCommand},
-    {"sim", "burr simulator tools: force-curve, descent, measure, bench",
+    {"sim",
+     "burr simulator tools: force-curve, descent, measure, bench, materials",
      RunSimCommand},
     {"analyze", "statistics on data files: fit (psychometric), dprime",
      RunAnalyzeCommand},

@@ -3,9 +3,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <map>
 #include <optional>
+#include <utility>
 
 namespace burrlab::runner {
 namespace {
@@ -23,13 +26,16 @@ class Fitter {
 
   // Mean and SD of the block's scores of a population (W, spread).
   Result<Moments> Evaluate(double weber, double spread) {
+    weber = std::clamp(weber, kMinWeber, kMaxWeber);  // exp(ln W) rounding
     VirtualStudyOptions o;
     o.subjects = options_.virtual_subjects;
     o.seed = options_.seed;
     o.observer = options_.base;
     o.observer.weber_stiffness = weber;
     o.observer.weber_removal = weber;
-    o.weber_log_sd = spread;
+    // Only the block is simulated, so only its cue's values matter.
+    o.spread_stiffness = spread;
+    o.spread_removal = spread;
     o.only_block = block_.empty() ? options_.block : block_;
     Result<std::vector<VirtualBlock>> study =
         RunVirtualStudy(protocol_, o, pool_);
@@ -74,17 +80,68 @@ class Fitter {
     return m;
   }
 
-  // The W whose mean score is `target` (mean falls as W grows); the search
-  // limit when the target is out of reach, with `*limit` set.
-  Result<double> SolveWeber(double target, double spread, bool* limit) {
-    double lo = std::log(kMinWeber), hi = std::log(kMaxWeber);
-    Result<Moments> at_lo = Evaluate(kMinWeber, spread);
-    if (!at_lo.ok()) return at_lo.error();
-    *limit = false;
-    if (at_lo->mean <= target) {
-      *limit = true;
-      return kMinWeber;
+  // The W of the highest mean score at `spread`, and that mean. The score
+  // is not monotone in W: a very sharp observer (its criterion scales with
+  // its own noise, §13.5.1's differencing rule) feels the variability between
+  // renderings of one material and calls identical pairs "different", so
+  // the mean rises from the smallest W to a peak and falls after it. A grid
+  // over ln W, then golden-section steps around the best grid point.
+  Result<std::pair<double, double>> Peak(double spread) {
+    if (auto it = peaks_.find(spread); it != peaks_.end()) return it->second;
+    constexpr int kGrid = 9;
+    const double lo = std::log(kMinWeber), hi = std::log(kMaxWeber);
+    const double step = (hi - lo) / (kGrid - 1);
+    int best = 0;
+    double best_mean = -1.0;
+    for (int i = 0; i < kGrid; ++i) {
+      Result<Moments> m = Evaluate(std::exp(lo + step * i), spread);
+      if (!m.ok()) return m.error();
+      if (m->mean > best_mean) {
+        best_mean = m->mean;
+        best = i;
+      }
     }
+    double a = lo + step * std::max(0, best - 1);
+    double b = lo + step * std::min(kGrid - 1, best + 1);
+    double at = lo + step * best;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int i = 0; i < 4 && b - a > 1e-3; ++i) {
+      const double c = b - g * (b - a), d = a + g * (b - a);
+      Result<Moments> mc = Evaluate(std::exp(c), spread);
+      if (!mc.ok()) return mc.error();
+      Result<Moments> md = Evaluate(std::exp(d), spread);
+      if (!md.ok()) return md.error();
+      if (mc->mean >= md->mean) {
+        b = d;
+        if (mc->mean > best_mean) {
+          best_mean = mc->mean;
+          at = c;
+        }
+      } else {
+        a = c;
+        if (md->mean > best_mean) {
+          best_mean = md->mean;
+          at = d;
+        }
+      }
+    }
+    const std::pair<double, double> peak{std::exp(at), best_mean};
+    peaks_.emplace(spread, peak);
+    return peak;
+  }
+
+  // The W above the peak whose mean score is `target` (the mean falls as W
+  // grows there); the peak's W or the search limit when the target is out of
+  // reach, with `*limit` set.
+  Result<double> SolveWeber(double target, double spread, bool* limit) {
+    Result<std::pair<double, double>> peak = Peak(spread);
+    if (!peak.ok()) return peak.error();
+    *limit = false;
+    if (peak->second <= target) {
+      *limit = true;
+      return peak->first;
+    }
+    double lo = std::log(peak->first), hi = std::log(kMaxWeber);
     Result<Moments> at_hi = Evaluate(kMaxWeber, spread);
     if (!at_hi.ok()) return at_hi.error();
     if (at_hi->mean >= target) {
@@ -111,6 +168,7 @@ class Fitter {
   std::string block_;
   int trials_ = 0;
   int evaluations_ = 0;
+  std::map<double, std::pair<double, double>> peaks_;  // spread -> (W, mean)
 };
 
 }  // namespace
@@ -120,8 +178,8 @@ Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
   bool mean = false, sem = false, n = false;
   const auto bad = [&] {
     return Error{fmt::format(
-        "--observed must be mean=M,sem=S,n=N (M >= 0, S > 0, N >= 2), got "
-        "'{}'",
+        "--observed must be [block=NAME,]mean=M,sem=S,n=N (M >= 0, S > 0, "
+        "N >= 2), got '{}'",
         text)};
   };
   std::size_t start = 0;
@@ -132,6 +190,12 @@ Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
     if (eq == std::string_view::npos) return bad();
     const std::string_view key = item.substr(0, eq),
                            value = item.substr(eq + 1);
+    if (key == "block") {
+      if (value.empty() || !g.block.empty()) return bad();
+      g.block = std::string(value);
+      start = comma + 1;
+      continue;
+    }
     double v = 0.0;
     const auto [end, ec] =
         std::from_chars(value.data(), value.data() + value.size(), v);
@@ -165,13 +229,38 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
     return Error{fmt::format("virtual subjects must be at least 2, got {}",
                              options.virtual_subjects)};
   }
-  Fitter fitter(protocol, options, pool);
+  ObserverFitOptions opts = options;
+  if (!observed.block.empty()) {
+    if (!opts.block.empty() && opts.block != observed.block) {
+      return Error{fmt::format(
+          "the observed result is of block \"{}\" but block \"{}\" was asked "
+          "for",
+          observed.block, opts.block)};
+    }
+    opts.block = observed.block;
+  }
+  if (!opts.block.empty()) {
+    std::string names;
+    bool found = false;
+    for (const protocols::Block& b : protocol.blocks) {
+      names += (names.empty() ? "" : ", ") + b.name;
+      found = found || b.name == opts.block;
+    }
+    if (!found) {
+      return Error{fmt::format("the protocol has no block \"{}\" (blocks: {})",
+                               opts.block, names)};
+    }
+  }
+  Fitter fitter(protocol, opts, pool);
   // The block and its n, from one study.
   Result<Moments> probe = fitter.Evaluate(0.3, 0.0);
   if (!probe.ok()) return probe.error();
   ObserverFit fit;
   fit.block = fitter.block();
   fit.trials_per_subject = fitter.trials();
+  for (const protocols::Block& b : protocol.blocks) {
+    if (b.name == fit.block) fit.task = b.task;
+  }
   if (observed.mean > fit.trials_per_subject) {
     return Error{
         fmt::format("the observed mean {} is above the {} trials of "
@@ -198,20 +287,35 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
         bool l = false;
         Result<double> wm = fitter.SolveWeber(observed.mean, mid, &l);
         if (!wm.ok()) return wm.error();
+        if (l) {  // so spread a population no W gives the mean: too wide
+          hi = mid;
+          continue;
+        }
         Result<Moments> mm = fitter.Evaluate(*wm, mid);
         if (!mm.ok()) return mm.error();
         (mm->sd < fit.observed_sd ? lo : hi) = mid;
       }
-      spread = 0.5 * (lo + hi);
+      spread = lo;  // the widest spread known to reach the mean
       w = fitter.SolveWeber(observed.mean, spread, &limit);
       if (!w.ok()) return w.error();
+      Result<Moments> reached = fitter.Evaluate(*w, spread);
+      if (!reached.ok()) return reached.error();
+      if (reached->sd < 0.9 * fit.observed_sd) {
+        fit.notes.push_back(fmt::format(
+            "the observed SD {:.3g} is out of reach at this mean: a wider "
+            "spread puts so many subjects near chance that no Weber fraction "
+            "gives the mean; the spread stops at {:.3g} (SD {:.3g})",
+            fit.observed_sd, spread, reached->sd));
+      }
     }
   }
   if (limit) {
+    Result<std::pair<double, double>> peak = fitter.Peak(spread);
+    if (!peak.ok()) return peak.error();
     fit.notes.push_back(fmt::format(
-        "the observed mean {} is out of reach of Weber fractions {} to {}: "
-        "the fit stops at the limit",
-        observed.mean, kMinWeber, kMaxWeber));
+        "the observed mean {} is out of reach: the highest mean any Weber "
+        "fraction gives is {:.3g} (at W {:.3g}); the fit stops there",
+        observed.mean, peak->second, peak->first));
   }
   fit.weber = *w;
   fit.weber_spread = spread;
@@ -236,6 +340,47 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
   fit.fitted_sd = fitted->sd;
   fit.virtual_studies = fitter.evaluations();
   return fit;
+}
+
+Result<VirtualStudyOptions> PopulationOf(const std::vector<ObserverFit>& fits,
+                                         const protocols::ObserverParams& base,
+                                         std::vector<std::string>* notes) {
+  VirtualStudyOptions v;
+  v.observer = base;
+  const ObserverFit* stiffness = nullptr;
+  const ObserverFit* removal = nullptr;
+  for (const ObserverFit& f : fits) {
+    const ObserverFit*& slot =
+        f.task == protocols::Task::kProbe ? stiffness : removal;
+    if (slot != nullptr) {
+      return Error{fmt::format(
+          "blocks \"{}\" and \"{}\" both fit the {} cue: fit one block per "
+          "task",
+          slot->block, f.block,
+          f.task == protocols::Task::kProbe ? "stiffness" : "removal")};
+    }
+    slot = &f;
+  }
+  if (stiffness == nullptr && removal == nullptr) {
+    return Error{"no fitted block"};
+  }
+  if (stiffness == nullptr || removal == nullptr) {
+    const ObserverFit& only = stiffness != nullptr ? *stiffness : *removal;
+    if (notes != nullptr) {
+      notes->push_back(fmt::format(
+          "only the {} cue was fitted (block \"{}\"); the {} cue takes the "
+          "same Weber fraction and spread",
+          stiffness != nullptr ? "stiffness" : "removal", only.block,
+          stiffness != nullptr ? "removal" : "stiffness"));
+    }
+    if (stiffness == nullptr) stiffness = &only;
+    if (removal == nullptr) removal = &only;
+  }
+  v.observer.weber_stiffness = stiffness->weber;
+  v.observer.weber_removal = removal->weber;
+  v.spread_stiffness = stiffness->weber_spread;
+  v.spread_removal = removal->weber_spread;
+  return v;
 }
 
 }  // namespace burrlab::runner

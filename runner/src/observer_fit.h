@@ -1,5 +1,6 @@
 // Fitting a simulated-observer population to observed group results: the
-// Weber fraction W (both cues) whose virtual studies give the observed mean
+// Weber fraction W of a block's cue (stiffness when probing, removal rate
+// when drilling) whose virtual studies give the observed mean
 // score of a block, and the spread of W across subjects that gives the
 // observed between-subject SD (SEM x sqrt(n)), with an interval for W from
 // the observed mean's uncertainty (mean +- 1.96 SEM mapped through the
@@ -23,9 +24,11 @@ struct ObservedGroup {
   double mean = 0.0;  // correct answers per subject
   double sem = 0.0;   // standard error of the mean
   int n = 0;          // subjects
+  std::string block;  // the block scored; empty: not said
 };
 
-// Parses "mean=9.3,sem=0.4,n=20" (keys in any order, all three required).
+// Parses "mean=9.3,sem=0.4,n=20" (keys in any order, all three required),
+// optionally with "block=probe".
 Result<ObservedGroup> ParseObservedGroup(std::string_view text);
 
 struct ObserverFitOptions {
@@ -38,6 +41,8 @@ struct ObserverFitOptions {
 
 struct ObserverFit {
   std::string block;
+  protocols::Task task = protocols::Task::kProbe;  // the block's: its cue is
+                                                   // the one fitted
   int trials_per_subject = 0;
   double weber = 0.0;  // fitted typical Weber fraction
   // W giving mean -+ 1.96 SEM (a larger W gives a lower score); at the search
@@ -54,12 +59,20 @@ struct ObserverFit {
 
 // Search range of W.
 inline constexpr double kMinWeber = 0.01;
-inline constexpr double kMaxWeber = 10.0;
+inline constexpr double kMaxWeber = protocols::kMaxWeberFraction;
 
 Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
                                  const ObservedGroup& observed,
                                  const ObserverFitOptions& options,
                                  CuePool& pool);
+
+// The population fitted blocks describe, for virtual or simulated studies:
+// each cue takes the Weber fraction and spread of the block of its task
+// (probe: stiffness; drill: removal); with only one fit, the other cue takes
+// the same values (said in `notes`). Two fits of one task are an error.
+Result<VirtualStudyOptions> PopulationOf(const std::vector<ObserverFit>& fits,
+                                         const protocols::ObserverParams& base,
+                                         std::vector<std::string>* notes);
 
 }  // namespace burrlab::runner
 

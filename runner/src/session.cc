@@ -72,6 +72,13 @@ class SessionRunner {
                                           const stimuli::MaterialSet& set,
                                           double duration_s,
                                           std::uint64_t interval) const;
+  // The simulator's rendering of `o`, or the shared pool's.
+  Result<stimuli::IntervalResult> Render(
+      const stimuli::IntervalOptions& o) const {
+    return options_.renderings != nullptr
+               ? options_.renderings->Present(o)
+               : stimuli::PresentSimulatedInterval(o);
+  }
   Result<Presented> PresentTrial(const TrialSpec& trial);
   Result<double> StandardCue(const TrialSpec& trial);
   Result<protocols::Response> SimulatedResponse(const TrialSpec& trial,
@@ -138,9 +145,8 @@ Result<stimuli::IntervalResult> SessionRunner::Present(
   const std::uint64_t seed = protocols::SeedFor(
       options_.seed, StreamPurpose::kErosion,
       static_cast<std::uint64_t>(trial.trial_index), interval);
-  Result<stimuli::IntervalResult> r =
-      stimuli::PresentSimulatedInterval(IntervalOptionsFor(
-          loaded_.protocol, options_.radius_mm, trial, set, duration_s, seed));
+  Result<stimuli::IntervalResult> r = Render(IntervalOptionsFor(
+      loaded_.protocol, options_.radius_mm, trial, set, duration_s, seed));
   if (!r.ok()) {
     return Error{fmt::format("trial {} interval {}: {}", trial.trial_index,
                              interval + 1, r.error().message)};
@@ -197,7 +203,7 @@ Result<double> SessionRunner::StandardCue(const TrialSpec& trial) {
       protocols::SeedFor(
           options_.seed, StreamPurpose::kErosion,
           kStandardSeedBase + static_cast<std::uint64_t>(trial.block_index)));
-  Result<stimuli::IntervalResult> r = stimuli::PresentSimulatedInterval(o);
+  Result<stimuli::IntervalResult> r = Render(o);
   if (!r.ok()) return r.error();
   const double cue = std::max(r->cue, kFeltCueFloor);
   standard_cues_[trial.block_index] = cue;
@@ -368,6 +374,9 @@ Result<SessionSummary> SessionRunner::Run() {
     if (!extra.is_object()) extra = nlohmann::ordered_json::object();
     extra["session_time_end_s"] = clock_s_;
     extra["master_seed"] = std::to_string(options_.seed);
+    if (options_.renderings != nullptr) {
+      extra["rendering_pool"] = options_.renderings->renderings();
+    }
     r.extra = extra.dump();
     if (rs::Status s = journal_.Append(r, presented->traces); !s.ok()) {
       return Error{fmt::format(
@@ -447,9 +456,14 @@ Result<LoadedProtocol> LoadProtocol(const std::string& path) {
   if (!file) return Error{fmt::format("cannot read {}", path)};
   std::ostringstream text;
   text << file.rdbuf();
+  return ParseLoadedProtocol(path, text.str());
+}
+
+Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
+                                           std::string text) {
   LoadedProtocol loaded;
   loaded.path = path;
-  loaded.text = text.str();
+  loaded.text = std::move(text);
   protocols::ParseOutcome parsed = protocols::ParseProtocol(path, loaded.text);
   if (!parsed.protocol.has_value()) {
     std::string all;

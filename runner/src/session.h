@@ -21,6 +21,7 @@
 #include "burrlab/protocols/protocol.h"
 #include "burrlab/sim/result.h"
 #include "burrlab/stimuli/interval.h"
+#include "rendering_pool.h"
 
 namespace burrlab::runner {
 
@@ -48,6 +49,10 @@ struct LoadedProtocol {
 // Reads and parses a protocol file; the error holds every diagnostic
 // formatted as `burrlab validate` prints them.
 Result<LoadedProtocol> LoadProtocol(const std::string& path);
+// The same for a protocol's text (e.g. one compiled in); `path` names it in
+// diagnostics and the journal.
+Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
+                                           std::string text);
 
 // Prints LoadProtocol's error (a read error as one "burrlab: " line, parse
 // errors as their diagnostics) and returns 1.
@@ -74,6 +79,10 @@ struct SessionOptions {
   std::istream* in = nullptr;          // kTerminal: answers
   std::ostream* prompt = nullptr;      // kTerminal: trial descriptions
   bool export_bids = true;             // write the BIDS files at the end
+  // Non-null: intervals come from this shared pool of renderings (picked by
+  // each interval's erosion seed) instead of being rendered afresh; trials
+  // record the pool's size in their `extra` ("rendering_pool").
+  RenderingPool* renderings = nullptr;
   // Tests only: caps the journal's size so a write fails (SQLITE_FULL); 0 =
   // no cap.
   std::int64_t journal_limit_bytes_for_testing = 0;

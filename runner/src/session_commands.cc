@@ -17,7 +17,10 @@
 #include "burrlab/results_schema/journal.h"
 #include "flags.h"
 #include "progress.h"
+#include "rendering_pool.h"
 #include "session.h"
+#include "study.h"
+#include "virtual_study.h"
 
 namespace burrlab::runner {
 namespace {
@@ -281,6 +284,8 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   std::string observer;
   bool resume = false;
   double radius_mm = 2.0;
+  double weber_spread = 0.0;
+  int renderings = 0;
   app.add_option("file", path, "the protocol file")->required();
   FlagSet flags(&app);
   flags.AddInteger("--simulated-subjects", "number of subjects (required)", 1,
@@ -295,6 +300,18 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
                   &resume);
   flags.AddPositive("--radius-mm", "burr radius (default 2)", "mm", &radius_mm,
                     5.0);
+  flags.AddNonNegative(
+      "--weber-spread",
+      "SD of ln(Weber fraction) across subjects: subject i's observer has "
+      "the Weber fractions times exp(z spread), z ~ N(0,1) drawn from the "
+      "seed and i (default 0: all alike)",
+      "", &weber_spread);
+  flags.AddInteger(
+      "--renderings",
+      "render each distinct stimulus K times and let all intervals share "
+      "these renderings, picked by their erosion seeds (fast pilots and "
+      "demos; default: every interval rendered afresh)",
+      1, 100000, &renderings);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   if (n_subjects <= 0) return Fail(err, "--simulated-subjects is required");
@@ -304,82 +321,44 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   Result<protocols::ObserverParams> params =
       ObserverFor(loaded->protocol, observer.empty() ? "simulated" : observer);
   if (!params.ok()) return Fail(err, params.error().message);
+  VirtualStudyOptions population;
+  population.seed = seed;
+  population.observer = params.value();
+  population.spread_stiffness = weber_spread;
+  population.spread_removal = weber_spread;
+  std::unique_ptr<RenderingPool> pool;
+  if (renderings > 0) pool = std::make_unique<RenderingPool>(renderings, seed);
   if (jobs <= 0) {
     jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   }
-  const int width =
-      std::max(2, static_cast<int>(std::to_string(n_subjects).size()));
-  std::vector<std::string> labels;
+  SimulatedStudyOptions study;
+  study.out_dir = out_dir;
+  study.labels = SubjectLabels(n_subjects);
   for (int i = 0; i < n_subjects; ++i) {
-    labels.push_back(fmt::format("{:0{}}", i + 1, width));
+    study.observers.push_back(SubjectObserver(population, i));
   }
+  study.seed = seed;
+  study.jobs = jobs;
+  study.radius_mm = radius_mm;
+  study.resume = resume;
+  study.renderings = pool.get();
   // Refuse before running anything when a subject exists (never overwrite).
-  if (!resume) {
-    for (const std::string& label : labels) {
-      std::error_code ec;
-      if (std::filesystem::exists(results_schema::JournalPath(out_dir, label),
-                                  ec)) {
-        return Fail(err, fmt::format("sub-{} already exists in {}; use "
-                                     "--resume to continue the study",
-                                     label, out_dir));
-      }
-    }
+  if (Status s = CheckNoSubjectExists(study); !s.ok()) {
+    return Fail(err, s.error().message);
   }
   ProgressBar bar(err, n_subjects);
-  std::mutex mutex;
-  std::atomic<int> next{0};
-  int done = 0;
-  std::vector<std::string> failures(labels.size());
-  std::vector<std::optional<double>> scores(labels.size());
-  auto worker = [&]() {
-    for (;;) {
-      const int i = next.fetch_add(1);
-      if (i >= n_subjects) return;
-      const std::string& label = labels[static_cast<std::size_t>(i)];
-      SessionOptions options;
-      options.out_dir = out_dir;
-      options.subject = label;
-      options.subject_index = i;
-      options.seed =
-          protocols::SeedFor(seed, protocols::StreamPurpose::kSubjectSeed,
-                             static_cast<std::uint64_t>(i));
-      options.observer = params.value();
-      options.radius_mm = radius_mm;
-      options.export_bids = false;
-      std::error_code ec;
-      options.resume =
-          resume && std::filesystem::exists(
-                        results_schema::JournalPath(out_dir, label), ec);
-      Result<SessionSummary> summary = RunSession(loaded.value(), options);
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!summary.ok()) {
-        failures[static_cast<std::size_t>(i)] = summary.error().message;
-      } else {
-        scores[static_cast<std::size_t>(i)] = summary->score;
-      }
-      bar.Update(++done, "sub-" + label);
-    }
+  study.progress = [&](int done, const std::string& label) {
+    bar.Update(done, "sub-" + label);
   };
-  std::vector<std::thread> threads;
-  for (int j = 0; j < std::min(jobs, n_subjects); ++j) {
-    threads.emplace_back(worker);
-  }
-  for (std::thread& t : threads) t.join();
-  int failed = 0;
-  for (std::size_t i = 0; i < labels.size(); ++i) {
-    if (!failures[i].empty()) {
-      err << fmt::format("burrlab: sub-{}: {}\n", labels[i], failures[i]);
-      ++failed;
-      continue;
-    }
-    if (results_schema::Status s =
-            results_schema::ExportBids(out_dir, labels[i]);
-        !s.ok()) {
-      err << fmt::format("burrlab: sub-{}: export failed: {}\n", labels[i],
-                         s.error().message);
-      ++failed;
+  const SimulatedStudyResult result = RunSimulatedStudy(loaded.value(), study);
+  const int failed = result.failed();
+  for (std::size_t i = 0; i < study.labels.size(); ++i) {
+    if (!result.failures[i].empty()) {
+      err << fmt::format("burrlab: sub-{}: {}\n", study.labels[i],
+                         result.failures[i]);
     }
   }
+  const std::vector<std::optional<double>>& scores = result.scores;
   double sum = 0.0;
   int scored = 0;
   for (const auto& s : scores) {

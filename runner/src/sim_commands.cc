@@ -24,6 +24,7 @@
 #include "burrlab/stimuli/materials.h"
 #include "flags.h"
 #include "loop_bench.h"
+#include "materials_demo.h"
 #include "progress.h"
 
 namespace burrlab::runner {
@@ -713,6 +714,10 @@ constexpr Command kSimCommands[] = {
      RunMeasure},
     {"volume", "load an NRRD volume with an intensity mapping and summarise it",
      RunVolume},
+    {"materials",
+     "the built-in materials: force-depth curves and constant-force descents, "
+     "with figures",
+     RunMaterialsDemoCommand},
     {"help", "list the sim commands; 'sim help COMMAND' shows the flags of one",
      RunSimHelp},
 };

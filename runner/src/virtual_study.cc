@@ -19,67 +19,86 @@ using protocols::Method;
 using protocols::StreamPurpose;
 using protocols::TrialSpec;
 
-// Erosion seeds of the pool, apart from every session's streams.
+// The observer stream of a virtual subject, apart from every session's.
 constexpr std::uint64_t kPoolPurposeIndex = 1ull << 40;
-
-// One stimulus of the pool: what the simulator renders, as the bytes of its
-// numbers (no formatting on the per-trial path).
-std::string StimulusKey(const stimuli::IntervalOptions& o) {
-  const double values[] = {o.material.c_e_n_per_mm2,
-                           o.material.alpha_per_s,
-                           o.material.c_mu_n_per_mm2,
-                           o.material.mu,
-                           o.material.c_i_n_s_per_mm3,
-                           static_cast<double>(o.task),
-                           o.duration_s,
-                           o.radius_mm,
-                           o.probe_force_n,
-                           o.drill_force_n,
-                           o.press_period_s};
-  return std::string(reinterpret_cast<const char*>(values), sizeof values);
-}
 
 }  // namespace
 
 CuePool::CuePool(int samples, double radius_mm, std::uint64_t seed)
-    : samples_(std::max(1, samples)), radius_mm_(radius_mm), seed_(seed) {}
+    : own_(std::make_unique<RenderingPool>(samples, seed, false)),
+      renderings_(own_.get()),
+      radius_mm_(radius_mm) {}
+
+CuePool::CuePool(RenderingPool& shared, double radius_mm)
+    : renderings_(&shared), radius_mm_(radius_mm) {}
 
 Result<const std::vector<double>*> CuePool::Cues(
     const protocols::Protocol& protocol, const TrialSpec& trial,
     const stimuli::MaterialSet& set, double duration_s) {
-  stimuli::IntervalOptions o =
+  const stimuli::IntervalOptions o =
       IntervalOptionsFor(protocol, radius_mm_, trial, set, duration_s, 0);
-  const std::string key = StimulusKey(o);
+  std::string key = StimulusKey(o);
   auto it = cues_.find(key);
   if (it != cues_.end()) return &it->second;
-  std::vector<double> cues;
-  for (int k = 0; k < samples_; ++k) {
-    o.seed = protocols::SeedFor(seed_, StreamPurpose::kErosion,
-                                kPoolPurposeIndex + cues_.size(),
-                                static_cast<std::uint64_t>(k));
-    Result<stimuli::IntervalResult> r = stimuli::PresentSimulatedInterval(o);
-    if (!r.ok()) {
-      return Error{fmt::format("rendering {} ({}, {} s): {}", set.name,
-                               stimuli::TaskName(o.task), duration_s,
-                               r.error().message)};
-    }
-    cues.push_back(std::max(r->cue, kFeltCueFloor));
-    ++rendered_;
+  Result<std::vector<double>> cues = renderings_->Cues(o);
+  if (!cues.ok()) {
+    return Error{fmt::format("rendering {} ({}, {} s): {}", set.name,
+                             stimuli::TaskName(o.task), duration_s,
+                             cues.error().message)};
   }
-  return &cues_.emplace(key, std::move(cues)).first->second;
+  for (double& c : *cues) c = std::max(c, kFeltCueFloor);
+  return &cues_.emplace(std::move(key), std::move(*cues)).first->second;
+}
+
+Status ValidateVirtualStudy(const VirtualStudyOptions& options) {
+  if (options.subject_observers.empty() && options.subjects < 1) {
+    return Error{
+        fmt::format("subjects must be at least 1, got {}", options.subjects)};
+  }
+  for (const double spread :
+       {options.spread_stiffness, options.spread_removal}) {
+    if (!(spread >= 0.0) || !std::isfinite(spread)) {
+      return Error{
+          fmt::format("the Weber spread must be 0 or more, got {}", spread)};
+    }
+  }
+  for (const protocols::ObserverParams& p : options.subject_observers) {
+    if (Status st = p.Validate(); !st.ok()) return st;
+  }
+  return options.observer.Validate();
+}
+
+protocols::ObserverParams SubjectObserver(const VirtualStudyOptions& options,
+                                          int s) {
+  if (!options.subject_observers.empty()) {
+    return options.subject_observers.at(static_cast<std::size_t>(s));
+  }
+  protocols::ObserverParams params = options.observer;
+  if (options.spread_stiffness > 0.0 || options.spread_removal > 0.0) {
+    boost::random::mt19937 population =
+        protocols::StreamFor(options.seed, StreamPurpose::kPopulation,
+                             static_cast<std::uint64_t>(s));
+    boost::random::normal_distribution<double> unit(0.0, 1.0);
+    const double z = unit(population);
+    // A draw beyond the largest Weber fraction is held there (an observer
+    // at chance stays at chance).
+    params.weber_stiffness = std::min(
+        protocols::kMaxWeberFraction,
+        params.weber_stiffness * std::exp(z * options.spread_stiffness));
+    params.weber_removal =
+        std::min(protocols::kMaxWeberFraction,
+                 params.weber_removal * std::exp(z * options.spread_removal));
+  }
+  return params;
 }
 
 Result<std::vector<VirtualBlock>> RunVirtualStudy(
     const protocols::Protocol& protocol, const VirtualStudyOptions& options,
     CuePool& pool) {
-  if (options.subjects < 1) {
-    return Error{
-        fmt::format("subjects must be at least 1, got {}", options.subjects)};
-  }
-  if (!(options.weber_log_sd >= 0.0) || !std::isfinite(options.weber_log_sd)) {
-    return Error{fmt::format("the Weber spread must be 0 or more, got {}",
-                             options.weber_log_sd)};
-  }
+  if (Status st = ValidateVirtualStudy(options); !st.ok()) return st.error();
+  const int subjects = options.subject_observers.empty()
+                           ? options.subjects
+                           : static_cast<int>(options.subject_observers.size());
   std::vector<VirtualBlock> blocks;
   const auto block_of = [&](const TrialSpec& t) -> VirtualBlock& {
     for (VirtualBlock& b : blocks) {
@@ -89,8 +108,8 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
     b.block = t.block;
     b.method = t.method;
     b.trial_type = t.trial_type;
-    b.correct.assign(static_cast<std::size_t>(options.subjects), 0);
-    b.trials.assign(static_cast<std::size_t>(options.subjects), 0);
+    b.correct.assign(static_cast<std::size_t>(subjects), 0);
+    b.trials.assign(static_cast<std::size_t>(subjects), 0);
     blocks.push_back(std::move(b));
     return blocks.back();
   };
@@ -100,20 +119,11 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
                                                               cues.size() - 1);
     return cues[pick(rng)];
   };
-  for (int s = 0; s < options.subjects; ++s) {
+  for (int s = 0; s < subjects; ++s) {
     const std::uint64_t subject_seed =
         protocols::SeedFor(options.seed, StreamPurpose::kSubjectSeed,
                            static_cast<std::uint64_t>(s));
-    protocols::ObserverParams params = options.observer;
-    if (options.weber_log_sd > 0.0) {
-      boost::random::mt19937 population =
-          protocols::StreamFor(options.seed, StreamPurpose::kPopulation,
-                               static_cast<std::uint64_t>(s));
-      boost::random::normal_distribution<double> z(0.0, options.weber_log_sd);
-      const double factor = std::exp(z(population));
-      params.weber_stiffness *= factor;
-      params.weber_removal *= factor;
-    }
+    const protocols::ObserverParams params = SubjectObserver(options, s);
     const protocols::SimulatedObserver observer(params);
     Result<protocols::Engine> engine =
         protocols::Engine::Create(protocol, s, subject_seed);

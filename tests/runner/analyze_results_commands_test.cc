@@ -178,3 +178,47 @@ TEST(AnalyzePower, BadInputIsOneErrorLine) {
 
 }  // namespace
 }  // namespace burrlab::runner
+
+namespace burrlab::runner {
+namespace {
+
+TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
+  const std::string protocol = ExamplePath("two_interval_2afc.toml");
+  CliRun run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                           "--observed", "mean=9,sem=0.4,n=20", "--observed",
+                           "block=probe2afc,mean=9,sem=0.4,n=20"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err,
+            "burrlab: --observed mean=9,sem=0.4,n=20 needs block=NAME when "
+            "--observed is given more than once\n");
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=a,mean=9,sem=0.4,n=20", "--observed",
+                    "block=b,mean=9,sem=0.4,n=20", "--block", "a"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err,
+            "burrlab: --block goes with one --observed; with several, name "
+            "each one's block inside it (block=NAME,mean=...)\n");
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=nope,mean=9,sem=0.4,n=20",
+                    "--cue-samples", "1", "--virtual-subjects", "20"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err,
+            "burrlab: analyze fit-observers: the protocol has no block "
+            "\"nope\" (blocks: probe2afc)\n");
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
+                    "--cue-samples", "1", "--virtual-subjects", "50", "--json",
+                    "--no-spread"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  ASSERT_EQ(j["fits"].size(), 1u);
+  EXPECT_EQ(j["fits"][0]["block"], "probe2afc");
+  EXPECT_EQ(j["fits"][0]["cue"], "stiffness");
+  EXPECT_NEAR(j["fits"][0]["fitted"]["mean"].get<double>(), 9.0, 0.3);
+  EXPECT_EQ(j["population"]["weber_stiffness"], j["fits"][0]["weber"]);
+  EXPECT_EQ(j["population"]["weber_removal"], j["fits"][0]["weber"]);
+  EXPECT_EQ(j["population"]["notes"].size(), 1u);
+}
+
+}  // namespace
+}  // namespace burrlab::runner

@@ -462,9 +462,9 @@ TEST(VolumeCommand, NeedsExactlyOneMapping) {
 namespace burrlab::runner {
 namespace {
 
-TEST(DemoCommand, PrintsTheOrderCheckAndWritesThreeFigures) {
-  const std::filesystem::path dir = TempDir("demo") / "figures";
-  const CliRun run = RunBurrlab({"demo", "--plots", dir.string()});
+TEST(SimMaterialsCommand, PrintsTheOrderCheckAndWritesThreeFigures) {
+  const std::filesystem::path dir = TempDir("materials") / "figures";
+  const CliRun run = RunBurrlab({"sim", "materials", "--plots", dir.string()});
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_THAT(run.out, HasSubstr("at 4 N:  PVC > Pettigrew > bone holds"));
   for (const char* name :

@@ -11,6 +11,7 @@
 #include <boost/math/distributions/binomial.hpp>
 #include <boost/math/distributions/normal.hpp>
 #include <cmath>
+#include <set>
 #include <string>
 
 #include "burrlab/analysis/group_stats.h"
@@ -87,7 +88,8 @@ TEST(VirtualStudy, SameSeedReplaysTheSameScores) {
   options.subjects = 4;
   options.seed = 9;
   options.observer.weber_stiffness = 0.4;
-  options.weber_log_sd = 0.3;
+  options.spread_stiffness = 0.3;
+  options.spread_removal = 0.3;
   Result<std::vector<VirtualBlock>> a =
       RunVirtualStudy(protocol, options, pool);
   Result<std::vector<VirtualBlock>> b =
@@ -112,6 +114,49 @@ TEST(VirtualStudy, AdjustmentBlocksAreRefused) {
             "block \"adjust\": adjustment blocks cannot be simulated virtually "
             "(no correct answer to score); leave them out of a power "
             "analysis");
+}
+
+}  // namespace
+}  // namespace burrlab::runner
+
+namespace burrlab::runner {
+namespace {
+
+// One z per subject scales both cues: ln(W / W0) / spread is the same for
+// the stiffness and the removal cue; draws beyond the largest Weber fraction
+// are held there; explicit subject observers are taken as given.
+TEST(SubjectObserver, OneDrawPerSubjectScalesBothCues) {
+  VirtualStudyOptions o;
+  o.seed = 12;
+  o.observer.weber_stiffness = 0.2;
+  o.observer.weber_removal = 0.4;
+  EXPECT_EQ(SubjectObserver(o, 3).weber_stiffness, 0.2);  // no spread
+  o.spread_stiffness = 0.5;
+  o.spread_removal = 1.0;
+  std::set<double> seen;
+  for (int s = 0; s < 20; ++s) {
+    const protocols::ObserverParams p = SubjectObserver(o, s);
+    const double zs = std::log(p.weber_stiffness / 0.2) / 0.5;
+    const double zr = std::log(p.weber_removal / 0.4) / 1.0;
+    if (p.weber_removal < protocols::kMaxWeberFraction) {
+      EXPECT_NEAR(zs, zr, 1e-12) << s;
+    }
+    EXPECT_LE(p.weber_removal, protocols::kMaxWeberFraction);
+    EXPECT_EQ(p.weber_stiffness, SubjectObserver(o, s).weber_stiffness);
+    seen.insert(p.weber_stiffness);
+  }
+  EXPECT_EQ(seen.size(), 20u);
+  o.spread_removal = 20.0;  // draws far beyond 5 are held at 5
+  bool held = false;
+  for (int s = 0; s < 20; ++s) {
+    held = held ||
+           SubjectObserver(o, s).weber_removal == protocols::kMaxWeberFraction;
+  }
+  EXPECT_TRUE(held);
+  protocols::ObserverParams own;
+  own.weber_stiffness = 0.33;
+  o.subject_observers = {own};
+  EXPECT_EQ(SubjectObserver(o, 0).weber_stiffness, 0.33);
 }
 
 }  // namespace

@@ -22,6 +22,10 @@
 namespace burrlab::protocols {
 
 // Settings of a simulated observer.
+// The largest Weber fraction an observer can have (sigma of ln cue: such an
+// observer answers at chance for any cue ratio in use).
+inline constexpr double kMaxWeberFraction = 5.0;
+
 struct ObserverParams {
   double weber_stiffness = 0.20;  // sigma of ln(stiffness) (probe)
   double weber_removal = 0.30;    // sigma of ln(penetration rate) (drill)

@@ -1,7 +1,7 @@
-// `burrlab demo`: force-depth curves and constant-force descents of the three
-// built-in materials, and whether the descents keep the order the
+// `burrlab sim materials`: force-depth curves and constant-force descents of
+// the three built-in materials, and whether the descents keep the order the
 // dissertation measured (§8.7: PVC faster than Pettigrew faster than bone).
-#include "demo.h"
+#include "materials_demo.h"
 
 #include <fmt/format.h>
 
@@ -243,13 +243,14 @@ Result<std::vector<std::string>> WritePlots(
 
 }  // namespace
 
-int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
+int RunMaterialsDemoCommand(const Args& args, std::ostream& out,
+                            std::ostream& err) {
   CLI::App app{
       "The burr simulator on the three built-in materials: force-depth "
       "curves at R = 3 mm, then constant-force descents at 3, 4 and 6 N and "
       "whether their steady velocities keep the order PVC > Pettigrew > "
       "bone (dissertation §8.7).",
-      "burrlab demo"};
+      "burrlab sim materials"};
   std::string plots_dir;
   FlagSet flags(&app);
   flags

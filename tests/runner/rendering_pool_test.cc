@@ -1,0 +1,133 @@
+// The shared rendering pool: which rendering an interval gets, that results
+// do not depend on the order or thread that asked, and that a simulated
+// study sharing renderings is reproducible for any number of jobs.
+#include "rendering_pool.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "../results_schema/temp_dir.h"
+#include "burrlab/stimuli/materials.h"
+#include "run_cli.h"
+
+namespace burrlab::runner {
+namespace {
+
+using results_schema::TempDir;
+
+stimuli::IntervalOptions ShortProbe(const char* material) {
+  stimuli::IntervalOptions o;
+  Result<stimuli::MaterialSet> set = stimuli::LoadBuiltinMaterial(material);
+  EXPECT_TRUE(set.ok());
+  o.material = set->material;
+  o.task = stimuli::Task::kProbe;
+  o.duration_s = 2.0;
+  o.trace_hz = 100;
+  return o;
+}
+
+TEST(RenderingPool, TheIntervalSeedPicksOneOfKRenderingsOfItsStimulus) {
+  RenderingPool pool(3, 7);
+  stimuli::IntervalOptions o = ShortProbe("pvc_k70");
+  std::vector<stimuli::IntervalResult> first;
+  for (std::uint64_t seed = 0; seed < 3; ++seed) {
+    o.seed = seed;
+    Result<stimuli::IntervalResult> r = pool.Present(o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r->rows.size(), 200u);  // 2 s at 100 Hz, traces kept
+    first.push_back(*r);
+  }
+  EXPECT_EQ(pool.rendered(), 3);
+  // Seeds 3..8 reuse renderings 0..2: nothing more is rendered.
+  for (std::uint64_t seed = 3; seed < 9; ++seed) {
+    o.seed = seed;
+    Result<stimuli::IntervalResult> r = pool.Present(o);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r->rows, first[seed % 3].rows) << seed;
+    EXPECT_EQ(r->cue, first[seed % 3].cue);
+  }
+  EXPECT_EQ(pool.rendered(), 3);
+  // The renderings differ (own erosion seeds) and Cues lists them in order.
+  Result<std::vector<double>> cues = pool.Cues(o);
+  ASSERT_TRUE(cues.ok());
+  ASSERT_EQ(cues->size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ((*cues)[k], first[k].cue);
+  // Another stimulus is rendered on its own.
+  o = ShortProbe("human_temporal_bone");
+  ASSERT_TRUE(pool.Present(o).ok());
+  EXPECT_EQ(pool.rendered(), 4);
+}
+
+TEST(RenderingPool, RenderingsDependOnTheStimulusNotOnWhoAskedFirst) {
+  const stimuli::IntervalOptions a = ShortProbe("pvc_k70");
+  const stimuli::IntervalOptions b = ShortProbe("human_temporal_bone");
+  RenderingPool forward(2, 5, false), backward(2, 5, false);
+  Result<std::vector<double>> fa = forward.Cues(a), fb = forward.Cues(b);
+  Result<std::vector<double>> bb = backward.Cues(b), ba = backward.Cues(a);
+  ASSERT_TRUE(fa.ok() && fb.ok() && ba.ok() && bb.ok());
+  EXPECT_EQ(*fa, *ba);
+  EXPECT_EQ(*fb, *bb);
+  EXPECT_NE(*fa, *fb);
+  // Without traces the rows are dropped; the cue stays.
+  Result<stimuli::IntervalResult> r = forward.Present(a);
+  ASSERT_TRUE(r.ok());
+  EXPECT_TRUE(r->rows.empty());
+  // Threads asking for the same stimulus at once get one rendering each.
+  RenderingPool shared(2, 5);
+  std::vector<std::thread> threads;
+  std::vector<double> seen(8);
+  for (int t = 0; t < 8; ++t) {
+    threads.emplace_back([&, t] {
+      stimuli::IntervalOptions o = a;
+      o.seed = static_cast<std::uint64_t>(t);
+      Result<stimuli::IntervalResult> x = shared.Present(o);
+      seen[static_cast<std::size_t>(t)] = x.ok() ? x->cue : -1.0;
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  EXPECT_EQ(shared.rendered(), 2);
+  for (int t = 0; t < 8; ++t) EXPECT_EQ(seen[t], (*fa)[t % 2]) << t;
+}
+
+std::string ReadAll(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(StudyWithRenderings, IsTheSameForOneOrTwoJobsAndSaysSoInEachTrial) {
+  TempDir dir;
+  std::vector<std::string> outputs;
+  for (const char* jobs : {"1", "2"}) {
+    const std::filesystem::path out = dir.path() / (std::string("j") + jobs);
+    const CliRun run = RunBurrlab(
+        {"study", ExamplePath("two_interval_2afc.toml"), "--simulated-subjects",
+         "3", "--out", out.string(), "--renderings", "2", "--jobs", jobs,
+         "--weber-spread", "0.5"});
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_THAT(run.out, testing::HasSubstr("3 of 3 simulated subjects"));
+    std::string all;
+    for (const char* sub : {"sub-01", "sub-02", "sub-03"}) {
+      for (const auto& e :
+           std::filesystem::directory_iterator(out / sub / "beh")) {
+        if (e.path().extension() == ".tsv" ||
+            e.path().string().ends_with(".tsv.gz")) {
+          all += e.path().filename().string() + ReadAll(e.path());
+        }
+      }
+    }
+    EXPECT_THAT(all, testing::HasSubstr("\"rendering_pool\":2"));
+    outputs.push_back(all);
+  }
+  EXPECT_FALSE(outputs[0].empty());
+  EXPECT_EQ(outputs[0], outputs[1]);
+}
+
+}  // namespace
+}  // namespace burrlab::runner

@@ -302,9 +302,9 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
       if (!reached.ok()) return reached.error();
       if (reached->sd < 0.9 * fit.observed_sd) {
         fit.notes.push_back(fmt::format(
-            "the observed SD {:.3g} is out of reach at this mean: a wider "
-            "spread puts so many subjects near chance that no Weber fraction "
-            "gives the mean; the spread stops at {:.3g} (SD {:.3g})",
+            "the observed SD {:.3g} is out of reach: every spread up to 2 (SD "
+            "of ln W) that still gives the mean gives a smaller SD; the "
+            "spread stops at {:.3g} (SD {:.3g})",
             fit.observed_sd, spread, reached->sd));
       }
     }

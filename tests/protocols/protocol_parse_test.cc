@@ -88,13 +88,13 @@ TEST(ProtocolParse, StaircaseEntriesOverrideBlockDefaults) {
   for (const StaircaseOptions& o : b.staircases) {
     EXPECT_EQ(o.n_down, 3);
     EXPECT_EQ(o.step_scale, StepScale::kLog10);
-    EXPECT_EQ(o.max_trials, 40);
+    EXPECT_EQ(o.max_trials, 60);
     ASSERT_EQ(o.step_schedule.size(), 1u);
     EXPECT_EQ(o.step_schedule[0].after_reversals, 2);
     EXPECT_DOUBLE_EQ(o.step_schedule[0].step_down, 0.1);
   }
   EXPECT_DOUBLE_EQ(b.staircases[0].start_level, 1.0);
-  EXPECT_DOUBLE_EQ(b.staircases[1].start_level, 0.05);
+  EXPECT_DOUBLE_EQ(b.staircases[1].start_level, 0.1);
   EXPECT_EQ(b.threshold_reversals, 6);
   EXPECT_DOUBLE_EQ(b.standard_level, 0.0);  // increment axis default
 }

@@ -11,6 +11,7 @@
 #include "calibrate_command.h"
 #include "command_table.h"
 #include "demo.h"
+#include "discover_command.h"
 #include "session_commands.h"
 #include "sim_commands.h"
 #include "validate_command.h"
@@ -45,6 +46,10 @@ constexpr Command kCommands[] = {
      "fit c_e and alpha to measured descent velocities, with identifiability "
      "and profile-likelihood intervals",
      RunCalibrateCommand},
+    {"discover",
+     "find what the base model misses in measured descent velocities: "
+     "gap, effect, report (JSON, Markdown, plots)",
+     RunDiscoverCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunTopHelp},
 };

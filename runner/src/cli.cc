@@ -50,6 +50,10 @@ constexpr Command kCommands[] = {
      "find what the base model misses in measured descent velocities: "
      "gap, effect, report (JSON, Markdown, plots)",
      RunDiscoverCommand},
+    {"discover-matrix",
+     "the hidden-effect scenario matrix of discover: power against SNR and "
+     "false-discovery rate (slow)",
+     RunDiscoverMatrixCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunTopHelp},
 };

@@ -14,6 +14,12 @@ namespace burrlab::runner {
 // [--reference MATERIAL] [--json]`; args start after "discover".
 int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err);
 
+// `burrlab discover-matrix [--seeds N] [--null-seeds N] [--snr S1,...]
+// [--material NAME] [--full-rig]`: the hidden-effect scenario matrix as a
+// Markdown table (power against SNR, false-discovery rate).
+int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
+                             std::ostream& err);
+
 }  // namespace burrlab::runner
 
 #endif  // BURRLAB_RUNNER_DISCOVER_COMMAND_H_

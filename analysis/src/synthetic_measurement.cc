@@ -82,6 +82,21 @@ Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& o,
         3.0 * o.radius_mm + 2.0 + 1.3 * v_predicted * rig.steady_window_s,
         3.0 * o.radius_mm + 2.0, 300.0 * rig.voxel_mm);
   }
+  // A viscous load (viscous_resistance, eq. 7.14) closes a loop from the
+  // commanded velocity straight back into the measured force, with gain
+  // k_p c_i R^2 (h/R) per step; above about 1 the force loop oscillates. The
+  // rig's gains are detuned as an experimenter would, to keep that gain at
+  // 0.3 or below up to full immersion (h = 2R), integral to proportional
+  // kept at the default ratio.
+  const double c_i =
+      o.effects.impact_c_i_n_s_per_mm3 + o.material.c_i_n_s_per_mm3;
+  if (c_i > 0.0) {
+    const double kp_max = 0.3 / (2.0 * c_i * o.radius_mm * o.radius_mm);
+    if (rig.kp_mm_per_n_s > kp_max) {
+      rig.ki_mm_per_n_s2 *= kp_max / rig.kp_mm_per_n_s;
+      rig.kp_mm_per_n_s = kp_max;
+    }
+  }
   rig.duration_s = rig.steady_window_s + 200.0;
   rig.trace_period_s = std::max(0.01, rig.steady_window_s / 2000.0);
   Result<sim::DescentResult> result = sim::RunDescent(rig);
@@ -89,14 +104,10 @@ Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& o,
   return result->steady_reached ? result->steady_velocity_mm_s : 0.0;
 }
 
-Result<SyntheticMeasurement> MeasureSynthetic(
+Result<std::vector<double>> RigVelocitiesMmS(
     const SyntheticMeasurementOptions& o) {
   if (Status s = o.Validate(); !s.ok()) return s.error();
-  SyntheticMeasurement out;
-  boost::random::mt19937_64 noise_rng(o.seed ^ 0x9e3779b97f4a7c15ULL);
-  boost::random::normal_distribution<double> normal;
-  const double s = std::sqrt(std::log1p(o.noise_cv * o.noise_cv));
-  int run = 0;
+  std::vector<double> out;
   for (std::size_t level = 0; level < o.forces_n.size(); ++level) {
     const double force = o.forces_n[level];
     Result<double> v = RigSteadyVelocityMmS(o, force, o.seed * 1000 + level);
@@ -104,16 +115,38 @@ Result<SyntheticMeasurement> MeasureSynthetic(
       return Error{
           fmt::format("the rig at {} N: {}", force, v.error().message)};
     }
-    if (!(*v > 0.0)) {
+    out.push_back(*v > 0.0 ? *v : 0.0);
+  }
+  return out;
+}
+
+SyntheticMeasurement DrawReplicates(const SyntheticMeasurementOptions& o,
+                                    const std::vector<double>& rig_mm_s) {
+  SyntheticMeasurement out;
+  boost::random::mt19937_64 noise_rng(o.seed ^ 0x9e3779b97f4a7c15ULL);
+  boost::random::normal_distribution<double> normal;
+  const double s = std::sqrt(std::log1p(o.noise_cv * o.noise_cv));
+  int run = 0;
+  for (std::size_t level = 0; level < o.forces_n.size(); ++level) {
+    const double force = o.forces_n[level];
+    const double v = level < rig_mm_s.size() ? rig_mm_s[level] : 0.0;
+    if (!(v > 0.0)) {
       out.skipped_forces_n.push_back(force);
       continue;
     }
     for (int k = 0; k < o.replicates; ++k) {
       const double factor = s > 0.0 ? std::exp(s * normal(noise_rng)) : 1.0;
-      out.runs.push_back({++run, force, *v * factor, *v});
+      out.runs.push_back({++run, force, v * factor, v});
     }
   }
   return out;
+}
+
+Result<SyntheticMeasurement> MeasureSynthetic(
+    const SyntheticMeasurementOptions& o) {
+  Result<std::vector<double>> rig = RigVelocitiesMmS(o);
+  if (!rig.ok()) return rig.error();
+  return DrawReplicates(o, *rig);
 }
 
 std::string FormatMeasuredCsv(const SyntheticMeasurement& m,

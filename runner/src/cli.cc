@@ -10,6 +10,7 @@
 #include "burrlab_version.h"
 #include "calibrate_command.h"
 #include "command_table.h"
+#include "discover_command.h"
 #include "session_commands.h"
 #include "sim_commands.h"
 #include "study_demo.h"
@@ -46,6 +47,14 @@ constexpr Command kCommands[] = {
      "fit c_e and alpha to measured descent velocities, with identifiability "
      "and profile-likelihood intervals",
      RunCalibrateCommand},
+    {"discover",
+     "find what the base model misses in measured descent velocities: "
+     "gap, effect, report (JSON, Markdown, plots)",
+     RunDiscoverCommand},
+    {"discover-matrix",
+     "the hidden-effect scenario matrix of discover: power against SNR and "
+     "false-discovery rate (slow)",
+     RunDiscoverMatrixCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunTopHelp},
 };

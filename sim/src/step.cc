@@ -185,8 +185,15 @@ void ComputeForces(const Model& model, const Volume& volume,
                     ? -moments.m1_mm4 / m1_norm
                     : glm::dvec3(0.0);
   const Material& mat = model.material;
-  out->elastic_n = mat.c_e_n_per_mm2 * radius * radius * depth_ratio *
-                   std::sqrt(depth_ratio) * out->normal;  // eq. 7.3
+  const Effects& effects = model.effects;
+  // Eq. 7.3, with the effects' changes: a porous skeleton is softer by
+  // (1 - phi)^2 and plastic contact has another exponent than Hertz's 3/2.
+  const double solid = 1.0 - effects.porosity;
+  const double c_e = mat.c_e_n_per_mm2 * solid * solid;
+  const double shape = effects.contact_exponent == 1.5
+                           ? depth_ratio * std::sqrt(depth_ratio)
+                           : std::pow(depth_ratio, effects.contact_exponent);
+  out->elastic_n = c_e * radius * radius * shape * out->normal;
   out->friction_n = glm::dvec3(0.0);
   const double omega = Norm(input.spindle_rad_s);
   if (omega > 0.0 && moments.m0_mm3 > 0.0) {
@@ -214,8 +221,9 @@ void ComputeForces(const Model& model, const Volume& volume,
       out->friction_n = mat.mu * visitor.force;
     }
   }
-  out->impact_n = -mat.c_i_n_s_per_mm3 * radius * radius * depth_ratio *
-                  input.velocity_mm_s;  // eq. 7.14
+  out->impact_n = -(mat.c_i_n_s_per_mm3 + effects.impact_c_i_n_s_per_mm3) *
+                  radius * radius * depth_ratio *
+                  input.velocity_mm_s;  // eq. 7.14 (+ viscous_resistance)
   out->model_force_n = out->elastic_n + out->friction_n + out->impact_n;
 }
 
@@ -276,16 +284,24 @@ void Step(const Model& model, State& state, const Input& input,
   // Erode: only a spinning burr cuts (a probing burr has no friction and no
   // erosion).
   const double alpha = model.material.alpha_per_s;
-  // Effects that slow the cutting (sim/effects.h): the blades engage only with
-  // the elastic force above the threshold, and the motor cannot remove more
-  // than its power allows (the load is estimated from the recent removal).
+  // Effects that change the cutting (sim/effects.h): the blades engage only
+  // with the elastic force above the threshold, the spindle slows under load,
+  // friction-driven wear adds k |F_e| to alpha, and the motor cannot remove
+  // more than its power allows (the load is estimated from the recent
+  // removal). Each scales the rate of eq. 7.12.
   const Effects& effects = model.effects;
+  const double elastic_n = Norm(out->elastic_n);
   double engaged = 1.0;
   if (effects.cutting_threshold_n > 0.0) {
-    const double elastic_n = Norm(out->elastic_n);
     engaged = elastic_n > effects.cutting_threshold_n
                   ? 1.0 - effects.cutting_threshold_n / elastic_n
                   : 0.0;
+  }
+  if (std::isfinite(effects.stall_force_n)) {
+    engaged *= std::max(0.0, 1.0 - elastic_n / effects.stall_force_n);
+  }
+  if (effects.friction_erosion_per_n_s > 0.0 && alpha > 0.0) {
+    engaged *= 1.0 + effects.friction_erosion_per_n_s * elastic_n / alpha;
   }
   double power_scale = 1.0;
   const bool power_limited = std::isfinite(effects.max_removal_mm3_per_s);

@@ -171,7 +171,9 @@ TEST_F(CalibrateCommand, SimMeasureRefusesUnknownEffects) {
   EXPECT_EQ(run.code, 1);
   EXPECT_EQ(run.err,
             "burrlab: --effect: unknown effect 'motor_limit'; known effects: "
-            "motor_power_limit, cutting_threshold\n");
+            "motor_power_limit, spindle_slowdown, cutting_threshold, "
+            "viscous_resistance, friction_erosion, contact_exponent, "
+            "porosity\n");
   const CliRun bad = RunBurrlab({"sim", "measure", "--material", "pvc_k70",
                                  "--forces", "0.2,0.4", "--replicates", "2",
                                  "--effect", "cutting_threshold=-1"});

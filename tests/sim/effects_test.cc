@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 
 #include "burrlab/sim/step.h"
@@ -24,17 +25,93 @@ TEST(Effects, DefaultIsNullAndSetEffectChangesOneParameter) {
 
 TEST(Effects, NamesUnknownIdsAndBadValues) {
   Effects effects;
-  EXPECT_EQ(SetEffect("porosity", 0.1, &effects).error().message,
-            "unknown effect 'porosity'; known effects: motor_power_limit, "
-            "cutting_threshold");
+  EXPECT_EQ(SetEffect("porosty", 0.1, &effects).error().message,
+            "unknown effect 'porosty'; known effects: motor_power_limit, "
+            "spindle_slowdown, cutting_threshold, viscous_resistance, "
+            "friction_erosion, contact_exponent, porosity");
   EXPECT_EQ(SetEffect("motor_power_limit", 0.0, &effects).error().message,
             "motor_power_limit must be a positive removal rate in mm^3/s (inf "
             "for none), got 0");
+  EXPECT_EQ(SetEffect("contact_exponent", 0.5, &effects).error().message,
+            "contact_exponent must lie in [1, 2] (Hertz 1.5), got 0.5");
+  EXPECT_EQ(SetEffect("porosity", 1.0, &effects).error().message,
+            "porosity must lie in [0, 1), got 1");
+  EXPECT_EQ(SetEffect("spindle_slowdown", -2.0, &effects).error().message,
+            "spindle_slowdown must be a positive stall force in N (inf for "
+            "none), got -2");
   EXPECT_TRUE(effects.IsNull());  // unchanged after an error
   Model model;
   model.effects.cutting_threshold_n = -1.0;
   EXPECT_EQ(model.Validate().error().message,
             "cutting_threshold must be a finite force of at least 0 N, got -1");
+}
+
+TEST(Effects, EveryEffectHasOneParameterWithANullStrengthOfZero) {
+  for (const EffectSpec& spec : EffectLibrary()) {
+    EXPECT_EQ(ParameterAtStrength(spec, 0.0), spec.null_value) << spec.id;
+    EXPECT_EQ(StrengthOfParameter(spec, spec.null_value), 0.0) << spec.id;
+    const double value = ParameterAtStrength(spec, 0.25);
+    EXPECT_NEAR(StrengthOfParameter(spec, value), 0.25, 1e-15) << spec.id;
+    Effects effects;
+    ASSERT_TRUE(SetEffect(spec.id, value, &effects).ok()) << spec.id;
+    EXPECT_FALSE(effects.IsNull()) << spec.id;
+    EXPECT_EQ(FindEffect(spec.id), &spec);
+  }
+  EXPECT_EQ(FindEffect("load_cell"), nullptr);
+}
+
+// The elastic force of a burr held at depth h = R/2 in a solid half-space.
+double ElasticForceN(const Effects& effects) {
+  constexpr int kN = 32;
+  constexpr double kVoxelMm = 0.2;
+  Volume volume = Volume::Create(kN, kN, kN, kVoxelMm).value();
+  for (int k = 0; k < kN / 2; ++k)
+    for (int j = 0; j < kN; ++j)
+      for (int i = 0; i < kN; ++i) volume.Set(i, j, k, kSolidOccupancy);
+  Model model;
+  model.radius_mm = 1.0;
+  model.effects = effects;
+  const MomentOctree octree = MomentOctree::Build(volume);
+  Input input;
+  input.position_mm = {kN * kVoxelMm / 2, kN * kVoxelMm / 2,
+                       kN / 2 * kVoxelMm + 0.5};
+  const Output out = EvaluateForce(model, volume, octree, input);
+  return out.elastic_n.z;
+}
+
+TEST(Effects, PorosityAndContactExponentChangeTheElasticForceOfEq73) {
+  const double hertz = ElasticForceN({});
+  ASSERT_GT(hertz, 0.0);
+  Effects porous;
+  porous.porosity = 0.2;  // c_e (1 - 0.2)^2
+  EXPECT_NEAR(ElasticForceN(porous) / hertz, 0.64, 1e-12);
+  // F = c_e R^2 (h/R)^n: the ratio to Hertz is (h/R)^(n - 3/2), h/R from the
+  // Hertz force itself.
+  const double depth_ratio = std::pow(hertz / (2.145 * 1.0), 2.0 / 3.0);
+  Effects plastic;
+  plastic.contact_exponent = 1.1;
+  EXPECT_NEAR(ElasticForceN(plastic) / hertz, std::pow(depth_ratio, -0.4),
+              1e-9);
+}
+
+TEST(Effects, ViscousResistanceAddsTheImpactForceOfEq714) {
+  constexpr int kN = 32;
+  constexpr double kVoxelMm = 0.2;
+  Volume volume = Volume::Create(kN, kN, kN, kVoxelMm).value();
+  for (int k = 0; k < kN / 2; ++k)
+    for (int j = 0; j < kN; ++j)
+      for (int i = 0; i < kN; ++i) volume.Set(i, j, k, kSolidOccupancy);
+  Model model;
+  model.radius_mm = 1.0;
+  model.effects.impact_c_i_n_s_per_mm3 = 3.0;
+  const MomentOctree octree = MomentOctree::Build(volume);
+  Input input;
+  input.position_mm = {kN * kVoxelMm / 2, kN * kVoxelMm / 2,
+                       kN / 2 * kVoxelMm + 0.5};
+  input.velocity_mm_s = {0.0, 0.0, -0.2};  // descending
+  const Output out = EvaluateForce(model, volume, octree, input);
+  // F_i = -c_i R^2 (h/R) V.
+  EXPECT_NEAR(out.impact_n.z, 3.0 * (out.h_mm / 1.0) * 0.2, 1e-12);
 }
 
 // Material removed by a spinning burr held a quarter of its radius deep in a
@@ -78,6 +155,20 @@ TEST(Effects, MotorPowerLimitCapsTheRemovalRate) {
   // holds at the cap.
   EXPECT_LT(removed, 0.5 * free_mm3);
   EXPECT_GT(removed, 0.1 * free_mm3);
+}
+
+TEST(Effects, SpindleSlowdownAndFrictionErosionScaleTheErosionRate) {
+  const double free_mm3 = RemovedMm3({});
+  Effects stalled;
+  stalled.stall_force_n = 1e-6;  // far below the elastic force: no cutting
+  EXPECT_EQ(RemovedMm3(stalled), 0.0);
+  Effects slowed;
+  slowed.stall_force_n = 1e6;  // barely slowed
+  EXPECT_GT(RemovedMm3(slowed), 0.9 * free_mm3);
+  Effects wear;
+  // alpha 0.3 + 3/(N s) x 0.27 N (h = R/4): 3.7 times the rate.
+  wear.friction_erosion_per_n_s = 3.0;
+  EXPECT_GT(RemovedMm3(wear), 2.0 * free_mm3);
 }
 
 }  // namespace

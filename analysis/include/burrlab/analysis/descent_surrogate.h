@@ -7,8 +7,11 @@
 // kappa = alpha R / v the moment m0 / R^3 is a function of kappa alone; the
 // depth h of eq. 7.2 and the force c_e R^2 (h/R)^{3/2} of eq. 7.3 follow. Hence
 // F / (c_e R^2) = y(kappa) and v = alpha R / kappa(F / (c_e R^2)). y(kappa) is
-// tabulated once by quadrature and inverted by monotone cubic interpolation;
-// effects of sim/effects.h scale the erosion rate as the simulator does.
+// tabulated once by quadrature and inverted by monotone cubic interpolation.
+// The effects of sim/effects.h change the model as the simulator does: those
+// that scale the erosion rate of eq. 7.12 scale v, the contact exponent and
+// porosity change eq. 7.3, and viscous resistance (eq. 7.14) takes its share
+// of the held force.
 #ifndef BURRLAB_ANALYSIS_DESCENT_SURROGATE_H_
 #define BURRLAB_ANALYSIS_DESCENT_SURROGATE_H_
 

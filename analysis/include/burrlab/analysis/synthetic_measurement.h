@@ -61,6 +61,15 @@ Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& options,
 Result<SyntheticMeasurement> MeasureSynthetic(
     const SyntheticMeasurementOptions& options);
 
+// The two halves of MeasureSynthetic, so that Monte-Carlo studies run the
+// rig once per level and draw many noise seeds: the rig's steady velocity per
+// force level of `options` (0 where it reached none), and the replicates
+// drawn around them with options.seed.
+Result<std::vector<double>> RigVelocitiesMmS(
+    const SyntheticMeasurementOptions& options);
+SyntheticMeasurement DrawReplicates(const SyntheticMeasurementOptions& options,
+                                    const std::vector<double>& rig_mm_s);
+
 // The CSV of measured_data.h:
 // run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s.
 std::string FormatMeasuredCsv(const SyntheticMeasurement& measurement,

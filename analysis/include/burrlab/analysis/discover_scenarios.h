@@ -1,0 +1,93 @@
+// Hidden-effect scenarios for testing the model-gap workflow honestly
+// (shared/notes/model-gap.md, "Testing it honestly"): "measured" data from
+// the synthetic measurement generator (the full rig, or the surrogate for a
+// fast tier) with an effect hidden at a chosen projected signal-to-noise
+// ratio, optional distortions outside the library (a smooth bump in log v,
+// gross outliers), written as CSV and parsed back, so Discover sees only what
+// a user's file would give it. Used by tests/analysis/discover_test.cc and by
+// `burrlab discover-matrix`.
+#ifndef BURRLAB_ANALYSIS_DISCOVER_SCENARIOS_H_
+#define BURRLAB_ANALYSIS_DISCOVER_SCENARIOS_H_
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "burrlab/analysis/discover.h"
+#include "burrlab/sim/effects.h"
+#include "burrlab/sim/model.h"
+#include "burrlab/sim/result.h"
+
+namespace burrlab::analysis {
+
+struct ScenarioDesign {
+  std::string material_name = "human_temporal_bone";
+  sim::Material material;  // the truth's base parameters
+  double radius_mm = 1.0;
+  // Force levels as loads F / (c_e R^2).
+  std::vector<double> loads = {0.5, 0.7, 0.9, 1.1, 1.3, 1.5};
+  int replicates = 4;
+  double noise_cv = 0.1;
+  // The truth: the full descent rig (voxel R/12, 5 ms), or the continuum
+  // surrogate itself (fast tier).
+  bool full_rig = true;
+
+  std::vector<double> ForcesN() const;
+  // The noise's standard deviation of log v, sqrt(ln(1 + cv^2)).
+  double SigmaLogV() const;
+};
+
+// Distortions outside the library's physics and noise model.
+struct Distortion {
+  // A Gaussian bump of this height in log v, centred at the middle of the
+  // log-force range, width a sixth of it.
+  double bump_log_v = 0.0;
+  // Each run is a gross outlier with this probability: v times or divided by
+  // outlier_factor (equally likely).
+  double outlier_fraction = 0.0;
+  double outlier_factor = 3.0;
+};
+
+// The projected signal-to-noise ratio of `effects` in the design: the root
+// of the residual sum of squares of the base model fitted to the noise-free
+// surrogate truth (every replicate), over the noise's sigma of log v; the
+// part of the effect c_e and alpha cannot absorb.
+Result<double> ProjectedSnr(const ScenarioDesign& design,
+                            const sim::Effects& effects);
+
+// Effect `id` at the strength where ProjectedSnr reaches `target` (bisection
+// on the strength); an error when it never does in the effect's range.
+Result<sim::Effects> EffectAtSnr(const ScenarioDesign& design,
+                                 const std::string& id, double target);
+
+// The noise-free truth per force level (the rig or the surrogate).
+Result<std::vector<double>> TruthVelocitiesMmS(const ScenarioDesign& design,
+                                               const sim::Effects& effects);
+
+// The CSV a user would have for one seed.
+std::string ScenarioCsv(const ScenarioDesign& design,
+                        const std::vector<double>& truth_mm_s,
+                        const Distortion& distortion, std::uint64_t seed);
+
+struct ScenarioOutcome {
+  int seeds = 0;
+  std::map<std::string, int> verdicts;  // count per verdict
+  int hits = 0;  // expected id named, or in the alias set (named/ambiguous)
+  int named_physical = 0;  // verdict named or ambiguous (any effect)
+  int cv_shrank = 0;       // held-out RMSE after < before, among hits
+  double mean_cv_before = 0.0, mean_cv_after = 0.0;  // over the hits
+};
+
+// Runs Discover on `seeds` seeds from `first_seed`; `expected_id` empty for
+// scenarios where no effect should be named.
+Result<ScenarioOutcome> RunScenario(const ScenarioDesign& design,
+                                    const std::vector<double>& truth_mm_s,
+                                    const Distortion& distortion,
+                                    const std::string& expected_id,
+                                    std::uint64_t first_seed, int seeds,
+                                    const DiscoverOptions& options);
+
+}  // namespace burrlab::analysis
+
+#endif  // BURRLAB_ANALYSIS_DISCOVER_SCENARIOS_H_

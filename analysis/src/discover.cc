@@ -1,0 +1,1219 @@
+// The model-gap workflow: outlier screen, base fit, gap tests, attribution
+// over the effect library, augmented fits and their confirmation.
+#include "burrlab/analysis/discover.h"
+
+#include <fmt/format.h>
+#include <nlopt.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/fisher_f.hpp>
+#include <boost/math/distributions/non_central_f.hpp>
+#include <boost/math/distributions/normal.hpp>
+#include <boost/math/distributions/students_t.hpp>
+#include <boost/math/statistics/runs_test.hpp>
+#include <boost/math/tools/minima.hpp>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numeric>
+
+#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/sim/effects.h"
+
+namespace burrlab::analysis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Residual charged to a run the model cannot reach (v = 0 or inf), so the
+// optimiser stays where every run is modelled.
+constexpr double kUnreachableResidual = 30.0;
+
+// The runs a fit uses: log F, log v, level index, file line.
+struct Runs {
+  std::vector<double> force_n, ln_v;
+  std::vector<int> level, line;
+  int levels = 0;
+  double radius_mm = 1.0;
+  int size() const { return static_cast<int>(ln_v.size()); }
+};
+
+Runs MakeRuns(const MeasuredData& data, double radius_mm) {
+  Runs runs;
+  runs.radius_mm = radius_mm;
+  std::map<double, int> index;
+  for (const MeasuredRun& r : data.runs) index.emplace(r.force_n, 0);
+  int k = 0;
+  for (auto& [force, i] : index) i = k++;
+  runs.levels = k;
+  for (const MeasuredRun& r : data.runs) {
+    runs.force_n.push_back(r.force_n);
+    runs.ln_v.push_back(std::log(r.velocity_mm_s));
+    runs.level.push_back(index[r.force_n]);
+    runs.line.push_back(r.line);
+  }
+  return runs;
+}
+
+// The model's parameters: log c_e, log alpha and each active effect's
+// strength in its unit (strength = u * unit, u of order 1).
+struct ActiveEffect {
+  const sim::EffectSpec* spec = nullptr;
+  double unit = 1.0;   // strength per u
+  double upper = 1.0;  // largest u
+};
+
+struct Point {
+  double ln_c_e = 0.0, ln_alpha = 0.0;
+  std::vector<double> u;  // one per active effect
+};
+
+sim::Effects MakeEffects(const std::vector<ActiveEffect>& active,
+                         const std::vector<double>& u) {
+  sim::Effects effects;
+  for (std::size_t k = 0; k < active.size(); ++k) {
+    effects.*(active[k].spec->field) =
+        sim::ParameterAtStrength(*active[k].spec, u[k] * active[k].unit);
+  }
+  return effects;
+}
+
+std::vector<double> Predict(const Runs& runs,
+                            const std::vector<ActiveEffect>& active,
+                            const Point& p) {
+  const sim::Effects effects = MakeEffects(active, p.u);
+  std::vector<double> y(runs.size());
+  for (int i = 0; i < runs.size(); ++i) {
+    y[i] = ModelLogVelocity(runs.force_n[i], std::exp(p.ln_c_e),
+                            std::exp(p.ln_alpha), runs.radius_mm, effects);
+  }
+  return y;
+}
+
+// RSS over the runs with use[i] (all when `use` is empty).
+double Rss(const Runs& runs, const std::vector<ActiveEffect>& active,
+           const Point& p, const std::vector<char>& use) {
+  const std::vector<double> y = Predict(runs, active, p);
+  double rss = 0.0;
+  for (int i = 0; i < runs.size(); ++i) {
+    if (!use.empty() && !use[i]) continue;
+    const double r =
+        std::isfinite(y[i]) ? runs.ln_v[i] - y[i] : kUnreachableResidual;
+    rss += r * r;
+  }
+  return rss;
+}
+
+// log alpha that best fits the other parameters when log alpha enters
+// additively (exact without a power limit; a start otherwise).
+double OffsetAlpha(const Runs& runs, const std::vector<ActiveEffect>& active,
+                   Point p, const std::vector<char>& use) {
+  const std::vector<double> y = Predict(runs, active, p);
+  double sum = 0.0;
+  int n = 0;
+  for (int i = 0; i < runs.size(); ++i) {
+    if ((!use.empty() && !use[i]) || !std::isfinite(y[i])) continue;
+    sum += runs.ln_v[i] - y[i];
+    ++n;
+  }
+  return n > 0 ? p.ln_alpha + sum / n : p.ln_alpha;
+}
+
+struct Objective {
+  const Runs* runs;
+  const std::vector<ActiveEffect>* active;
+  const std::vector<char>* use;
+};
+
+double NloptObjective(unsigned n, const double* x, double*, void* data) {
+  const Objective& o = *static_cast<const Objective*>(data);
+  Point p;
+  p.ln_c_e = x[0];
+  p.ln_alpha = x[1];
+  p.u.assign(x + 2, x + n);
+  return Rss(*o.runs, *o.active, p, *o.use);
+}
+
+struct NloptDeleter {
+  void operator()(nlopt_opt opt) const { nlopt_destroy(opt); }
+};
+
+// Bounded local fit (NLopt BOBYQA) from each start; the best.
+Point FitFromStarts(const Runs& runs, const std::vector<ActiveEffect>& active,
+                    const std::vector<Point>& starts,
+                    const std::vector<char>& use, const Point& centre,
+                    double* rss_out) {
+  const unsigned dim = 2 + static_cast<unsigned>(active.size());
+  std::vector<double> lower(dim), upper(dim);
+  lower[0] = std::log(1e-3);
+  upper[0] = std::log(1e3);
+  lower[1] = centre.ln_alpha - 12.0;
+  upper[1] = centre.ln_alpha + 12.0;
+  for (std::size_t k = 0; k < active.size(); ++k) {
+    lower[2 + k] = 0.0;
+    upper[2 + k] = active[k].upper;
+  }
+  Objective objective{&runs, &active, &use};
+  std::unique_ptr<nlopt_opt_s, NloptDeleter> opt(
+      nlopt_create(NLOPT_LN_BOBYQA, dim));
+  nlopt_set_lower_bounds(opt.get(), lower.data());
+  nlopt_set_upper_bounds(opt.get(), upper.data());
+  nlopt_set_min_objective(opt.get(), NloptObjective, &objective);
+  nlopt_set_xtol_abs1(opt.get(), 1e-7);
+  nlopt_set_ftol_rel(opt.get(), 1e-10);
+  nlopt_set_maxeval(opt.get(), 400);
+  std::vector<double> step(dim, 0.1);
+  for (std::size_t k = 0; k < active.size(); ++k) {
+    step[2 + k] = 0.1 * active[k].upper;
+  }
+  nlopt_set_initial_step(opt.get(), step.data());
+  Point best;
+  double best_rss = kInf;
+  for (const Point& start : starts) {
+    std::vector<double> x(dim);
+    x[0] = std::clamp(start.ln_c_e, lower[0], upper[0]);
+    x[1] = std::clamp(start.ln_alpha, lower[1], upper[1]);
+    for (std::size_t k = 0; k < active.size(); ++k) {
+      x[2 + k] = std::clamp(start.u[k], 0.0, active[k].upper);
+    }
+    double value = kInf;
+    nlopt_optimize(opt.get(), x.data(), &value);  // any stop keeps the best x
+    if (value < best_rss) {
+      best_rss = value;
+      best.ln_c_e = x[0];
+      best.ln_alpha = x[1];
+      best.u.assign(x.begin() + 2, x.end());
+    }
+  }
+  *rss_out = best_rss;
+  return best;
+}
+
+// The largest |change of log v| over the runs that effect `k` of `active`
+// makes at u, the others held at p.
+double MaxChange(const Runs& runs, const std::vector<ActiveEffect>& active,
+                 Point p, std::size_t k, double u,
+                 const std::vector<double>& y0) {
+  p.u[k] = u;
+  const std::vector<double> y = Predict(runs, active, p);
+  double change = 0.0;
+  for (int i = 0; i < runs.size(); ++i) {
+    change =
+        std::max(change, std::isfinite(y[i]) ? std::abs(y[i] - y0[i]) : kInf);
+  }
+  return change;
+}
+
+// The u at which effect k changes log v by `target` at most (bisection; the
+// upper bound when it never does).
+double UForChange(const Runs& runs, const std::vector<ActiveEffect>& active,
+                  const Point& p, std::size_t k, double target) {
+  const std::vector<double> y0 = Predict(runs, active, p);
+  double lo = 0.0, hi = active[k].upper;
+  if (MaxChange(runs, active, p, k, hi, y0) <= target) return hi;
+  for (int it = 0; it < 30; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (MaxChange(runs, active, p, k, mid, y0) > target ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Unit and range of an effect's strength for these data at the base fit: the
+// strength scale where the effect starts to matter for this design.
+ActiveEffect ScaleEffect(const sim::EffectSpec& spec, const Runs& runs,
+                         double c_e, double alpha) {
+  ActiveEffect e;
+  e.spec = &spec;
+  const double f_min =
+      *std::min_element(runs.force_n.begin(), runs.force_n.end());
+  const double f_max =
+      *std::max_element(runs.force_n.begin(), runs.force_n.end());
+  const double r = runs.radius_mm;
+  SteadyDescentInput top;
+  top.force_n = f_max;
+  top.c_e_n_per_mm2 = c_e;
+  top.alpha_per_s = alpha;
+  top.radius_mm = r;
+  double v_top = SteadyVelocityMmS(top);
+  if (!(v_top > 0.0 && std::isfinite(v_top))) v_top = alpha * r;
+  const std::string_view id = spec.id;
+  if (id == "motor_power_limit") {
+    // 1/Q_max in units of 1/Q_top, Q the free removal rate at the top force:
+    // the cap binds from u = 1 on.
+    const double load = f_max / (c_e * r * r);
+    const double q_top = v_top * r * r * RemovalAreaAtKappa(KappaAtLoad(load));
+    e.unit = 1.0 / q_top;
+    e.upper = 50.0;
+  } else if (id == "spindle_slowdown") {
+    e.unit = 1.0 / f_max;  // the stall force above the largest force
+    e.upper = 0.98;
+  } else if (id == "cutting_threshold") {
+    e.unit = f_min;  // the threshold below the smallest force
+    e.upper = 0.98;
+  } else if (id == "viscous_resistance") {
+    // c_i R^2 (h/R) v comparable with the top force at u = 1.
+    e.unit = f_max / (r * r * v_top);
+    e.upper = 5.0;
+  } else if (id == "friction_erosion") {
+    e.unit = alpha / f_max;  // k F_max comparable with alpha at u = 1
+    e.upper = 50.0;
+  } else if (id == "contact_exponent") {
+    e.unit = 1.0;
+    e.upper = 0.5;  // n down to 1 (fully plastic)
+  } else if (id == "porosity") {
+    e.unit = 1.0;
+    e.upper = 0.9;
+  } else {
+    e.unit = 1.0;
+    e.upper = 1.0;
+  }
+  return e;
+}
+
+// Jacobian of the predictions with respect to (log c_e, log alpha, u...) by
+// differences (forward for u at its lower bound).
+Eigen::MatrixXd Jacobian(const Runs& runs,
+                         const std::vector<ActiveEffect>& active,
+                         const Point& p) {
+  const int n = runs.size();
+  const int dim = 2 + static_cast<int>(active.size());
+  Eigen::MatrixXd j(n, dim);
+  for (int c = 0; c < dim; ++c) {
+    Point lo = p, hi = p;
+    double h = 1e-5;
+    if (c == 0) {
+      lo.ln_c_e -= h;
+      hi.ln_c_e += h;
+    } else if (c == 1) {
+      lo.ln_alpha -= h;
+      hi.ln_alpha += h;
+    } else {
+      h = 1e-5 * active[c - 2].upper;
+      if (p.u[c - 2] - h < 0.0) {
+        lo.u[c - 2] = p.u[c - 2];
+        hi.u[c - 2] = p.u[c - 2] + 2.0 * h;
+      } else {
+        lo.u[c - 2] -= h;
+        hi.u[c - 2] += h;
+      }
+    }
+    const std::vector<double> yl = Predict(runs, active, lo);
+    const std::vector<double> yh = Predict(runs, active, hi);
+    for (int i = 0; i < n; ++i) {
+      const double d = (yh[i] - yl[i]) / (2.0 * h);
+      j(i, c) = std::isfinite(d) ? d : 0.0;
+    }
+  }
+  return j;
+}
+
+// An orthonormal basis of the column space of J (SVD, numerical rank).
+Eigen::MatrixXd ColumnBasis(const Eigen::MatrixXd& j) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(j, Eigen::ComputeThinU);
+  const Eigen::VectorXd& s = svd.singularValues();
+  int rank = 0;
+  while (rank < s.size() && s(rank) > 1e-9 * s(0)) ++rank;
+  return svd.matrixU().leftCols(rank);
+}
+
+// P_perp x = x - U U^T x.
+Eigen::VectorXd Project(const Eigen::MatrixXd& basis,
+                        const Eigen::VectorXd& x) {
+  return x - basis * (basis.transpose() * x);
+}
+
+// Pure error: within-level sum of squares of `values` and its dof.
+void PureError(const Runs& runs, const std::vector<double>& values, double* ss,
+               int* dof) {
+  std::vector<double> sum(runs.levels, 0.0);
+  std::vector<int> count(runs.levels, 0);
+  for (int i = 0; i < runs.size(); ++i) {
+    sum[runs.level[i]] += values[i];
+    ++count[runs.level[i]];
+  }
+  *ss = 0.0;
+  for (int i = 0; i < runs.size(); ++i) {
+    const double d = values[i] - sum[runs.level[i]] / count[runs.level[i]];
+    *ss += d * d;
+  }
+  *dof = runs.size() - runs.levels;
+}
+
+double FUpper(double f, double d1, double d2) {
+  if (!(f > 0.0)) return 1.0;
+  return boost::math::cdf(
+      boost::math::complement(boost::math::fisher_f_distribution<>(d1, d2), f));
+}
+
+// Holm-adjusted p-values (NaN entries stay NaN and do not count).
+std::vector<double> Holm(const std::vector<double>& p) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!std::isnan(p[i])) order.push_back(i);
+  }
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return p[a] < p[b]; });
+  std::vector<double> adjusted(p.size(), kNaN);
+  const double m = static_cast<double>(order.size());
+  double running = 0.0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    running = std::max(
+        running, std::min(1.0, (m - static_cast<double>(k)) * p[order[k]]));
+    adjusted[order[k]] = running;
+  }
+  return adjusted;
+}
+
+// The three gap tests on the residuals of a fit with Jacobian `jacobian`.
+GapTests RunGapTests(const Runs& runs, const std::vector<double>& fitted,
+                     const Eigen::MatrixXd& jacobian, double level) {
+  const int n = runs.size();
+  const int p = static_cast<int>(jacobian.cols());
+  GapTests g;
+  Eigen::VectorXd r(n);
+  std::vector<double> residual(n);
+  for (int i = 0; i < n; ++i) residual[i] = r(i) = runs.ln_v[i] - fitted[i];
+  const double rss = r.squaredNorm();
+  double ss_pe = 0.0;
+  int dof_pe = 0;
+  PureError(runs, residual, &ss_pe, &dof_pe);
+  // Lack of fit (pure error from the replicates).
+  const int dof_lof = runs.levels - p;
+  g.lack_of_fit_p = kNaN;
+  if (dof_pe >= 1 && dof_lof >= 1 && ss_pe > 0.0) {
+    g.lack_of_fit_p =
+        FUpper(((rss - ss_pe) / dof_lof) / (ss_pe / dof_pe), dof_lof, dof_pe);
+  }
+  // Curvature: x^2 and x^3 of the standardised log force, projected off the
+  // model's Jacobian; an F test of their fit to the residuals.
+  g.curvature_p = kNaN;
+  const int q = std::min(2, runs.levels - p);
+  if (q >= 1) {
+    double mean = 0.0, var = 0.0;
+    for (int i = 0; i < n; ++i) mean += std::log(runs.force_n[i]) / n;
+    for (int i = 0; i < n; ++i) {
+      var += std::pow(std::log(runs.force_n[i]) - mean, 2) / n;
+    }
+    const double sd = var > 0.0 ? std::sqrt(var) : 1.0;
+    Eigen::MatrixXd extra(n, q);
+    for (int i = 0; i < n; ++i) {
+      const double x = (std::log(runs.force_n[i]) - mean) / sd;
+      extra(i, 0) = x * x;
+      if (q > 1) extra(i, 1) = x * x * x;
+    }
+    const Eigen::MatrixXd basis = ColumnBasis(jacobian);
+    for (int c = 0; c < q; ++c) extra.col(c) = Project(basis, extra.col(c));
+    const Eigen::MatrixXd extra_basis = ColumnBasis(extra);
+    const int rank = static_cast<int>(extra_basis.cols());
+    if (rank >= 1) {
+      const double ss_q = (extra_basis.transpose() * r).squaredNorm();
+      double sigma2 = 0.0;
+      int dof = 0;
+      if (dof_pe >= 2 && ss_pe > 0.0) {
+        sigma2 = ss_pe / dof_pe;
+        dof = dof_pe;
+      } else {
+        dof = n - p - rank;
+        sigma2 = dof > 0 ? (rss - ss_q) / dof : 0.0;
+      }
+      if (dof >= 1 && sigma2 > 0.0) {
+        g.curvature_p = FUpper((ss_q / rank) / sigma2, rank, dof);
+      }
+    }
+  }
+  // Runs of residual signs ordered by force (too few runs: a trend).
+  g.runs_p = kNaN;
+  if (n >= 6) {
+    std::vector<int> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return runs.force_n[a] < runs.force_n[b];
+    });
+    std::vector<double> sorted;
+    for (int i : order) sorted.push_back(residual[i]);
+    try {
+      const auto [z, two_sided] =
+          boost::math::statistics::runs_above_and_below_threshold(sorted, 0.0);
+      (void)two_sided;
+      if (std::isfinite(z)) {
+        g.runs_p = boost::math::cdf(boost::math::normal_distribution<>(), z);
+      }
+    } catch (const std::exception&) {
+      g.runs_p = kNaN;
+    }
+  }
+  const std::vector<double> adjusted =
+      Holm({g.lack_of_fit_p, g.curvature_p, g.runs_p});
+  g.holm_min_p = 1.0;
+  for (double a : adjusted) {
+    if (!std::isnan(a)) g.holm_min_p = std::min(g.holm_min_p, a);
+  }
+  g.detected = g.holm_min_p < level;
+  return g;
+}
+
+double Aicc(double rss, int n, int parameters) {
+  const int k = parameters + 1;  // and sigma
+  const double floor = std::max(rss, 1e-300);
+  double aicc = n * std::log(floor / n) + 2.0 * k;
+  aicc += n - k - 1 > 0 ? 2.0 * k * (k + 1) / (n - k - 1) : kInf;
+  return aicc;
+}
+
+// p of the likelihood ratio for one parameter on its null boundary: the
+// 50:50 mixture of chi^2_0 and chi^2_1 (Self & Liang 1987).
+double ChiBarP(double lr) {
+  if (!(lr > 0.0)) return 1.0;
+  return 0.5 * boost::math::cdf(boost::math::complement(
+                   boost::math::chi_squared_distribution<>(1.0), lr));
+}
+
+// The whole state of one model in the workflow.
+struct Model {
+  std::vector<ActiveEffect> active;
+  Point point;
+  double rss = 0.0;
+};
+
+class Workflow {
+ public:
+  Workflow(const Runs& runs, const DiscoverOptions& options)
+      : runs_(runs), options_(options) {}
+
+  // The base fit on the runs with use[i] (all if empty), as calibration.h
+  // does it: log alpha profiled in closed form (it enters additively), a
+  // bounded search over log c_e (grid, then Brent's method around the best
+  // grid point). Fails when every c_e in the box pushes the burr through.
+  Result<Point> BaseFit(const std::vector<char>& use) const {
+    double max_f = 0.0;
+    for (int i = 0; i < runs_.size(); ++i) {
+      if (use.empty() || use[i]) max_f = std::max(max_f, runs_.force_n[i]);
+    }
+    const double r = runs_.radius_mm;
+    const double l_min = std::max(
+        std::log(1e-3), std::log(max_f / (r * r * MaxSteadyLoad())) + 1e-9);
+    const double l_max = std::log(1e3);
+    if (l_min >= l_max) {
+      return Error{fmt::format(
+          "the largest force {} N exceeds the full-immersion force c_e R^2 "
+          "2^(3/2) of every c_e up to 1000 N/mm^2 with R = {} mm: no steady "
+          "descent in the model",
+          max_f, r)};
+    }
+    const auto profile = [&](double l) {
+      Point p;
+      p.ln_c_e = l;
+      p.ln_alpha = 0.0;
+      p.ln_alpha = OffsetAlpha(runs_, {}, p, use);
+      return Rss(runs_, {}, p, use);
+    };
+    constexpr int kGrid = 120;
+    double best_l = l_min, best = kInf;
+    int best_k = 0;
+    for (int k = 0; k < kGrid; ++k) {
+      const double l = l_min + (l_max - l_min) * k / (kGrid - 1);
+      const double value = profile(l);
+      if (value < best) {
+        best = value;
+        best_l = l;
+        best_k = k;
+      }
+    }
+    const double step = (l_max - l_min) / (kGrid - 1);
+    const double a = best_k > 0 ? best_l - step : best_l;
+    const double b = best_k < kGrid - 1 ? best_l + step : best_l;
+    if (b > a) {
+      const auto [l, value] =
+          boost::math::tools::brent_find_minima(profile, a, b, 40);
+      if (value < best) best_l = l;
+    }
+    Point p;
+    p.ln_c_e = best_l;
+    p.ln_alpha = 0.0;
+    p.ln_alpha = OffsetAlpha(runs_, {}, p, use);
+    return p;
+  }
+
+  // Fits `active` (the last one new) from `from` (the model without it) over
+  // the runs with use[i].
+  Model FitAugmented(const std::vector<ActiveEffect>& active, const Point& from,
+                     const std::vector<char>& use) const {
+    // A grid over the new effect's strength (where it changes log v by 1 %
+    // to 80 %, and its upper end), each with the best log c_e of a grid over
+    // the whole box and log alpha in closed form: the base fit can sit far
+    // along the weakly determined valley (even at the box's end, where v(F)
+    // is a power law) and the effect may need the other end. BOBYQA then
+    // polishes the three best grid points and the plain start.
+    Point base = from;
+    base.u.resize(active.size(), 0.0);
+    const std::size_t k = active.size() - 1;
+    double f_max = 0.0;
+    for (double f : runs_.force_n) f_max = std::max(f_max, f);
+    const double r = runs_.radius_mm;
+    const double l_lo = std::max(
+        std::log(1e-3), std::log(f_max / (r * r * MaxSteadyLoad())) - 1.0);
+    const double l_hi = std::log(1e3);
+    std::vector<std::pair<double, Point>> grid;
+    for (double change : {0.01, 0.03, 0.07, 0.15, 0.3, 0.5, 0.8, -1.0}) {
+      Point s = base;
+      s.u[k] = change < 0.0 ? active[k].upper
+                            : UForChange(runs_, active, base, k, change);
+      constexpr int kCe = 40;
+      for (int c = 0; c < kCe; ++c) {
+        Point t = s;
+        t.ln_c_e = l_lo + (l_hi - l_lo) * c / (kCe - 1);
+        t.ln_alpha = OffsetAlpha(runs_, active, t, use);
+        grid.emplace_back(Rss(runs_, active, t, use), t);
+      }
+    }
+    std::sort(grid.begin(), grid.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Point> starts = {base};
+    for (std::size_t g = 0; g < grid.size() && starts.size() < 4; ++g) {
+      starts.push_back(grid[g].second);
+    }
+    Model m;
+    m.active = active;
+    m.point = FitFromStarts(runs_, active, starts, use, from, &m.rss);
+    return m;
+  }
+
+  // Leave-one-force-level-out RMSE of log v for `model` (NaN with < 3
+  // levels).
+  double CrossValidate(const Model& model) const {
+    if (runs_.levels < 3) return kNaN;
+    double sum = 0.0;
+    int count = 0;
+    for (int held = 0; held < runs_.levels; ++held) {
+      std::vector<char> use(runs_.size());
+      for (int i = 0; i < runs_.size(); ++i) use[i] = runs_.level[i] != held;
+      Result<Point> base = BaseFit(use);
+      if (!base.ok()) return kNaN;
+      Point p = *base;
+      if (!model.active.empty()) {
+        Point start = model.point;
+        Point from_base = *base;
+        from_base.u = model.point.u;
+        from_base.ln_alpha = OffsetAlpha(runs_, model.active, from_base, use);
+        double rss = 0.0;
+        p = FitFromStarts(runs_, model.active, {start, from_base}, use,
+                          model.point, &rss);
+      }
+      const std::vector<double> y = Predict(runs_, model.active, p);
+      for (int i = 0; i < runs_.size(); ++i) {
+        if (use[i]) continue;
+        const double r =
+            std::isfinite(y[i]) ? runs_.ln_v[i] - y[i] : kUnreachableResidual;
+        sum += r * r;
+        ++count;
+      }
+    }
+    return count > 0 ? std::sqrt(sum / count) : kNaN;
+  }
+
+  ModelFit Describe(const Model& m) const {
+    ModelFit f;
+    f.c_e_n_per_mm2 = std::exp(m.point.ln_c_e);
+    f.alpha_per_s = std::exp(m.point.ln_alpha);
+    for (std::size_t k = 0; k < m.active.size(); ++k) {
+      const double strength = m.point.u[k] * m.active[k].unit;
+      f.effects.emplace_back(m.active[k].spec->id);
+      f.strengths.push_back(strength);
+      f.effect_values.push_back(
+          sim::ParameterAtStrength(*m.active[k].spec, strength));
+    }
+    f.parameters = 2 + static_cast<int>(m.active.size());
+    f.rss_log_v = m.rss;
+    f.rmse_log_v = std::sqrt(m.rss / runs_.size());
+    f.aicc = Aicc(m.rss, runs_.size(), f.parameters);
+    f.cv_rmse_log_v = CrossValidate(m);
+    f.fitted_log_v = Predict(runs_, m.active, m.point);
+    return f;
+  }
+
+  GapTests Gap(const Model& m) const {
+    return RunGapTests(runs_, Predict(runs_, m.active, m.point),
+                       Jacobian(runs_, m.active, m.point), options_.test_level);
+  }
+
+  // Scores and augmented fits of every library effect not in `current`.
+  std::vector<EffectAttribution> Attribute(const Model& current,
+                                           std::vector<Model>* fits,
+                                           std::vector<Eigen::VectorXd>* sigs,
+                                           int* progress_done) const {
+    const int n = runs_.size();
+    const std::vector<double> y0 =
+        Predict(runs_, current.active, current.point);
+    Eigen::VectorXd r(n);
+    for (int i = 0; i < n; ++i) r(i) = runs_.ln_v[i] - y0[i];
+    const Eigen::MatrixXd basis =
+        ColumnBasis(Jacobian(runs_, current.active, current.point));
+    // Noise scale: pure error when the replicates give it.
+    std::vector<double> residual(r.data(), r.data() + n);
+    double ss_pe = 0.0;
+    int dof_pe = 0;
+    PureError(runs_, residual, &ss_pe, &dof_pe);
+    const int p = 2 + static_cast<int>(current.active.size());
+    double sigma = 0.0;
+    int dof = 0;
+    if (dof_pe >= 2 && ss_pe > 0.0) {
+      sigma = std::sqrt(ss_pe / dof_pe);
+      dof = dof_pe;
+    } else {
+      dof = std::max(1, n - p);
+      sigma = std::sqrt(current.rss / dof);
+    }
+    std::vector<EffectAttribution> out;
+    fits->clear();
+    sigs->clear();
+    const double c_e = std::exp(current.point.ln_c_e);
+    const double alpha = std::exp(current.point.ln_alpha);
+    for (const sim::EffectSpec& spec : sim::EffectLibrary()) {
+      bool used = false;
+      for (const ActiveEffect& a : current.active) used |= a.spec == &spec;
+      if (used) continue;
+      if (options_.progress) {
+        options_.progress((*progress_done)++, total_tasks_,
+                          fmt::format("attributing: {}", spec.id));
+      }
+      EffectAttribution e;
+      e.id = spec.id;
+      std::vector<ActiveEffect> active = current.active;
+      active.push_back(ScaleEffect(spec, runs_, c_e, alpha));
+      const std::size_t k = active.size() - 1;
+      Point at = current.point;
+      at.u.push_back(0.0);
+      // Signature: the change of the fit per unit u at a small strength
+      // (2 % at most), a secant for effects with a kink such as the cap.
+      const double u_small = UForChange(runs_, active, at, k, 0.02);
+      Point moved = at;
+      moved.u[k] = u_small;
+      const std::vector<double> y1 = Predict(runs_, active, moved);
+      Eigen::VectorXd s(n);
+      for (int i = 0; i < n; ++i) {
+        s(i) = std::isfinite(y1[i]) ? (y1[i] - y0[i]) / u_small : 0.0;
+      }
+      const Eigen::VectorXd s_perp = Project(basis, s);
+      const double norm = s.norm();
+      e.identifiability = norm > 0.0 ? s_perp.norm() / norm : 0.0;
+      e.absorbed = e.identifiability < options_.absorbed_index;
+      sigs->push_back(s_perp);
+      if (!e.absorbed && sigma > 0.0) {
+        e.score_z = s_perp.dot(r) / (sigma * s_perp.norm());
+        e.score_p = boost::math::cdf(boost::math::complement(
+            boost::math::students_t_distribution<>(dof), e.score_z));
+      }
+      Model fit;
+      if (!e.absorbed) {
+        fit = FitAugmented(active, current.point, {});
+        if (fit.rss > current.rss) {  // never worse than the nested model
+          fit.point = at;
+          fit.rss = current.rss;
+        }
+        e.lr = n * std::log(current.rss / std::max(fit.rss, 1e-300));
+        e.lr_p = ChiBarP(e.lr);
+        e.aicc = Aicc(fit.rss, n, 2 + static_cast<int>(active.size()));
+        e.value =
+            sim::ParameterAtStrength(spec, fit.point.u[k] * active[k].unit);
+      } else {
+        fit.active = active;
+        fit.point = at;
+        fit.rss = current.rss;
+        e.aicc = kInf;
+        e.value = spec.null_value;
+      }
+      fits->push_back(fit);
+      out.push_back(e);
+    }
+    std::vector<double> lr_p;
+    for (const EffectAttribution& e : out) {
+      lr_p.push_back(e.absorbed ? kNaN : e.lr_p);
+    }
+    const std::vector<double> adjusted = Holm(lr_p);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i].lr_p_holm = std::isnan(adjusted[i]) ? 1.0 : adjusted[i];
+    }
+    return out;
+  }
+
+  void set_total_tasks(int total) { total_tasks_ = total; }
+
+ private:
+  const Runs& runs_;
+  const DiscoverOptions& options_;
+  int total_tasks_ = 1;
+};
+
+// Gross outliers: runs far from the other replicates of their level, one at a
+// time (the largest first), against a robust scale of all runs.
+std::vector<char> ScreenOutliers(const Runs& runs, double sigmas) {
+  std::vector<char> keep(runs.size(), 1);
+  const auto deviations = [&]() {
+    std::vector<double> d(runs.size(), kNaN);
+    std::vector<double> sum(runs.levels, 0.0);
+    std::vector<int> count(runs.levels, 0);
+    for (int i = 0; i < runs.size(); ++i) {
+      if (!keep[i]) continue;
+      sum[runs.level[i]] += runs.ln_v[i];
+      ++count[runs.level[i]];
+    }
+    for (int i = 0; i < runs.size(); ++i) {
+      const int c = count[runs.level[i]];
+      if (!keep[i] || c < 3) continue;
+      const double others = (sum[runs.level[i]] - runs.ln_v[i]) / (c - 1);
+      // Var(y - mean of the other c - 1) = sigma^2 (1 + 1/(c - 1)).
+      d[i] = (runs.ln_v[i] - others) / std::sqrt(1.0 + 1.0 / (c - 1));
+    }
+    return d;
+  };
+  std::vector<double> d = deviations();
+  std::vector<double> abs_d;
+  for (double x : d) {
+    if (!std::isnan(x)) abs_d.push_back(std::abs(x));
+  }
+  if (abs_d.size() < 6) return keep;
+  std::nth_element(abs_d.begin(), abs_d.begin() + abs_d.size() / 2,
+                   abs_d.end());
+  const double scale = 1.4826 * abs_d[abs_d.size() / 2];
+  if (!(scale > 0.0)) return keep;
+  const int max_removed = runs.size() / 4;
+  for (int removed = 0; removed < max_removed; ++removed) {
+    int worst = -1;
+    double worst_z = sigmas;
+    for (int i = 0; i < runs.size(); ++i) {
+      if (!std::isnan(d[i]) && std::abs(d[i]) / scale > worst_z) {
+        worst_z = std::abs(d[i]) / scale;
+        worst = i;
+      }
+    }
+    if (worst < 0) break;
+    keep[worst] = 0;
+    d = deviations();
+  }
+  return keep;
+}
+
+Runs Subset(const Runs& runs, const std::vector<char>& keep) {
+  Runs out;
+  out.radius_mm = runs.radius_mm;
+  std::map<double, int> index;
+  for (int i = 0; i < runs.size(); ++i) {
+    if (keep[i]) index.emplace(runs.force_n[i], 0);
+  }
+  int k = 0;
+  for (auto& [force, i] : index) i = k++;
+  out.levels = k;
+  for (int i = 0; i < runs.size(); ++i) {
+    if (!keep[i]) continue;
+    out.force_n.push_back(runs.force_n[i]);
+    out.ln_v.push_back(runs.ln_v[i]);
+    out.level.push_back(index[runs.force_n[i]]);
+    out.line.push_back(runs.line[i]);
+  }
+  return out;
+}
+
+// The RMS shift of log v (orthogonal to the model, spread over the levels)
+// the lack-of-fit test detects with probability 1/2.
+double DetectableRms(const Runs& runs, int parameters, double sigma,
+                     double level) {
+  const int d1 = runs.levels - parameters, d2 = runs.size() - runs.levels;
+  if (d1 < 1 || d2 < 1 || !(sigma > 0.0)) return kNaN;
+  const double critical = boost::math::quantile(
+      boost::math::fisher_f_distribution<>(d1, d2), 1.0 - level);
+  const auto power = [&](double lambda) {
+    return boost::math::cdf(boost::math::complement(
+        boost::math::non_central_f_distribution<>(d1, d2, lambda), critical));
+  };
+  double lo = 0.0, hi = 1.0;
+  while (power(hi) < 0.5 && hi < 1e6) hi *= 2.0;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (power(mid) < 0.5 ? lo : hi) = mid;
+  }
+  // lambda = sum_i delta_i^2 / sigma^2 = n rms^2 / sigma^2.
+  return sigma * std::sqrt(0.5 * (lo + hi) / runs.size());
+}
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+}  // namespace
+
+double ModelLogVelocity(double force_n, double c_e_n_per_mm2,
+                        double alpha_per_s, double radius_mm,
+                        const sim::Effects& effects) {
+  SteadyDescentInput in;
+  in.force_n = force_n;
+  in.c_e_n_per_mm2 = c_e_n_per_mm2;
+  in.alpha_per_s = alpha_per_s;
+  in.radius_mm = radius_mm;
+  in.effects = effects;
+  const double v = SteadyVelocityMmS(in);
+  return v > 0.0 && std::isfinite(v) ? std::log(v) : kNaN;
+}
+
+Status DiscoverOptions::Validate() const {
+  if (!std::isfinite(radius_mm) || radius_mm <= 0.0) {
+    return Error{fmt::format(
+        "radius_mm must be a positive finite number of mm, got {}", radius_mm)};
+  }
+  if (!(test_level > 0.0 && test_level < 0.5)) {
+    return Error{
+        fmt::format("test_level must lie in (0, 0.5), got {}", test_level)};
+  }
+  if (max_effects < 0 || max_effects > 2) {
+    return Error{
+        fmt::format("max_effects must lie in [0, 2], got {}", max_effects)};
+  }
+  if (!(alias_cosine > 0.0 && alias_cosine < 1.0)) {
+    return Error{
+        fmt::format("alias_cosine must lie in (0, 1), got {}", alias_cosine)};
+  }
+  if (!(absorbed_index >= 0.0 && absorbed_index < 1.0)) {
+    return Error{fmt::format("absorbed_index must lie in [0, 1), got {}",
+                             absorbed_index)};
+  }
+  if (!(outlier_sigmas > 2.0)) {
+    return Error{
+        fmt::format("outlier_sigmas must exceed 2, got {}", outlier_sigmas)};
+  }
+  if (!(absorbed_margin >= 0.0 && std::isfinite(absorbed_margin))) {
+    return Error{fmt::format("absorbed_margin must be finite and >= 0, got {}",
+                             absorbed_margin)};
+  }
+  if (reference) {
+    if (Status s = reference->Validate(); !s.ok()) return s;
+  }
+  return {};
+}
+
+Result<DiscoverReport> Discover(const MeasuredData& data,
+                                const DiscoverOptions& options) {
+  if (Status s = options.Validate(); !s.ok()) return s.error();
+  const int n_all = static_cast<int>(data.runs.size());
+  if (n_all <= kCalibrationParameters || data.force_levels < 2) {
+    return Error{fmt::format(
+        "discover needs more runs than parameters and at least 2 force "
+        "levels, got {} runs at {} levels",
+        n_all, data.force_levels)};
+  }
+  DiscoverReport report;
+  const Runs all = MakeRuns(data, options.radius_mm);
+  const std::vector<char> keep = ScreenOutliers(all, options.outlier_sigmas);
+  for (int i = 0; i < all.size(); ++i) {
+    if (!keep[i]) report.outlier_lines.push_back(all.line[i]);
+  }
+  const Runs runs = Subset(all, keep);
+  const int n = runs.size();
+  const double level = options.test_level;
+  Workflow flow(runs, options);
+  const int library = static_cast<int>(sim::EffectLibrary().size());
+  flow.set_total_tasks(2 + library * std::max(1, options.max_effects));
+  int done = 0;
+  if (options.progress) options.progress(done++, 2, "base fit");
+
+  // 1. The base model.
+  Result<Point> base_point = flow.BaseFit({});
+  if (!base_point.ok()) return base_point.error();
+  Model base;
+  base.point = *base_point;
+  base.rss = Rss(runs, {}, base.point, {});
+  report.baseline = flow.Describe(base);
+  report.augmented = report.baseline;
+
+  // 2. Is there a gap?
+  report.gap_before = flow.Gap(base);
+  report.gap_after = report.gap_before;
+  {
+    std::vector<double> residual(n);
+    for (int i = 0; i < n; ++i) {
+      residual[i] = runs.ln_v[i] - report.baseline.fitted_log_v[i];
+    }
+    double ss_pe = 0.0;
+    int dof_pe = 0;
+    PureError(runs, residual, &ss_pe, &dof_pe);
+    const double sigma = dof_pe >= 1 && ss_pe > 0.0
+                             ? std::sqrt(ss_pe / dof_pe)
+                             : std::sqrt(base.rss / std::max(1, n - 2));
+    report.detectable_rms_log_v = DetectableRms(runs, 2, sigma, level);
+  }
+  report.reference_p = kNaN;
+  report.reference_effect_p = kNaN;
+  const std::string outliers_text =
+      report.outlier_lines.empty()
+          ? std::string()
+          : fmt::format(
+                " {} run(s) far outside their replicates were left "
+                "out as gross outliers.",
+                report.outlier_lines.size());
+
+  if (!report.gap_before.detected) {
+    report.verdict = "none";
+    report.summary = fmt::format(
+        "No discrepancy detected: the base model (c_e, alpha) fits v(F) "
+        "within the replicates' scatter (smallest Holm-adjusted gap p = "
+        "{:.3g}). This design would detect an RMS change of log v of about "
+        "{:.3g} with probability 1/2.{}",
+        report.gap_before.holm_min_p, report.detectable_rms_log_v,
+        outliers_text);
+    // Attribution still measures identifiability; with a reference
+    // material, an absorbed effect can show as a shift of the base
+    // parameters.
+    std::vector<Model> fits;
+    std::vector<Eigen::VectorXd> sigs;
+    report.rounds.push_back(flow.Attribute(base, &fits, &sigs, &done));
+    if (options.reference) {
+      Point ref;
+      ref.ln_c_e = std::log(options.reference->c_e_n_per_mm2);
+      ref.ln_alpha = std::log(options.reference->alpha_per_s);
+      const double rss_ref = Rss(runs, {}, ref, {});
+      // The reference (0 free parameters) against the free base fit (2).
+      const int dof = n - 2;
+      report.reference_p =
+          FUpper(((rss_ref - base.rss) / 2.0) / (base.rss / dof), 2, dof);
+      double best_p = -1.0;
+      const EffectAttribution* best = nullptr;
+      for (const EffectAttribution& e : report.rounds[0]) {
+        if (!e.absorbed) continue;
+        const sim::EffectSpec* spec = sim::FindEffect(e.id);
+        std::vector<ActiveEffect> active = {
+            ScaleEffect(*spec, runs, options.reference->c_e_n_per_mm2,
+                        options.reference->alpha_per_s)};
+        // Reference + effect: only the strength is free (1 parameter).
+        double lo = 0.0, hi = active[0].upper;
+        const auto rss_at = [&](double u) {
+          Point p = ref;
+          p.u = {u};
+          return Rss(runs, active, p, {});
+        };
+        const double u =
+            boost::math::tools::brent_find_minima(rss_at, lo, hi, 40).first;
+        double value = 0.0;
+        value = rss_at(u);
+        const double p_effect =
+            FUpper(((value - base.rss) / 1.0) / (base.rss / dof), 1, dof);
+        // The change the effect makes, as an RMS of log v.
+        Point with = ref;
+        with.u = {u};
+        const std::vector<double> y1 = Predict(runs, active, with);
+        const std::vector<double> y0 = Predict(runs, {}, ref);
+        double change = 0.0;
+        for (int i = 0; i < n; ++i) change += std::pow(y1[i] - y0[i], 2) / n;
+        change = std::sqrt(change);
+        if (change > std::log1p(options.absorbed_margin) && p_effect > best_p) {
+          best_p = p_effect;
+          best = &e;
+          report.augmented = flow.Describe(Model{active, with, value});
+          report.augmented.c_e_n_per_mm2 = options.reference->c_e_n_per_mm2;
+          report.augmented.alpha_per_s = options.reference->alpha_per_s;
+        }
+      }
+      if (best != nullptr && report.reference_p < level && best_p >= level) {
+        report.reference_effect_p = best_p;
+        report.verdict = "absorbed";
+        report.effects = {best->id};
+        report.alias_set = {best->id};
+        report.summary = fmt::format(
+            "Effect {} is absorbed by the base parameters: v(F) alone cannot "
+            "show it (identifiability index {:.2g}), but the data reject the "
+            "reference material (p = {:.3g}) while the reference with {} = "
+            "{:.4g} fits as well as free c_e and alpha (p = {:.3g}); the fit "
+            "absorbs it into c_e = {:.4g} and alpha = {:.4g}.{}",
+            best->id, best->identifiability, report.reference_p, best->id,
+            report.augmented.effect_values[0], best_p,
+            report.baseline.c_e_n_per_mm2, report.baseline.alpha_per_s,
+            outliers_text);
+      } else {
+        report.augmented = report.baseline;
+        if (best != nullptr) report.reference_effect_p = best_p;
+      }
+    }
+    return report;
+  }
+
+  // 3-4. Attribute and augment, one effect at a time.
+  Model current = base;
+  std::vector<std::string> tried;
+  std::string failure;
+  bool explained = false;
+  for (int step = 0; step < options.max_effects; ++step) {
+    // A model must leave the lack-of-fit test at least 3 degrees of freedom
+    // (levels - parameters) to be checked at all.
+    const int parameters = 3 + step;
+    if (runs.levels - parameters < 3 && step > 0) {
+      failure = fmt::format(
+          "after {} the residual tests still fail (Holm p = {:.3g}), and {} "
+          "force levels leave too few degrees of freedom to check a model "
+          "with a further effect",
+          Join(report.effects), report.gap_after.holm_min_p, runs.levels);
+      break;
+    }
+    std::vector<Model> fits;
+    std::vector<Eigen::VectorXd> sigs;
+    std::vector<EffectAttribution> round =
+        flow.Attribute(current, &fits, &sigs, &done);
+    report.rounds.push_back(round);
+    // Candidates: significant after Holm's correction, best AICc first.
+    std::vector<std::size_t> candidates;
+    for (std::size_t i = 0; i < round.size(); ++i) {
+      if (!round[i].absorbed && round[i].lr_p_holm < level) {
+        candidates.push_back(i);
+      }
+    }
+    std::sort(candidates.begin(), candidates.end(),
+              [&](std::size_t a, std::size_t b) {
+                return round[a].aicc < round[b].aicc;
+              });
+    if (candidates.empty()) {
+      failure = step == 0
+                    ? "no effect's likelihood-ratio test is significant after "
+                      "Holm's correction"
+                    : fmt::format(
+                          "after {} the residual tests still fail (Holm p = "
+                          "{:.3g}) and no further effect is significant",
+                          Join(report.effects), report.gap_after.holm_min_p);
+      break;
+    }
+    // The best candidate that passes the confirmation; the runners-up
+    // within 2 of its AICc (which the data cannot rank) are tried in turn.
+    ModelFit before = step == 0 ? report.baseline : report.augmented;
+    std::size_t best = candidates[0];
+    ModelFit after;
+    bool confirmed = false;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      const std::size_t k = candidates[c];
+      if (c > 0 && round[k].aicc - round[candidates[0]].aicc >= 2.0) break;
+      after = flow.Describe(fits[k]);
+      tried.push_back(round[k].id);
+      const double delta_aicc = after.aicc - before.aicc;
+      if (!(delta_aicc < 0.0)) {
+        failure = fmt::format("adding {} does not lower AICc ({:+.3g})",
+                              round[k].id, delta_aicc);
+        continue;
+      }
+      if (after.cv_rmse_log_v >= before.cv_rmse_log_v) {  // NaN passes
+        failure = fmt::format(
+            "adding {} does not lower the held-out error ({:.4g} -> {:.4g})",
+            round[k].id, before.cv_rmse_log_v, after.cv_rmse_log_v);
+        continue;
+      }
+      best = k;
+      confirmed = true;
+      break;
+    }
+    if (!confirmed) break;
+    const Model& augmented = fits[best];
+    report.lr_p = round[best].lr_p;
+    report.delta_aicc = after.aicc - before.aicc;
+    report.delta_aicc_runner_up =
+        candidates.size() > 1
+            ? round[candidates[1]].aicc - round[candidates[0]].aicc
+            : kNaN;
+    if (step == 0) {
+      // Alias set: effects the design cannot separate from the best. Their
+      // local signatures may be nearly parallel, or their fitted
+      // contributions (augmented minus current predictions, projected off
+      // the current Jacobian: for a capped effect such as the power limit
+      // the local signature sits at the top force only) are.
+      report.alias_set = {round[best].id};
+      const std::vector<double> y_now =
+          Predict(runs, current.active, current.point);
+      const Eigen::MatrixXd basis =
+          ColumnBasis(Jacobian(runs, current.active, current.point));
+      const auto contribution = [&](std::size_t k) {
+        const std::vector<double> y =
+            Predict(runs, fits[k].active, fits[k].point);
+        Eigen::VectorXd d(n);
+        for (int i = 0; i < n; ++i) {
+          d(i) = std::isfinite(y[i]) ? y[i] - y_now[i] : 0.0;
+        }
+        return Eigen::VectorXd(Project(basis, d));
+      };
+      const Eigen::VectorXd c_best = contribution(best);
+      for (std::size_t j : candidates) {
+        if (j == best) continue;
+        const double denom = sigs[best].norm() * sigs[j].norm();
+        const Eigen::VectorXd c_j = contribution(j);
+        const double fitted_denom = c_best.norm() * c_j.norm();
+        const double cosine = std::max(
+            denom > 0.0 ? std::abs(sigs[best].dot(sigs[j])) / denom : 0.0,
+            fitted_denom > 0.0 ? std::abs(c_best.dot(c_j)) / fitted_denom
+                               : 0.0);
+        if (cosine > options.alias_cosine ||
+            round[j].aicc - round[best].aicc < 2.0) {
+          report.alias_set.push_back(round[j].id);
+        }
+      }
+    }
+    current = augmented;
+    report.effects.push_back(round[best].id);
+    report.augmented = after;
+    report.gap_after = flow.Gap(current);
+    if (!report.gap_after.detected) {
+      explained = true;
+      break;
+    }
+  }
+  if (explained) {
+    report.verdict = report.alias_set.size() > 1 ? "ambiguous" : "named";
+    std::string params;
+    for (std::size_t k = 0; k < report.augmented.effects.size(); ++k) {
+      const sim::EffectSpec* spec =
+          sim::FindEffect(report.augmented.effects[k]);
+      params += fmt::format("{}{} = {:.4g} {}", params.empty() ? "" : ", ",
+                            spec->parameter, report.augmented.effect_values[k],
+                            spec->unit);
+    }
+    report.summary =
+        report.verdict == "named"
+            ? fmt::format(
+                  "The base model misses {} ({}). Adding it ({}) closes the "
+                  "gap: likelihood ratio p = {:.3g} (boundary-corrected), "
+                  "AICc {:+.3g}, held-out RMSE of log v {:.3g} -> {:.3g}, "
+                  "and the residual tests pass (Holm p = {:.3g}).{}",
+                  Join(report.effects),
+                  sim::FindEffect(report.effects[0])->signature, params,
+                  report.lr_p, report.augmented.aicc - report.baseline.aicc,
+                  report.baseline.cv_rmse_log_v, report.augmented.cv_rmse_log_v,
+                  report.gap_after.holm_min_p, outliers_text)
+            : fmt::format(
+                  "The base model misses an effect of the set {{{}}}, which "
+                  "this design cannot tell apart (projected signatures "
+                  "nearly parallel or AICc within 2). The best, {} ({}), "
+                  "closes the gap: AICc {:+.3g}, held-out RMSE of log v "
+                  "{:.3g} -> {:.3g}. Force levels where their predictions "
+                  "differ most would separate them.{}",
+                  Join(report.alias_set), report.effects[0], params,
+                  report.augmented.aicc - report.baseline.aicc,
+                  report.baseline.cv_rmse_log_v, report.augmented.cv_rmse_log_v,
+                  outliers_text);
+    return report;
+  }
+  // Something outside the library (or not confirmed): no forced name.
+  report.verdict = "unexplained";
+  report.summary = fmt::format(
+      "The base model does not fit (smallest Holm-adjusted gap p = {:.3g}), "
+      "and no effect of the library explains the gap{}: {}.{}",
+      report.gap_before.holm_min_p,
+      tried.empty() ? "" : fmt::format(" (tried: {})", Join(tried)),
+      failure.empty()
+          ? fmt::format("after {} the residual tests still fail (Holm p = "
+                        "{:.3g})",
+                        Join(report.effects), report.gap_after.holm_min_p)
+          : failure,
+      outliers_text);
+  report.effects.clear();
+  report.alias_set.clear();
+  report.augmented = report.baseline;
+  report.gap_after = report.gap_before;
+  return report;
+}
+
+}  // namespace burrlab::analysis

@@ -1,0 +1,209 @@
+// Hidden-effect scenarios: truth, noise, distortions, CSV, Discover.
+#include "burrlab/analysis/discover_scenarios.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <boost/random/mersenne_twister.hpp>
+#include <boost/random/uniform_01.hpp>
+#include <cmath>
+
+#include "burrlab/analysis/calibration.h"
+#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/synthetic_measurement.h"
+
+namespace burrlab::analysis {
+namespace {
+
+SyntheticMeasurementOptions GeneratorOptions(const ScenarioDesign& d,
+                                             const sim::Effects& effects) {
+  SyntheticMeasurementOptions o;
+  o.material = d.material;
+  o.effects = effects;
+  o.forces_n = d.ForcesN();
+  o.replicates = d.replicates;
+  o.noise_cv = d.noise_cv;
+  o.radius_mm = d.radius_mm;
+  return o;
+}
+
+std::vector<double> SurrogateVelocities(const ScenarioDesign& d,
+                                        const sim::Effects& effects) {
+  std::vector<double> v;
+  for (double f : d.ForcesN()) {
+    SteadyDescentInput in;
+    in.force_n = f;
+    in.c_e_n_per_mm2 = d.material.c_e_n_per_mm2;
+    in.alpha_per_s = d.material.alpha_per_s;
+    in.radius_mm = d.radius_mm;
+    in.effects = effects;
+    const double x = SteadyVelocityMmS(in);
+    v.push_back(x > 0.0 && std::isfinite(x) ? x : 0.0);
+  }
+  return v;
+}
+
+// The largest strength worth trying for effect `spec` in the design.
+double MaxStrength(const ScenarioDesign& d, const sim::EffectSpec& spec) {
+  const std::vector<double> forces = d.ForcesN();
+  const double f_min = *std::min_element(forces.begin(), forces.end());
+  const double f_max = *std::max_element(forces.begin(), forces.end());
+  const std::vector<double> v = SurrogateVelocities(d, {});
+  const double v_top = v.back() > 0.0 ? v.back() : 1.0;
+  const std::string_view id = spec.id;
+  const double r = d.radius_mm;
+  if (id == "motor_power_limit") {
+    const double load = f_max / (d.material.c_e_n_per_mm2 * r * r);
+    return 20.0 / (v_top * r * r * RemovalAreaAtKappa(KappaAtLoad(load)));
+  }
+  if (id == "spindle_slowdown") return 0.97 / f_max;
+  if (id == "cutting_threshold") return 0.9 * f_min;
+  if (id == "viscous_resistance") return 3.0 * f_max / (r * r * v_top);
+  if (id == "friction_erosion") return 20.0 * d.material.alpha_per_s / f_max;
+  if (id == "contact_exponent") return 0.5;
+  if (id == "porosity") return 0.5;
+  return 1.0;
+}
+
+}  // namespace
+
+std::vector<double> ScenarioDesign::ForcesN() const {
+  std::vector<double> f;
+  for (double load : loads) {
+    f.push_back(load * material.c_e_n_per_mm2 * radius_mm * radius_mm);
+  }
+  return f;
+}
+
+double ScenarioDesign::SigmaLogV() const {
+  return std::sqrt(std::log1p(noise_cv * noise_cv));
+}
+
+Result<double> ProjectedSnr(const ScenarioDesign& d,
+                            const sim::Effects& effects) {
+  const std::vector<double> v = SurrogateVelocities(d, effects);
+  const std::vector<double> forces = d.ForcesN();
+  MeasuredData data;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    if (!(v[k] > 0.0)) continue;
+    for (int r = 0; r < d.replicates; ++r) {
+      MeasuredRun run;
+      run.force_n = forces[k];
+      run.velocity_mm_s = v[k];
+      data.runs.push_back(run);
+    }
+    ++data.force_levels;
+  }
+  CalibrationOptions options;
+  options.radius_mm = d.radius_mm;
+  options.bootstrap_replicates = 0;
+  Result<CalibrationSummary> fit = Calibrate(data, options);
+  if (!fit.ok()) return fit.error();
+  return std::sqrt(fit->rss_log_v) / d.SigmaLogV();
+}
+
+Result<sim::Effects> EffectAtSnr(const ScenarioDesign& d, const std::string& id,
+                                 double target) {
+  const sim::EffectSpec* spec = sim::FindEffect(id);
+  if (spec == nullptr) return Error{fmt::format("unknown effect '{}'", id)};
+  const auto at = [&](double strength) {
+    sim::Effects fx;
+    fx.*(spec->field) = sim::ParameterAtStrength(*spec, strength);
+    return fx;
+  };
+  double lo = 0.0, hi = MaxStrength(d, *spec);
+  Result<double> top = ProjectedSnr(d, at(hi));
+  if (!top.ok()) return top.error();
+  if (*top < target) {
+    return Error{fmt::format(
+        "{} reaches a projected SNR of only {:.3g} in this design", id, *top)};
+  }
+  for (int it = 0; it < 40; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    Result<double> snr = ProjectedSnr(d, at(mid));
+    if (!snr.ok()) return snr.error();
+    (*snr < target ? lo : hi) = mid;
+  }
+  return at(hi);
+}
+
+Result<std::vector<double>> TruthVelocitiesMmS(const ScenarioDesign& d,
+                                               const sim::Effects& effects) {
+  if (!d.full_rig) return SurrogateVelocities(d, effects);
+  return RigVelocitiesMmS(GeneratorOptions(d, effects));
+}
+
+std::string ScenarioCsv(const ScenarioDesign& d,
+                        const std::vector<double>& truth_mm_s,
+                        const Distortion& distortion, std::uint64_t seed) {
+  SyntheticMeasurementOptions o = GeneratorOptions(d, {});
+  o.seed = seed;
+  SyntheticMeasurement m = DrawReplicates(o, truth_mm_s);
+  const std::vector<double> forces = d.ForcesN();
+  const double lo = std::log(*std::min_element(forces.begin(), forces.end()));
+  const double hi = std::log(*std::max_element(forces.begin(), forces.end()));
+  boost::random::mt19937_64 rng(seed * 7919 + 17);
+  boost::random::uniform_01<double> uniform;
+  for (SyntheticRun& run : m.runs) {
+    if (distortion.bump_log_v != 0.0) {
+      const double z =
+          (std::log(run.force_n) - 0.5 * (lo + hi)) / ((hi - lo) / 6.0);
+      run.velocity_mm_s *= std::exp(distortion.bump_log_v * std::exp(-z * z));
+    }
+    if (distortion.outlier_fraction > 0.0 &&
+        uniform(rng) < distortion.outlier_fraction) {
+      run.velocity_mm_s *= uniform(rng) < 0.5 ? distortion.outlier_factor
+                                              : 1.0 / distortion.outlier_factor;
+    }
+  }
+  return FormatMeasuredCsv(m, d.material_name, o);
+}
+
+Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
+                                    const std::vector<double>& truth_mm_s,
+                                    const Distortion& distortion,
+                                    const std::string& expected_id,
+                                    std::uint64_t first_seed, int seeds,
+                                    const DiscoverOptions& options) {
+  ScenarioOutcome out;
+  for (int k = 0; k < seeds; ++k) {
+    const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(k);
+    const std::string csv = ScenarioCsv(d, truth_mm_s, distortion, seed);
+    Result<MeasuredData> data =
+        ParseMeasuredData(fmt::format("seed-{}.csv", seed), csv);
+    if (!data.ok()) return data.error();
+    DiscoverOptions o = options;
+    o.radius_mm = d.radius_mm;
+    Result<DiscoverReport> report = Discover(*data, o);
+    if (!report.ok()) return report.error();
+    ++out.seeds;
+    ++out.verdicts[report->verdict];
+    const bool physical =
+        report->verdict == "named" || report->verdict == "ambiguous";
+    out.named_physical += physical;
+    const bool hit =
+        !expected_id.empty() &&
+        ((physical && !report->effects.empty() &&
+          report->effects[0] == expected_id) ||
+         (physical &&
+          std::find(report->alias_set.begin(), report->alias_set.end(),
+                    expected_id) != report->alias_set.end()) ||
+         (report->verdict == "absorbed" && !report->effects.empty() &&
+          report->effects[0] == expected_id));
+    if (hit) {
+      ++out.hits;
+      out.mean_cv_before += report->baseline.cv_rmse_log_v;
+      out.mean_cv_after += report->augmented.cv_rmse_log_v;
+      out.cv_shrank +=
+          report->augmented.cv_rmse_log_v < report->baseline.cv_rmse_log_v;
+    }
+  }
+  if (out.hits > 0) {
+    out.mean_cv_before /= out.hits;
+    out.mean_cv_after /= out.hits;
+  }
+  return out;
+}
+
+}  // namespace burrlab::analysis

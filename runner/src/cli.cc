@@ -11,6 +11,7 @@
 #include "calibrate_command.h"
 #include "command_table.h"
 #include "demo.h"
+#include "devices_command.h"
 #include "session_commands.h"
 #include "sim_commands.h"
 #include "validate_command.h"
@@ -45,6 +46,9 @@ constexpr Command kCommands[] = {
      "fit c_e and alpha to measured descent velocities, with identifiability "
      "and profile-likelihood intervals",
      RunCalibrateCommand},
+    {"devices",
+     "list USB and HID devices with their ids and the backend that fits",
+     RunDevicesCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunTopHelp},
 };

@@ -9,7 +9,8 @@ PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchm
   libboost-random-dev libboost-math-dev libglm-dev zlib1g-dev libtomlplusplus-dev libstb-dev \
   fonts-dejavu-core \
   nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev libsqlite3-dev \
-  nettle-dev libnlopt-dev libusb-1.0-0-dev
+  nettle-dev libnlopt-dev libusb-1.0-0-dev \
+  libglfw3-dev libimgui-dev libhidapi-dev xvfb xauth libgl1-mesa-dri umockdev libumockdev-dev
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 

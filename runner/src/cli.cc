@@ -10,6 +10,7 @@
 #include "burrlab_version.h"
 #include "calibrate_command.h"
 #include "command_table.h"
+#include "devices_command.h"
 #include "discover_command.h"
 #include "session_commands.h"
 #include "sim_commands.h"
@@ -55,6 +56,9 @@ constexpr Command kCommands[] = {
      "the hidden-effect scenario matrix of discover: power against SNR and "
      "false-discovery rate (slow)",
      RunDiscoverMatrixCommand},
+    {"devices",
+     "list USB and HID devices with their ids and the backend that fits",
+     RunDevicesCommand},
     {"help", "list the commands; 'help COMMAND' shows the flags of one",
      RunTopHelp},
 };

@@ -22,8 +22,10 @@
 #include "devices/fake_falcon_transport.h"
 #include "devices/falcon_device.h"
 #include "devices/falcon_kinematics.h"
+#include "devices/mouse_device.h"
 #include "devices/simulated_device.h"
 #include "sim_force_source.h"
+#include "station/surface_snapshot.h"
 
 // Counts heap allocations while enabled (replaces the global operator new for
 // this binary, as tests/sim/step_test.cc does). GCC cannot see that the
@@ -138,6 +140,51 @@ TEST(HapticLoop, AllocatesNothingOverTenThousandTicks) {
   EXPECT_EQ(device.forces_n().size(), 10'000u);
   EXPECT_GT(glm::length(device.forces_n().back()), 0.0);
   EXPECT_GT(state.counters().removed_mm3, 0.0);
+}
+
+// The station's path: the mouse device in the loop, and every 33 ticks the
+// height map around the burr updated and published for the window.
+TEST(HapticLoop, MouseTicksAndWindowSnapshotsAllocateNothing) {
+  sim::Model model;
+  model.radius_mm = 3.0;
+  model.material.alpha_per_s = 1.0;
+  sim::State state = sim::State::Create(model, HalfSpace(), 7).value();
+  MouseDevice mouse(MouseDeviceOptions{
+      Workspace{glm::dvec3(-9.6, -9.6, -6.0), glm::dvec3(9.6, 9.6, 6.0)}, 0.5,
+      3.0, 8.0});
+  const glm::dvec3 offset(9.6, 9.6, 6.6);
+  SimForceSource source(model, &state, offset, glm::dvec3(0.0, 0.0, 2000.0));
+  FakeClock clock;
+  HapticLoop loop(&mouse, &source, &clock, TestOptions());
+  SurfaceSnapshot snapshot;
+  snapshot.surface = HeightMap::For(state.volume());
+  snapshot.burr_radius_mm = model.radius_mm;
+  SnapshotExchange exchange(snapshot);
+  mouse.SetCursor({0.4, 0.5}, -4.0, false);  // 2 mm down: 2 mm deep
+  g_allocations = 0;
+  g_count_allocations = true;
+  for (int k = 0; k < 10'000; ++k) {
+    clock.now_ns = static_cast<std::int64_t>(k) * kPeriodNs;
+    if (k % 1000 == 0) mouse.SetCursor({0.4 + k * 1e-5, 0.5}, -4.0, false);
+    (void)loop.Tick(clock.now_ns);
+    if (k % 33 == 0) {
+      glm::dvec3 device_mm;
+      (void)mouse.ReadPosition(&device_mm);
+      snapshot.burr_mm = device_mm + offset;
+      UpdateHeightMap(state.volume(), snapshot.burr_mm, 3.6, &snapshot.surface);
+      snapshot.force_n = loop.last_force_n();
+      exchange.Publish(snapshot);
+    }
+  }
+  g_count_allocations = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(loop.counters().ticks, 10'000);
+  EXPECT_GT(mouse.force_magnitude_n(), 0.0);
+  EXPECT_GT(state.counters().removed_mm3, 0.0);
+  const SurfaceSnapshot* newest = exchange.TakeNewest();
+  ASSERT_NE(newest, nullptr);
+  EXPECT_EQ(newest->tick, 0);  // the tick field is the caller's to set
+  EXPECT_GT(glm::length(newest->force_n), 0.0);
 }
 
 TEST(HapticLoop, SlowStepGivesZeroForceForThatTickAndIsCounted) {

@@ -1,0 +1,241 @@
+// station.toml parsing and checking.
+#include "station/station_file.h"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <set>
+
+#include "burrlab/stimuli/toml_guard.h"
+
+namespace burrlab::runner {
+namespace {
+
+using protocols::Diagnostic;
+using protocols::SourceLocation;
+
+SourceLocation At(const toml::node& node) {
+  return {static_cast<int>(node.source().begin.line),
+          static_cast<int>(node.source().begin.column)};
+}
+
+class Parser {
+ public:
+  explicit Parser(std::vector<Diagnostic>* out) : out_(out) {}
+
+  void Report(const toml::node& node, std::string message) {
+    out_->push_back({At(node), std::move(message)});
+  }
+
+  // Reports keys of `table` outside `known`.
+  void OnlyKeys(const toml::table& table, std::string_view where,
+                std::set<std::string_view> known) {
+    for (const auto& [key, node] : table) {
+      if (!known.contains(key.str())) {
+        std::string list;
+        for (std::string_view k : known) {
+          list += (list.empty() ? "" : ", ") + std::string(k);
+        }
+        out_->push_back({{static_cast<int>(key.source().begin.line),
+                          static_cast<int>(key.source().begin.column)},
+                         fmt::format("unknown key '{}' in {} (known: {})",
+                                     key.str(), where, list)});
+      }
+    }
+  }
+
+  std::optional<std::int64_t> Integer(const toml::table& t,
+                                      std::string_view key,
+                                      std::string_view name, std::int64_t lo,
+                                      std::int64_t hi) {
+    const toml::node* n = t.get(key);
+    if (n == nullptr) return std::nullopt;
+    const auto v = n->value<std::int64_t>();
+    if (!v.has_value() || !n->is_integer() || *v < lo || *v > hi) {
+      Report(*n,
+             fmt::format("{} must be an integer from {} to {}", name, lo, hi));
+      return std::nullopt;
+    }
+    return v;
+  }
+
+ private:
+  std::vector<Diagnostic>* out_;
+};
+
+}  // namespace
+
+bool LooksLikeStationFile(std::string_view text) {
+  return text.find("\"burrlab-station/") != std::string_view::npos;
+}
+
+StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
+  StationParseOutcome outcome;
+  std::vector<Diagnostic>& d = outcome.diagnostics;
+  if (auto at = stimuli::ExcessDotOffset(text, 64)) {
+    const toml::source_position p = stimuli::PositionOf(text, *at);
+    d.push_back({{static_cast<int>(p.line), static_cast<int>(p.column)},
+                 "too many dotted keys (a station file needs few)"});
+    return outcome;
+  }
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    d.push_back({{static_cast<int>(e.source().begin.line),
+                  static_cast<int>(e.source().begin.column)},
+                 stimuli::SyntaxMessage(e.description())});
+    return outcome;
+  } catch (const std::exception& e) {
+    d.push_back({{1, 1}, fmt::format("cannot parse: {}", e.what())});
+    return outcome;
+  }
+  Parser p(&d);
+  StationConfig config;
+  p.OnlyKeys(root, "the station file",
+             {"format", "device", "response_box", "screen"});
+  const toml::node* format = root.get("format");
+  if (format == nullptr) {
+    d.push_back({{1, 1},
+                 fmt::format("missing key 'format' (expected \"{}\")",
+                             kStationFormat)});
+  } else if (format->value<std::string>() != std::string(kStationFormat)) {
+    p.Report(*format, fmt::format("format must be \"{}\"", kStationFormat));
+  }
+  if (const toml::node* n = root.get("device")) {
+    const toml::table* t = n->as_table();
+    if (t == nullptr) {
+      p.Report(*n, "[device] must be a table");
+    } else {
+      p.OnlyKeys(*t, "[device]", {"backend", "max_force_n"});
+      if (const toml::node* b = t->get("backend")) {
+        const std::optional<std::string> name = b->value<std::string>();
+        if (!name.has_value() || !b->is_string() ||
+            (*name != "mouse" && *name != "hid" && *name != "falcon" &&
+             *name != "simulated")) {
+          p.Report(*b,
+                   "backend must be one of \"mouse\", \"hid\", \"falcon\", "
+                   "\"simulated\"");
+        } else {
+          config.device = *name;
+        }
+      }
+      if (const toml::node* f = t->get("max_force_n")) {
+        const std::optional<double> v = f->value<double>();
+        if (!v.has_value() || !std::isfinite(*v) || *v <= 0.0 || *v > 20.0) {
+          p.Report(*f, "max_force_n must be a number of newtons in (0, 20]");
+        } else {
+          config.max_force_n = *v;
+        }
+      }
+    }
+  }
+  if (const toml::node* n = root.get("response_box")) {
+    const toml::table* t = n->as_table();
+    if (t == nullptr) {
+      p.Report(*n, "[response_box] must be a table");
+    } else {
+      p.OnlyKeys(
+          *t, "[response_box]",
+          {"vendor_id", "product_id", "serial", "button_offset", "buttons"});
+      HidBoxOptions box;
+      bool ok = true;
+      for (auto [key, field] : {std::pair{"vendor_id", &box.vendor_id},
+                                std::pair{"product_id", &box.product_id}}) {
+        if (t->get(key) == nullptr) {
+          p.Report(*n, fmt::format("[response_box] needs {}", key));
+          ok = false;
+        } else if (auto v = p.Integer(*t, key, key, 1, 0xffff)) {
+          *field = static_cast<std::uint16_t>(*v);
+        } else {
+          ok = false;
+        }
+      }
+      if (const toml::node* s = t->get("serial")) {
+        if (!s->is_string()) {
+          p.Report(*s, "serial must be a string");
+          ok = false;
+        } else {
+          box.serial = *s->value<std::string>();
+        }
+      }
+      if (auto v = p.Integer(*t, "button_offset", "button_offset", 0, 63)) {
+        box.button_offset = static_cast<int>(*v);
+      }
+      const toml::node* buttons = t->get("buttons");
+      const toml::table* bt = buttons ? buttons->as_table() : nullptr;
+      if (buttons == nullptr) {
+        p.Report(*n,
+                 "[response_box] needs buttons, e.g. buttons = { 1 = "
+                 "\"1\", 2 = \"2\" }");
+        ok = false;
+      } else if (bt == nullptr || bt->empty()) {
+        p.Report(*buttons,
+                 "buttons must map button numbers to keys, e.g. { 1 = \"1\" }");
+        ok = false;
+      } else {
+        for (const auto& [key, value] : *bt) {
+          int number = 0;
+          const std::string k(key.str());
+          const bool digits =
+              !k.empty() && k.size() <= 3 &&
+              k.find_first_not_of("0123456789") == std::string::npos;
+          if (digits) number = std::stoi(k);
+          const SourceLocation where{
+              static_cast<int>(key.source().begin.line),
+              static_cast<int>(key.source().begin.column)};
+          if (!digits || number < 1 || number > 512) {
+            d.push_back({where, fmt::format("button '{}' must be a number "
+                                            "from 1 to 512",
+                                            k)});
+            ok = false;
+            continue;
+          }
+          const std::optional<std::string> name = value.value<std::string>();
+          if (!value.is_string() || !name.has_value() || name->empty() ||
+              name->size() > 16) {
+            p.Report(value, fmt::format("button {} must map to a key name of "
+                                        "1 to 16 characters",
+                                        number));
+            ok = false;
+            continue;
+          }
+          box.buttons.push_back({number, *name});
+        }
+      }
+      if (ok) config.response_box = box;
+    }
+  }
+  if (const toml::node* n = root.get("screen")) {
+    const toml::table* t = n->as_table();
+    if (t == nullptr) {
+      p.Report(*n, "[screen] must be a table");
+    } else {
+      p.OnlyKeys(*t, "[screen]", {"width", "height", "fullscreen"});
+      if (auto v = p.Integer(*t, "width", "width", 320, 8192)) {
+        config.screen_width = static_cast<int>(*v);
+      }
+      if (auto v = p.Integer(*t, "height", "height", 240, 8192)) {
+        config.screen_height = static_cast<int>(*v);
+      }
+      if (const toml::node* f = t->get("fullscreen")) {
+        if (!f->is_boolean()) {
+          p.Report(*f, "fullscreen must be true or false");
+        } else {
+          config.fullscreen = *f->value<bool>();
+        }
+      }
+    }
+  }
+  if (config.device == "hid" && !config.response_box.has_value() &&
+      root.get("response_box") == nullptr) {
+    const toml::node* n = root.get("device");
+    d.push_back({n != nullptr ? At(*n) : SourceLocation{1, 1},
+                 "backend \"hid\" needs a [response_box] table"});
+  }
+  if (d.empty()) outcome.station = config;
+  return outcome;
+}
+
+}  // namespace burrlab::runner

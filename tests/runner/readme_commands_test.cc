@@ -17,6 +17,7 @@
 
 #include "../results_schema/temp_dir.h"
 
+#ifndef __SANITIZE_ADDRESS__
 namespace {
 
 namespace fs = std::filesystem;
@@ -50,7 +51,6 @@ std::string ReadAll(const fs::path& path) {
   return s.str();
 }
 
-#ifndef __SANITIZE_ADDRESS__
 TEST(ReadmeCommands, EveryShellBlockRunsAsWritten) {
   const std::string readme =
       ReadAll(fs::path(BURRLAB_SOURCE_DIR) / "README.md");
@@ -75,6 +75,6 @@ TEST(ReadmeCommands, EveryShellBlockRunsAsWritten) {
         << ReadAll(log);
   }
 }
-#endif
 
 }  // namespace
+#endif  // __SANITIZE_ADDRESS__

@@ -28,6 +28,24 @@ std::string IntervalText(const std::optional<analysis::Interval>& ci) {
 
 }  // namespace
 
+Status ResolveBurrRadius(const analysis::MeasuredData& data, bool flag_given,
+                         const std::string& path, double* radius_mm) {
+  if (flag_given) {
+    if (data.burr_radius_mm && *data.burr_radius_mm != *radius_mm) {
+      return Error{
+          fmt::format("--radius-mm {} differs from burr_radius_mm {} in {}",
+                      *radius_mm, *data.burr_radius_mm, path)};
+    }
+  } else if (data.burr_radius_mm) {
+    *radius_mm = *data.burr_radius_mm;
+  } else {
+    return Error{fmt::format(
+        "no burr radius: give --radius-mm R or a burr_radius_mm column in {}",
+        path)};
+  }
+  return {};
+}
+
 int RunCalibrateCommand(const Args& args, std::ostream& out,
                         std::ostream& err) {
   CLI::App app{
@@ -60,19 +78,10 @@ int RunCalibrateCommand(const Args& args, std::ostream& out,
     err << "burrlab: " << data.error().message << '\n';
     return 1;
   }
-  if (flags.Given("--radius-mm")) {
-    if (data->burr_radius_mm && *data->burr_radius_mm != options.radius_mm) {
-      return Fail(err, fmt::format("--radius-mm {} differs from "
-                                   "burr_radius_mm {} in {}",
-                                   options.radius_mm, *data->burr_radius_mm,
-                                   measured_path));
-    }
-  } else if (data->burr_radius_mm) {
-    options.radius_mm = *data->burr_radius_mm;
-  } else {
-    return Fail(err, fmt::format("no burr radius: give --radius-mm R or a "
-                                 "burr_radius_mm column in {}",
-                                 measured_path));
+  if (Status s = ResolveBurrRadius(*data, flags.Given("--radius-mm"),
+                                   measured_path, &options.radius_mm);
+      !s.ok()) {
+    return Fail(err, s.error().message);
   }
   Result<analysis::CalibrationSummary> fit =
       analysis::Calibrate(*data, options);

@@ -5,7 +5,10 @@
 #define BURRLAB_RUNNER_CALIBRATE_COMMAND_H_
 
 #include <ostream>
+#include <string>
 
+#include "burrlab/analysis/measured_data.h"
+#include "burrlab/sim/result.h"
 #include "command_table.h"
 
 namespace burrlab::runner {
@@ -13,6 +16,13 @@ namespace burrlab::runner {
 // `burrlab calibrate --measured FILE [--radius-mm R] [--json]`; args start
 // after "calibrate".
 int RunCalibrateCommand(const Args& args, std::ostream& out, std::ostream& err);
+
+// The burr radius of measured data: the flag's value (`*radius_mm`, when
+// `flag_given`) must agree with the file's burr_radius_mm column; without the
+// flag the column's value; neither is an error naming `path`. Shared by
+// calibrate and discover.
+Status ResolveBurrRadius(const analysis::MeasuredData& data, bool flag_given,
+                         const std::string& path, double* radius_mm);
 
 }  // namespace burrlab::runner
 

@@ -22,6 +22,7 @@
 #include "burrlab/analysis/plot.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/stimuli/materials.h"
+#include "calibrate_command.h"
 #include "flags.h"
 #include "progress.h"
 
@@ -313,19 +314,10 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
     err << "burrlab: " << data.error().message << '\n';
     return 1;
   }
-  if (flags.Given("--radius-mm")) {
-    if (data->burr_radius_mm && *data->burr_radius_mm != options.radius_mm) {
-      return Fail(err, fmt::format("--radius-mm {} differs from "
-                                   "burr_radius_mm {} in {}",
-                                   options.radius_mm, *data->burr_radius_mm,
-                                   measured_path));
-    }
-  } else if (data->burr_radius_mm) {
-    options.radius_mm = *data->burr_radius_mm;
-  } else {
-    return Fail(err, fmt::format("no burr radius: give --radius-mm R or a "
-                                 "burr_radius_mm column in {}",
-                                 measured_path));
+  if (Status s = ResolveBurrRadius(*data, flags.Given("--radius-mm"),
+                                   measured_path, &options.radius_mm);
+      !s.ok()) {
+    return Fail(err, s.error().message);
   }
   // The reference material: the flag, else the material column when every
   // run names the same built-in set.

@@ -28,8 +28,12 @@ std::string IntervalText(const std::optional<analysis::Interval>& ci) {
 
 }  // namespace
 
-Status ResolveBurrRadius(const analysis::MeasuredData& data, bool flag_given,
-                         const std::string& path, double* radius_mm) {
+Result<analysis::MeasuredData> ReadMeasuredWithRadius(const std::string& path,
+                                                      bool flag_given,
+                                                      double* radius_mm) {
+  Result<analysis::MeasuredData> read = analysis::ReadMeasuredData(path);
+  if (!read.ok()) return read.error();
+  const analysis::MeasuredData& data = *read;
   if (flag_given) {
     if (data.burr_radius_mm && *data.burr_radius_mm != *radius_mm) {
       return Error{
@@ -43,7 +47,7 @@ Status ResolveBurrRadius(const analysis::MeasuredData& data, bool flag_given,
         "no burr radius: give --radius-mm R or a burr_radius_mm column in {}",
         path)};
   }
-  return {};
+  return read;
 }
 
 int RunCalibrateCommand(const Args& args, std::ostream& out,
@@ -72,17 +76,9 @@ int RunCalibrateCommand(const Args& args, std::ostream& out,
   flags.AddSwitch("--json", "print the results as JSON", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
-  Result<analysis::MeasuredData> data =
-      analysis::ReadMeasuredData(measured_path);
-  if (!data.ok()) {
-    err << "burrlab: " << data.error().message << '\n';
-    return 1;
-  }
-  if (Status s = ResolveBurrRadius(*data, flags.Given("--radius-mm"),
-                                   measured_path, &options.radius_mm);
-      !s.ok()) {
-    return Fail(err, s.error().message);
-  }
+  Result<analysis::MeasuredData> data = ReadMeasuredWithRadius(
+      measured_path, flags.Given("--radius-mm"), &options.radius_mm);
+  if (!data.ok()) return Fail(err, data.error().message);
   Result<analysis::CalibrationSummary> fit =
       analysis::Calibrate(*data, options);
   if (!fit.ok()) return Fail(err, "calibrate: " + fit.error().message);

@@ -17,12 +17,13 @@ namespace burrlab::runner {
 // after "calibrate".
 int RunCalibrateCommand(const Args& args, std::ostream& out, std::ostream& err);
 
-// The burr radius of measured data: the flag's value (`*radius_mm`, when
-// `flag_given`) must agree with the file's burr_radius_mm column; without the
-// flag the column's value; neither is an error naming `path`. Shared by
-// calibrate and discover.
-Status ResolveBurrRadius(const analysis::MeasuredData& data, bool flag_given,
-                         const std::string& path, double* radius_mm);
+// Reads measured data (analysis::ReadMeasuredData) and settles the burr
+// radius: the flag's value (`*radius_mm`, when `flag_given`) must agree with
+// the file's burr_radius_mm column; without the flag the column's value;
+// neither is an error naming `path`. Shared by calibrate and discover.
+Result<analysis::MeasuredData> ReadMeasuredWithRadius(const std::string& path,
+                                                      bool flag_given,
+                                                      double* radius_mm);
 
 }  // namespace burrlab::runner
 

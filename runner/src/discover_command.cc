@@ -308,17 +308,9 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddSwitch("--json", "print report.json to stdout as well", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
-  Result<analysis::MeasuredData> data =
-      analysis::ReadMeasuredData(measured_path);
-  if (!data.ok()) {
-    err << "burrlab: " << data.error().message << '\n';
-    return 1;
-  }
-  if (Status s = ResolveBurrRadius(*data, flags.Given("--radius-mm"),
-                                   measured_path, &options.radius_mm);
-      !s.ok()) {
-    return Fail(err, s.error().message);
-  }
+  Result<analysis::MeasuredData> data = ReadMeasuredWithRadius(
+      measured_path, flags.Given("--radius-mm"), &options.radius_mm);
+  if (!data.ok()) return Fail(err, data.error().message);
   // The reference material: the flag, else the material column when every
   // run names the same built-in set.
   if (!reference_name.empty()) {

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "../results_schema/temp_dir.h"
 #include "burrlab/analysis/descent_surrogate.h"
 #include "run_cli.h"
 
@@ -27,19 +28,13 @@ using ::testing::HasSubstr;
 
 class CalibrateCommand : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("burrlab_calibrate_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string Write(const std::string& name, const std::string& text) {
     const std::filesystem::path path = dir_ / name;
     std::ofstream(path, std::ios::binary) << text;
     return path.string();
   }
-  std::filesystem::path dir_;
+  results_schema::TempDir temp_;
+  const std::filesystem::path& dir_ = temp_.path();
 };
 
 struct BuiltIn {

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "../results_schema/temp_dir.h"
 #include "burrlab/analysis/discover_scenarios.h"
 #include "run_cli.h"
 
@@ -28,13 +29,6 @@ using ::testing::HasSubstr;
 
 class DiscoverCommand : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("burrlab_discover_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
   std::string Write(const std::string& name, const std::string& text) {
     const std::filesystem::path path = dir_ / name;
     std::ofstream(path, std::ios::binary) << text;
@@ -44,7 +38,8 @@ class DiscoverCommand : public ::testing::Test {
     std::ifstream file(path, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(file), {});
   }
-  std::filesystem::path dir_;
+  results_schema::TempDir temp_;
+  const std::filesystem::path& dir_ = temp_.path();
 };
 
 // Bone at loads 0.5-1.5 (R = 1 mm), 4 replicates, CV 10 %, a motor power

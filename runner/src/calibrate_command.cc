@@ -78,7 +78,10 @@ int RunCalibrateCommand(const Args& args, std::ostream& out,
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<analysis::MeasuredData> data = ReadMeasuredWithRadius(
       measured_path, flags.Given("--radius-mm"), &options.radius_mm);
-  if (!data.ok()) return Fail(err, data.error().message);
+  if (!data.ok()) {  // multi-line: the data error quotes its line and a caret
+    err << "burrlab: " << data.error().message << '\n';
+    return 1;
+  }
   Result<analysis::CalibrationSummary> fit =
       analysis::Calibrate(*data, options);
   if (!fit.ok()) return Fail(err, "calibrate: " + fit.error().message);

@@ -310,7 +310,10 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<analysis::MeasuredData> data = ReadMeasuredWithRadius(
       measured_path, flags.Given("--radius-mm"), &options.radius_mm);
-  if (!data.ok()) return Fail(err, data.error().message);
+  if (!data.ok()) {  // multi-line: the data error quotes its line and a caret
+    err << "burrlab: " << data.error().message << '\n';
+    return 1;
+  }
   // The reference material: the flag, else the material column when every
   // run names the same built-in set.
   if (!reference_name.empty()) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <boost/random/mersenne_twister.hpp>
+#include <boost/random/normal_distribution.hpp>
 #include <boost/random/uniform_01.hpp>
 #include <cmath>
 
@@ -15,6 +16,9 @@
 
 namespace burrlab::analysis {
 namespace {
+
+// Noise draws behind a projected SNR.
+constexpr int kSnrDraws = 48;
 
 SyntheticMeasurementOptions GeneratorOptions(const ScenarioDesign& d,
                                              const sim::Effects& effects) {
@@ -84,23 +88,35 @@ Result<double> ProjectedSnr(const ScenarioDesign& d,
                             const sim::Effects& effects) {
   const std::vector<double> v = SurrogateVelocities(d, effects);
   const std::vector<double> forces = d.ForcesN();
-  MeasuredData data;
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    if (!(v[k] > 0.0)) continue;
-    for (int r = 0; r < d.replicates; ++r) {
-      MeasuredRun run;
-      run.force_n = forces[k];
-      run.velocity_mm_s = v[k];
-      data.runs.push_back(run);
+  const double sigma = d.SigmaLogV();
+  // Noise draws shared by every strength (common random numbers), so the
+  // SNR is a smooth function of the strength for the bisection.
+  boost::random::mt19937_64 rng(0x5eed5eedULL);
+  boost::random::normal_distribution<double> normal;
+  double sum = 0.0;
+  for (int draw = 0; draw < kSnrDraws; ++draw) {
+    MeasuredData data;
+    double rss_truth = 0.0;
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      if (!(v[k] > 0.0)) continue;
+      for (int r = 0; r < d.replicates; ++r) {
+        const double e = sigma * normal(rng);
+        MeasuredRun run;
+        run.force_n = forces[k];
+        run.velocity_mm_s = v[k] * std::exp(e);
+        data.runs.push_back(run);
+        rss_truth += e * e;
+      }
+      ++data.force_levels;
     }
-    ++data.force_levels;
+    Result<double> rss_base = BaseModelRss(data, d.radius_mm);
+    if (!rss_base.ok()) return rss_base.error();
+    sum += (*rss_base - rss_truth) / (sigma * sigma);
   }
-  CalibrationOptions options;
-  options.radius_mm = d.radius_mm;
-  options.bootstrap_replicates = 0;
-  Result<CalibrationSummary> fit = Calibrate(data, options);
-  if (!fit.ok()) return fit.error();
-  return std::sqrt(fit->rss_log_v) / d.SigmaLogV();
+  // E[RSS_base - RSS_truth] / sigma^2 = lambda - 2 for a linear base model;
+  // the 2 fitted parameters are added back.
+  const double lambda = sum / kSnrDraws + 2.0;
+  return std::sqrt(std::max(lambda, 0.0));
 }
 
 Result<sim::Effects> EffectAtSnr(const ScenarioDesign& d, const std::string& id,
@@ -119,7 +135,7 @@ Result<sim::Effects> EffectAtSnr(const ScenarioDesign& d, const std::string& id,
     return Error{fmt::format(
         "{} reaches a projected SNR of only {:.3g} in this design", id, *top)};
   }
-  for (int it = 0; it < 40; ++it) {
+  for (int it = 0; it < 30; ++it) {
     const double mid = 0.5 * (lo + hi);
     Result<double> snr = ProjectedSnr(d, at(mid));
     if (!snr.ok()) return snr.error();

@@ -1,7 +1,7 @@
 // The model-gap workflow on data with hidden effects (discover_scenarios.h):
 // the data come from the synthetic measurement generator's noise model around
 // a truth with the effect hidden and reach Discover only as CSV text. Hit
-// rates per effect at a projected SNR of 6, the null control, the absorbed
+// rates per effect at a projected SNR of 4, the null control, the absorbed
 // effect, a distortion outside the library, gross outliers, bad options.
 //
 // The truth here is the continuum surrogate (the fast tier of
@@ -75,12 +75,14 @@ ScenarioOutcome RunHidden(const ScenarioDesign& d, const sim::Effects& effects,
 
 TEST(DiscoverScenarios, ProjectedSnrIsZeroForTheBaseModelAndPorosity) {
   const ScenarioDesign d = BoneDesign();
-  // The base model fits its own noise-free truth exactly; porosity is
-  // c_e (1 - phi)^2, which the base fit absorbs.
-  EXPECT_LT(ProjectedSnr(d, {}).value(), 1e-3);
+  // The base model's own truth: fitting it to noise gains E[RSS_truth -
+  // RSS_base] = 2 sigma^2 (its 2 parameters), so lambda ~ 0 up to the 48
+  // draws' sampling error (a base model curved in c_e gains a little more
+  // or less). Porosity is c_e (1 - phi)^2, which the base fit absorbs.
+  EXPECT_LT(ProjectedSnr(d, {}).value(), 1.0);
   sim::Effects porous;
   porous.porosity = 0.3;
-  EXPECT_LT(ProjectedSnr(d, porous).value(), 1e-3);
+  EXPECT_LT(ProjectedSnr(d, porous).value(), 1.0);
   // EffectAtSnr reaches its target.
   const sim::Effects fx = EffectAtSnr(d, "motor_power_limit", 6.0).value();
   EXPECT_NEAR(ProjectedSnr(d, fx).value(), 6.0, 1e-3);
@@ -88,23 +90,17 @@ TEST(DiscoverScenarios, ProjectedSnrIsZeroForTheBaseModelAndPorosity) {
 
 class NamesTheHiddenEffect : public ::testing::TestWithParam<const char*> {};
 
-TEST_P(NamesTheHiddenEffect, AtProjectedSnr6) {
+TEST_P(NamesTheHiddenEffect, AtProjectedSnr4) {
   const ScenarioDesign d = BoneDesign();
   const std::string id = GetParam();
-  Result<sim::Effects> fx = EffectAtSnr(d, id, 6.0);
+  Result<sim::Effects> fx = EffectAtSnr(d, id, 4.0);
   ASSERT_TRUE(fx.ok()) << fx.error().message;
   const int seeds = EffectSeeds();
   const ScenarioOutcome out = RunHidden(d, *fx, {}, id, seeds);
   Print(id, out);
   // The right id, or an alias set holding it, in >= 90 % of the seeds; the
-  // held-out error shrinks whenever it is found. Known shortfall: the motor
-  // power limit reaches 80 % (10 seeds) at SNR 6 on this design; its plateau
-  // shows at the top two loads only, where spindle_slowdown and
-  // viscous_resistance fit as well or better in some seeds, and
-  // leave-one-level-out cross-validation cannot predict a held-out top level
-  // (analysis/README.md, "discover").
-  const int percent = id == "motor_power_limit" ? 70 : 90;
-  EXPECT_GE(out.hits, kSanitized ? 1 : (percent * seeds + 99) / 100);
+  // held-out error shrinks whenever it is found.
+  EXPECT_GE(out.hits, kSanitized ? 1 : (90 * seeds + 99) / 100);
   EXPECT_EQ(out.cv_shrank, out.hits);
   EXPECT_LT(out.mean_cv_after, out.mean_cv_before);
 }
@@ -139,7 +135,7 @@ TEST(Discover, ReportsPorosityAsAbsorbedNeverNamed) {
 TEST(Discover, LeavesABumpOutsideTheLibraryUnexplained) {
   const ScenarioDesign d = BoneDesign();
   Distortion bump;
-  bump.bump_log_v = 0.35;  // v 42 % high at the middle force, smooth
+  bump.bump_log_v = 0.5;  // v 65 % high at the middle force, smooth
   const int seeds = kSanitized ? 1 : 5;
   const ScenarioOutcome out = RunHidden(d, {}, bump, "", seeds);
   Print("bump", out);

@@ -35,6 +35,11 @@ struct DiscoverOptions {
   // |cos| of two projected signatures above which the design cannot tell the
   // effects apart (an alias set).
   double alias_cosine = 0.95;
+  // An effect is also in the alias set when, fitted to the best model's
+  // noise-free predictions, what it cannot reproduce is below this many
+  // noise variances: a test between the two on this design would have less
+  // than 80 % power at 5 % (noncentrality (1.645 + 0.842)^2 = 6.2).
+  double alias_separation = 6.2;
   // Identifiability index ||P_perp s|| / ||s|| below which an effect is
   // absorbed by c_e and alpha (not testable from v(F)).
   double absorbed_index = 0.01;
@@ -77,8 +82,18 @@ struct GapTests {
   double lack_of_fit_p = 0.0;  // F test of level means against pure error
   double curvature_p = 0.0;    // quadratic + cubic in log F, projected
   double runs_p = 0.0;         // Wald-Wolfowitz runs of residual signs by F
-  double holm_min_p = 0.0;     // smallest Holm-adjusted p of the three
-  bool detected = false;       // holm_min_p < test_level
+  // The library's focused test: the smallest max-T adjusted likelihood-ratio
+  // p of the effects (more powerful than the omnibus tests against a gap of
+  // the library's shapes); NaN after augmentation.
+  double library_p = 0.0;
+  // The family's adjusted p: Holm over the three omnibus tests, weighted
+  // Bonferroni with the library's test (omnibus 1/5 of the level, library
+  // 4/5); the omnibus Holm p alone at the whole level when library_p is NaN
+  // (after augmentation: the augmented model must pass the residual tests
+  // at the full level, so a shape outside the library is not forced onto an
+  // effect).
+  double holm_min_p = 0.0;
+  bool detected = false;  // holm_min_p < test_level
 };
 
 // One effect of the library against the current model.
@@ -89,10 +104,12 @@ struct EffectAttribution {
   double score_p = 1.0;          // one-sided
   double lr = 0.0;               // likelihood ratio of the augmented fit
   double lr_p = 1.0;             // 50:50 chi-bar-squared mixture
-  double lr_p_holm = 1.0;        // Holm-adjusted over the testable effects
-  double aicc = 0.0;             // of the augmented fit
-  double value = 0.0;            // fitted parameter
-  bool absorbed = false;         // identifiability < absorbed_index
+  // Family-wise adjusted over the testable effects (single-step max-T, the
+  // signed roots' correlation from the projected signatures).
+  double lr_p_adjusted = 1.0;
+  double aicc = 0.0;      // of the augmented fit
+  double value = 0.0;     // fitted parameter
+  bool absorbed = false;  // identifiability < absorbed_index
 };
 
 struct DiscoverReport {
@@ -126,6 +143,10 @@ struct DiscoverReport {
 // use (see calibration.h).
 Result<DiscoverReport> Discover(const MeasuredData& data,
                                 const DiscoverOptions& options);
+
+// The residual sum of squares of log v of the base model (c_e, alpha) fitted
+// to `data` exactly as Discover fits it.
+Result<double> BaseModelRss(const MeasuredData& data, double radius_mm);
 
 // log v of the surrogate with the given effects (NaN when v is 0 or inf).
 double ModelLogVelocity(double force_n, double c_e_n_per_mm2,

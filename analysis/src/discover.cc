@@ -672,6 +672,7 @@ class Workflow {
     const double c_e = std::exp(current.point.ln_c_e);
     const double alpha = std::exp(current.point.ln_alpha);
     for (const sim::EffectSpec& spec : sim::EffectLibrary()) {
+      if (spec.trace_only) continue;  // v(F) cannot see it (trace_gap.h)
       bool used = false;
       for (const ActiveEffect& a : current.active) used |= a.spec == &spec;
       if (used) continue;
@@ -914,7 +915,9 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
   const int n = runs.size();
   const double level = options.test_level;
   Workflow flow(runs, options);
-  const int library = static_cast<int>(sim::EffectLibrary().size());
+  const int library = static_cast<int>(
+      std::count_if(sim::EffectLibrary().begin(), sim::EffectLibrary().end(),
+                    [](const sim::EffectSpec& e) { return !e.trace_only; }));
   flow.set_total_tasks(2 + library * std::max(1, options.max_effects));
   int done = 0;
   if (options.progress) options.progress(done++, 2, "base fit");

@@ -897,6 +897,20 @@ Status DiscoverOptions::Validate() const {
 
 Result<DiscoverReport> Discover(const MeasuredData& data,
                                 const DiscoverOptions& options) {
+  // ---- Trace-only effects (trace_gap.h) -------------------------------
+  // v(F) cannot see load_cell_lag or arm_compliance: the workflow runs on
+  // v(F) alone, then its base fit feeds the trace-gap test.
+  if (options.traces) {
+    DiscoverOptions steady = options;
+    steady.traces.reset();
+    Result<DiscoverReport> report = Discover(data, steady);
+    if (!report.ok()) return report;
+    if (Status s = AddTraceGap(data, options, &*report); !s.ok()) {
+      return s.error();
+    }
+    return report;
+  }
+  // ----------------------------------------------------------------------
   if (Status s = options.Validate(); !s.ok()) return s.error();
   const int n_all = static_cast<int>(data.runs.size());
   if (n_all <= kCalibrationParameters || data.force_levels < 2) {

@@ -133,6 +133,18 @@ Result<TraceData> ReadTraceData(const std::string& path) {
   return ParseTraceData(path, *text);
 }
 
+Result<TraceData> ReadTracesOfRuns(const std::string& path,
+                                   const MeasuredData& measured) {
+  Result<std::string> text = ReadTextFile(path);
+  if (!text.ok()) return text.error();
+  Result<TraceData> traces = ParseTraceData(path, *text);
+  if (!traces.ok()) return traces.error();
+  if (Status s = MatchTracesToRuns(*traces, measured, path, *text); !s.ok()) {
+    return s.error();
+  }
+  return traces;
+}
+
 Status MatchTracesToRuns(const TraceData& traces, const MeasuredData& measured,
                          std::string_view path, std::string_view text) {
   std::set<std::string, std::less<>> runs;

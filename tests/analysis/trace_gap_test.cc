@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 
 #include "burrlab/analysis/calibration.h"
 #include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/discover.h"
 #include "burrlab/analysis/discover_scenarios.h"
 #include "burrlab/analysis/synthetic_measurement.h"
 
@@ -215,6 +217,48 @@ TEST(TraceGap, NamesAVisibleArmCompliance) {
   EXPECT_GE(rates.named_expected, rates.seeds - rates.seeds / 10);
   // c_e absorbs part of the spring (both deepen the indentation).
   EXPECT_NEAR(rates.mean_fitted, 0.1, 0.03);
+}
+
+// Discover with and without the traces of a hidden lag: v(F) alone never
+// names a trace-only effect (the surrogate truth is the same with and
+// without it, and the attribution skips them); with the traces the lag is
+// named through AddTraceGap.
+TEST(TraceGap, DiscoverNamesTheLagOnlyWithTraces) {
+  sim::Effects lag;
+  lag.load_cell_lag_s = 0.05;
+  int named_without = 0, named_with = 0;
+  const int seeds = std::max(2, Seeds() / 2);
+  for (int seed = 1; seed <= seeds; ++seed) {
+    const Scenario s = MakeScenario(lag, 200 + seed);
+    DiscoverOptions options;
+    options.radius_mm = s.options.radius_mm;
+    const DiscoverReport without = Discover(s.measured, options).value();
+    EXPECT_FALSE(without.trace_gap.has_value());
+    for (const auto& round : without.rounds) {
+      for (const EffectAttribution& e : round) {
+        EXPECT_FALSE(sim::FindEffect(e.id)->trace_only) << e.id;
+      }
+    }
+    for (const std::string& id : without.effects) {
+      named_without += sim::FindEffect(id)->trace_only;
+    }
+    TraceData traces;
+    for (const TraceRun& run : s.runs) traces.runs.push_back(run.trace);
+    options.traces = traces;
+    const DiscoverReport with = Discover(s.measured, options).value();
+    ASSERT_TRUE(with.trace_gap.has_value());
+    named_with +=
+        !with.effects.empty() && with.effects.back() == "load_cell_lag";
+    if (without.verdict == "none") {
+      EXPECT_EQ(with.verdict, "named");
+      EXPECT_EQ(with.effects, std::vector<std::string>{"load_cell_lag"});
+      EXPECT_EQ(with.augmented.effect_values.size(), 1u);
+    }
+  }
+  std::printf("discover, lag 0.05 s: named without traces %d/%d, with %d/%d\n",
+              named_without, seeds, named_with, seeds);
+  EXPECT_EQ(named_without, 0);
+  EXPECT_EQ(named_with, seeds);
 }
 
 TEST(TraceGap, RefusesBadOptionsAndTracesWithoutContact) {

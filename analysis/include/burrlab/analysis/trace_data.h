@@ -42,6 +42,10 @@ Result<TraceData> ParseTraceData(std::string_view path, std::string_view text);
 // cannot be read.
 Result<TraceData> ReadTraceData(const std::string& path);
 
+// Reads, parses and matches (MatchTracesToRuns) the file at `path`.
+Result<TraceData> ReadTracesOfRuns(const std::string& path,
+                                   const MeasuredData& measured);
+
 // Checks that every traced run is a run of `measured` (by its run column);
 // `path` and `text` are the trace file's, for the diagnostic.
 Status MatchTracesToRuns(const TraceData& traces, const MeasuredData& measured,

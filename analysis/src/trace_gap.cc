@@ -60,9 +60,9 @@ struct Prepared {
   const TraceRun* run = nullptr;
   double until_s = 0.0;
   double immersion_mm = 0.0;
-  // 1 / the runs at this force: replicates share the rig's systematic
-  // transient (and synthetic ones its very trace), so a force level weighs
-  // as much as one trace.
+  // The runs this trace stands for over the runs at its force: replicates
+  // share the rig's systematic transient (synthetic ones its very trace), so
+  // a force level weighs as much as one trace.
   double weight = 1.0;
 };
 
@@ -271,7 +271,7 @@ Result<TraceGapResult> TestTraceEffects(const std::vector<TraceRun>& runs,
   // each effect, alpha following it along the v(F) fit: v = alpha R /
   // kappa(F / (c_e R^2)) (descent_surrogate.h), so log alpha moves by the
   // runs' mean change of log kappa, which keeps v(F) fitted as well as the
-  // base fit does.
+  // base fit does (exactly when every run of the base fit is traced).
   const auto mean_log_kappa = [&](double c_e) {
     double sum = 0.0;
     for (const TraceRun& run : runs) {

@@ -27,16 +27,16 @@ TEST(SimMeasure, TracesFlagWritesEveryRunsTrace) {
   results_schema::TempDir temp;
   const std::string path = (temp.path() / "traces.csv").string();
   const CliRun run =
-      RunBurrlab({"sim", "measure", "--material", "pvc_k70", "--forces", "0.3",
+      RunBurrlab({"sim", "measure", "--material", "pvc_k70", "--forces", "0.6",
                   "--replicates", "2", "--seed", "3", "--traces", path});
   ASSERT_EQ(run.code, 0) << run.err;
   const std::string text = Read(path);
   ASSERT_TRUE(text.starts_with("run,t_s,force_n,depth_mm\n")) << text;
   const analysis::TraceData traces =
       analysis::ParseTraceData(path, text).value();
-  // The CSV's runs: 1 and 2 at 0.3 N.
-  EXPECT_NE(run.out.find("\n1,pvc_k70,1,2094,0.3,"), std::string::npos);
-  EXPECT_NE(run.out.find("\n2,pvc_k70,1,2094,0.3,"), std::string::npos);
+  // The CSV's runs: 1 and 2 at 0.6 N.
+  EXPECT_NE(run.out.find("\n1,pvc_k70,1,2094,0.6,"), std::string::npos);
+  EXPECT_NE(run.out.find("\n2,pvc_k70,1,2094,0.6,"), std::string::npos);
   ASSERT_EQ(traces.runs.size(), 2u);
   EXPECT_EQ(traces.runs[0].run, "1");
   EXPECT_EQ(traces.runs[1].run, "2");
@@ -51,7 +51,7 @@ TEST(SimMeasure, TracesFlagWritesEveryRunsTrace) {
       fine += t.t_s[k] - t.t_s[k - 1] < 0.0151;
     }
     EXPECT_GT(fine, 400);
-    EXPECT_NEAR(t.force_n.back(), 0.3, 0.01);
+    EXPECT_NEAR(t.force_n.back(), 0.6, 0.02);
     EXPECT_GT(t.depth_mm.back(), 1.0);
   }
 }

@@ -794,6 +794,7 @@ class Workflow {
     const double c_e = std::exp(current.point.ln_c_e);
     const double alpha = std::exp(current.point.ln_alpha);
     for (const sim::EffectSpec& spec : sim::EffectLibrary()) {
+      if (spec.trace_only) continue;  // v(F) cannot see it (trace_gap.h)
       bool used = false;
       for (const ActiveEffect& a : current.active) used |= a.spec == &spec;
       if (used) continue;
@@ -1056,6 +1057,20 @@ Status DiscoverOptions::Validate() const {
 
 Result<DiscoverReport> Discover(const MeasuredData& data,
                                 const DiscoverOptions& options) {
+  // ---- Trace-only effects (trace_gap.h) -------------------------------
+  // v(F) cannot see load_cell_lag or arm_compliance: the workflow runs on
+  // v(F) alone, then its base fit feeds the trace-gap test.
+  if (options.traces) {
+    DiscoverOptions steady = options;
+    steady.traces.reset();
+    Result<DiscoverReport> report = Discover(data, steady);
+    if (!report.ok()) return report;
+    if (Status s = AddTraceGap(data, options, &*report); !s.ok()) {
+      return s.error();
+    }
+    return report;
+  }
+  // ----------------------------------------------------------------------
   if (Status s = options.Validate(); !s.ok()) return s.error();
   const int n_all = static_cast<int>(data.runs.size());
   if (n_all <= kCalibrationParameters || data.force_levels < 2) {
@@ -1074,7 +1089,9 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
   const int n = runs.size();
   const double level = options.test_level;
   Workflow flow(runs, options);
-  const int library = static_cast<int>(sim::EffectLibrary().size());
+  const int library = static_cast<int>(
+      std::count_if(sim::EffectLibrary().begin(), sim::EffectLibrary().end(),
+                    [](const sim::EffectSpec& e) { return !e.trace_only; }));
   flow.set_total_tasks(2 + library * std::max(1, options.max_effects));
   int done = 0;
   if (options.progress) options.progress(done++, 2, "base fit");

@@ -44,8 +44,11 @@ Status SyntheticMeasurementOptions::Validate() const {
   return {};
 }
 
-Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& o,
-                                    double force_n, std::uint64_t seed) {
+namespace {
+
+// The rig of one force level.
+sim::DescentOptions RigAt(const SyntheticMeasurementOptions& o, double force_n,
+                          std::uint64_t seed) {
   sim::DescentOptions rig;
   rig.material = o.material;
   rig.effects = o.effects;
@@ -99,18 +102,59 @@ Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& o,
   }
   rig.duration_s = rig.steady_window_s + 200.0;
   rig.trace_period_s = std::max(0.01, rig.steady_window_s / 2000.0);
+  return rig;
+}
+
+}  // namespace
+
+Result<std::vector<sim::DescentSample>> RigTransientTrace(
+    const SyntheticMeasurementOptions& o, double force_n, std::uint64_t seed,
+    double after_contact_s) {
+  if (Status s = o.Validate(); !s.ok()) return s.error();
+  if (!(after_contact_s > 0.0 && after_contact_s <= 1000.0)) {
+    return Error{fmt::format("after_contact_s must lie in (0, 1000] s, got {}",
+                             after_contact_s)};
+  }
+  // The same rig and seed as the steady run, stopped early with a 10 ms
+  // trace: its samples are the steady run's first ones.
+  sim::DescentOptions rig = RigAt(o, force_n, seed);
+  rig.trace_period_s = 0.01;
+  rig.duration_s = after_contact_s;
+  rig.steady_window_s = std::max(rig.steady_window_s, after_contact_s);
   Result<sim::DescentResult> result = sim::RunDescent(rig);
   if (!result.ok()) return result.error();
+  return std::move(result->trace);
+}
+
+Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& o,
+                                    double force_n, std::uint64_t seed,
+                                    std::vector<sim::DescentSample>* trace) {
+  Result<sim::DescentResult> result = sim::RunDescent(RigAt(o, force_n, seed));
+  if (!result.ok()) return result.error();
+  if (trace) {
+    // 100 Hz through the transient, then the steady run's coarser samples.
+    Result<std::vector<sim::DescentSample>> head =
+        RigTransientTrace(o, force_n, seed, o.trace_fine_s);
+    if (!head.ok()) return head.error();
+    *trace = std::move(*head);
+    const double t_end = trace->empty() ? -1.0 : trace->back().t_s;
+    for (const sim::DescentSample& s : result->trace) {
+      if (s.t_s > t_end + 1e-9) trace->push_back(s);
+    }
+  }
   return result->steady_reached ? result->steady_velocity_mm_s : 0.0;
 }
 
 Result<std::vector<double>> RigVelocitiesMmS(
-    const SyntheticMeasurementOptions& o) {
+    const SyntheticMeasurementOptions& o,
+    std::vector<std::vector<sim::DescentSample>>* traces) {
   if (Status s = o.Validate(); !s.ok()) return s.error();
   std::vector<double> out;
+  if (traces) traces->assign(o.forces_n.size(), {});
   for (std::size_t level = 0; level < o.forces_n.size(); ++level) {
     const double force = o.forces_n[level];
-    Result<double> v = RigSteadyVelocityMmS(o, force, o.seed * 1000 + level);
+    Result<double> v = RigSteadyVelocityMmS(
+        o, force, o.seed * 1000 + level, traces ? &(*traces)[level] : nullptr);
     if (!v.ok()) {
       return Error{
           fmt::format("the rig at {} N: {}", force, v.error().message)};
@@ -144,9 +188,29 @@ SyntheticMeasurement DrawReplicates(const SyntheticMeasurementOptions& o,
 
 Result<SyntheticMeasurement> MeasureSynthetic(
     const SyntheticMeasurementOptions& o) {
-  Result<std::vector<double>> rig = RigVelocitiesMmS(o);
+  std::vector<std::vector<sim::DescentSample>> traces;
+  Result<std::vector<double>> rig =
+      RigVelocitiesMmS(o, o.keep_traces ? &traces : nullptr);
   if (!rig.ok()) return rig.error();
-  return DrawReplicates(o, *rig);
+  SyntheticMeasurement m = DrawReplicates(o, *rig);
+  m.level_traces = std::move(traces);
+  return m;
+}
+
+std::string FormatTraceCsv(const SyntheticMeasurement& m,
+                           const SyntheticMeasurementOptions& o) {
+  std::string csv = "run,t_s,force_n,depth_mm\n";
+  for (const SyntheticRun& r : m.runs) {
+    const auto level =
+        std::find(o.forces_n.begin(), o.forces_n.end(), r.force_n) -
+        o.forces_n.begin();
+    if (level >= static_cast<std::ptrdiff_t>(m.level_traces.size())) continue;
+    for (const sim::DescentSample& s : m.level_traces[level]) {
+      csv += fmt::format("{},{:.4f},{:.6g},{:.6g}\n", r.run, s.t_s, s.force_n,
+                         s.depth_mm);
+    }
+  }
+  return csv;
 }
 
 std::string FormatMeasuredCsv(const SyntheticMeasurement& m,

@@ -20,6 +20,8 @@
 #include "burrlab/analysis/discover_scenarios.h"
 #include "burrlab/analysis/measured_data.h"
 #include "burrlab/analysis/plot.h"
+#include "burrlab/analysis/trace_data.h"
+#include "burrlab/analysis/trace_gap.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/stimuli/materials.h"
 #include "calibrate_command.h"
@@ -107,6 +109,20 @@ Json ReportJson(const analysis::DiscoverReport& r) {
                             : Number(r.augmented.aicc - r.baseline.aicc);
   tests["reference_p"] = Number(r.reference_p);
   tests["reference_effect_p"] = Number(r.reference_effect_p);
+  if (r.trace_gap) {  // the trace-only effects (trace_gap.h)
+    Json trace = Json::object();
+    for (const analysis::TraceEffectTest& e : r.trace_gap->effects) {
+      trace[e.id] = {{"value", Number(e.value)},
+                     {"lr", Number(e.lr)},
+                     {"lr_p", Number(e.p)},
+                     {"lr_p_holm", Number(e.p_holm)},
+                     {"rmse_force_n", Number(e.rmse_force_n)},
+                     {"rmse_depth_mm", Number(e.rmse_depth_mm)}};
+    }
+    tests["trace_effects"] = trace;
+    tests["trace_rmse_force_n"] = Number(r.trace_gap->rmse_force_n);
+    tests["trace_rmse_depth_mm"] = Number(r.trace_gap->rmse_depth_mm);
+  }
   j["tests"] = tests;
   return j;
 }
@@ -178,6 +194,22 @@ std::string ReportMarkdown(const analysis::DiscoverReport& r,
           e.id, e.identifiability, e.absorbed ? " (absorbed)" : "", e.score_z,
           P(e.score_p), e.lr, P(e.lr_p), P(e.lr_p_adjusted), P(e.aicc),
           e.value);
+    }
+  }
+  if (r.trace_gap) {
+    md += fmt::format(
+        "\n## Trace-only effects ({} traced runs; lumped rig, c_e {:.4g} "
+        "fitted to the traces)\n\nNull trace RMSE: {:.3g} N, {:.3g} mm.\n\n| "
+        "effect | fitted parameter | LR | LR p (χ̄²) | Holm | RMSE force N | "
+        "RMSE depth mm |\n|---|---|---|---|---|---|---|\n",
+        r.trace_gap->runs, r.trace_gap->c_e_n_per_mm2,
+        r.trace_gap->rmse_force_n, r.trace_gap->rmse_depth_mm);
+    for (const analysis::TraceEffectTest& e : r.trace_gap->effects) {
+      md += fmt::format(
+          "| {} | {:.4g} {} | {:.3g} | {} | {} | {:.3g} | "
+          "{:.3g} |\n",
+          e.id, e.value, sim::FindEffect(e.id)->unit, e.lr, P(e.p), P(e.p_holm),
+          e.rmse_force_n, e.rmse_depth_mm);
     }
   }
   if (!r.outlier_lines.empty()) {
@@ -284,7 +316,7 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "leave-one-force-level-out cross-validation, residual tests). Writes "
       "DIR/report.json, DIR/report.md, DIR/fit.png and DIR/residuals.png.",
       "burrlab discover"};
-  std::string measured_path, out_dir, reference_name;
+  std::string measured_path, out_dir, reference_name, traces_path;
   analysis::DiscoverOptions options;
   bool json = false;
   FlagSet flags(&app);
@@ -309,6 +341,13 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
                "a built-in set)",
                &reference_name)
       ->type_name("MATERIAL");
+  flags
+      .AddText("--traces",
+               "time traces of the runs, CSV run,t_s,force_n,depth_mm (the "
+               "run column names the measured runs): tests the trace-only "
+               "effects load_cell_lag and arm_compliance",
+               &traces_path)
+      ->type_name("FILE.csv");
   flags.AddSwitch("--json", "print report.json to stdout as well", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
@@ -317,6 +356,15 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (!data.ok()) {  // multi-line: the data error quotes its line and a caret
     err << "burrlab: " << data.error().message << '\n';
     return 1;
+  }
+  if (!traces_path.empty()) {
+    Result<analysis::TraceData> traces =
+        analysis::ReadTracesOfRuns(traces_path, *data);
+    if (!traces.ok()) {  // multi-line, as above
+      err << "burrlab: " << traces.error().message << '\n';
+      return 1;
+    }
+    options.traces = std::move(*traces);
   }
   // The reference material: the flag, else the material column when every
   // run names the same built-in set.
@@ -357,8 +405,10 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
                                  ec ? ec.message() : "not a folder"));
   }
   {
-    ProgressBar bar(err, 2 + static_cast<int>(sim::EffectLibrary().size()) *
-                                 options.max_effects);
+    const int steady_effects = static_cast<int>(
+        std::count_if(sim::EffectLibrary().begin(), sim::EffectLibrary().end(),
+                      [](const sim::EffectSpec& e) { return !e.trace_only; }));
+    ProgressBar bar(err, 2 + steady_effects * options.max_effects);
     options.progress = [&bar](int done, int, std::string_view label) {
       bar.Update(done, label);
     };

@@ -549,6 +549,14 @@ Status ParseEffects(const std::string& text, sim::Effects* effects) {
   return {};
 }
 
+// "cannot write --traces file 'x': reason".
+std::string TracesError(const std::string& path, int error_number) {
+  return error_number == 0
+             ? fmt::format("cannot write --traces file '{}'", path)
+             : fmt::format("cannot write --traces file '{}': {}", path,
+                           std::strerror(error_number));
+}
+
 int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
   std::string effects_help = "hidden effects, ID=VALUE[,ID=VALUE]: ";
   for (const sim::EffectSpec& spec : sim::EffectLibrary()) {
@@ -564,7 +572,7 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
       "CSV: run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s.",
       "burrlab sim measure"};
   analysis::SyntheticMeasurementOptions options;
-  std::string material_name, forces_text, effects_text;
+  std::string material_name, forces_text, effects_text, traces_path;
   int replicates = options.replicates;
   FlagSet flags(&app);
   flags.AddText("--material", MaterialFlagHelp(), &material_name)
@@ -591,9 +599,18 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
       "--radius-mm",
       fmt::format("burr radius R, mm (default {})", options.radius_mm), "mm",
       &options.radius_mm, kMaxRadiusMm);
+  flags
+      .AddText("--traces",
+               "also write each run's force and depth trace to FILE as "
+               "run,t_s,force_n,depth_mm (100 Hz for the first 10 s after "
+               "contact, coarser after; replicates share their level's rig "
+               "trace)",
+               &traces_path)
+      ->type_name("FILE");
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   options.replicates = replicates;
+  options.keep_traces = !traces_path.empty();
   Result<std::vector<double>> forces = ParseForces(forces_text);
   if (!forces.ok()) return Fail(err, forces.error().message);
   options.forces_n = *forces;
@@ -605,9 +622,30 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
   Result<stimuli::MaterialSet> set = LoadMaterial(material_name);
   if (!set.ok()) return Fail(err, set.error().message);
   options.material = set->material;
+  // Open the traces before the runs so a bad path fails fast.
+  std::ofstream traces;
+  if (options.keep_traces) {
+    errno = 0;
+    traces.open(traces_path, std::ios::out | std::ios::trunc);
+    if (!traces.is_open()) {
+      return Fail(err, TracesError(traces_path, errno));
+    }
+  }
   Result<analysis::SyntheticMeasurement> m =
       analysis::MeasureSynthetic(options);
-  if (!m.ok()) return Fail(err, "sim measure: " + m.error().message);
+  if (!m.ok()) {
+    if (traces.is_open()) {
+      traces.close();
+      std::remove(traces_path.c_str());  // we emptied it; leave no stub
+    }
+    return Fail(err, "sim measure: " + m.error().message);
+  }
+  if (traces.is_open()) {
+    errno = 0;
+    traces << analysis::FormatTraceCsv(*m, options);
+    traces.close();
+    if (traces.fail()) return Fail(err, TracesError(traces_path, errno));
+  }
   for (double f : m->skipped_forces_n) {
     err << fmt::format(
         "burrlab: warning: no steady velocity at {} N (the burr did not cut "

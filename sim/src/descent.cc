@@ -26,6 +26,21 @@ Status Positive(const char* name, double value) {
 
 }  // namespace
 
+LoadCell::LoadCell(double filter_hz, double lag_s, double dt_s) {
+  const double tau_s = 1.0 / (2.0 * std::numbers::pi * filter_hz);
+  smoothing_ = dt_s / (tau_s + dt_s);
+  lagged_ = lag_s > 0.0;
+  lag_smoothing_ = dt_s / (lag_s + dt_s);
+}
+
+double LoadCell::Read(double force_n) {
+  filtered_ += smoothing_ * (force_n - filtered_);
+  // Without the lag the measured force is the filtered one, bit for bit.
+  measured_ = lagged_ ? measured_ + lag_smoothing_ * (filtered_ - measured_)
+                      : filtered_;
+  return measured_;
+}
+
 Status DescentOptions::Validate() const {
   if (Status s = material.Validate(); !s.ok()) return s;
   if (Status s = effects.Validate(); !s.ok()) return s;
@@ -103,8 +118,10 @@ Result<DescentResult> RunDescent(const DescentOptions& o) {
   // Off-grid centre so the burr does not sit on a voxel symmetry line.
   const double cx = 0.5 * nxy * v + 0.137 * v, cy = 0.5 * nxy * v + 0.071 * v;
   double z = surface_z + radius + 0.2;  // start 0.2 mm above the surface
-  const double tau = 1.0 / (2.0 * std::numbers::pi * o.filter_hz);
-  const double smoothing = o.dt_s / (tau + o.dt_s);
+  LoadCell load_cell(o.filter_hz, o.effects.load_cell_lag_s, o.dt_s);
+  // arm_compliance: z is the arm; the burr sits `deflection` above it.
+  const double compliance = o.effects.arm_compliance_mm_per_n;
+  double deflection = 0.0;
   double measured = 0.0, integral = 0.0, previous_measured = 0.0,
          velocity = 0.0;
   bool contact = false;
@@ -119,13 +136,26 @@ Result<DescentResult> RunDescent(const DescentOptions& o) {
   input.spindle_rad_s = glm::dvec3(0.0, 0.0, o.spindle_rad_s);
   Output out;
   while (t < t_end) {
-    input.position_mm = glm::dvec3(cx, cy, z);
+    input.position_mm = glm::dvec3(cx, cy, z + deflection);
     input.velocity_mm_s = glm::dvec3(0.0, 0.0, -velocity);
     Step(model, *state, input, &out);
     ++result.steps;
+    if (compliance > 0.0) {
+      // The massless spring carries the contact force: deflection = C F at
+      // the burr's position, which itself depends on the deflection. One
+      // Newton step per tick on d - C F(d) = 0 with the contact stiffness
+      // dF/dh = n F_e / h of F_e ~ h^n (eq. 7.3) stays stable for any C k.
+      const double force = std::max(out.model_force_n.z, 0.0);
+      const double stiffness =
+          out.h_mm > 0.0 ? model.effects.contact_exponent *
+                               std::max(out.elastic_n.z, 0.0) / out.h_mm
+                         : 0.0;
+      deflection +=
+          (compliance * force - deflection) / (1.0 + compliance * stiffness);
+    }
     // Load cell: vertical reaction through a first-order filter of the rig's
-    // bandwidth.
-    measured += smoothing * (out.model_force_n.z - measured);
+    // bandwidth (and the extra lag of a sluggish cell).
+    measured = load_cell.Read(out.model_force_n.z);
     if (!contact && measured > 0.05 * o.force_n) {
       contact = true;
       t_end = t + o.duration_s;
@@ -143,7 +173,8 @@ Result<DescentResult> RunDescent(const DescentOptions& o) {
     velocity = std::clamp(velocity, -o.max_speed_mm_s, o.max_speed_mm_s);
     const double depth = surface_z - (z - radius);
     if (t >= next_trace) {
-      result.trace.push_back({t, depth, measured, velocity});
+      result.trace.push_back(
+          {t, depth, measured, velocity, depth - deflection});
       next_trace += o.trace_period_s;
     }
     if (depth > max_depth) break;  // the bottom of the virtual sample

@@ -15,31 +15,46 @@ constexpr EffectSpec kLibrary[] = {
     {"motor_power_limit", "max_removal_mm3_per_s", "mm^3/s", kInf,
      &Effects::max_removal_mm3_per_s,
      "the spindle power caps the removal rate at VALUE mm^3/s (null: inf)",
-     StrengthMap::kReciprocal, "concave plateau at high force"},
+     StrengthMap::kReciprocal, "concave plateau at high force", false},
     {"spindle_slowdown", "stall_force_n", "N", kInf, &Effects::stall_force_n,
      "the spindle slows as 1 - |F_e|/VALUE under load, VALUE the stall "
      "force in N (null: inf)",
-     StrengthMap::kReciprocal, "v rises, peaks and falls towards the stall"},
+     StrengthMap::kReciprocal, "v rises, peaks and falls towards the stall",
+     false},
     {"cutting_threshold", "cutting_threshold_n", "N", 0.0,
      &Effects::cutting_threshold_n,
      "the blades cut only with the contact force above VALUE N (null: 0)",
-     StrengthMap::kAboveNull, "v near 0 below F0, steep rise after"},
+     StrengthMap::kAboveNull, "v near 0 below F0, steep rise after", false},
     {"viscous_resistance", "impact_c_i_n_s_per_mm3", "N s/mm^3", 0.0,
      &Effects::impact_c_i_n_s_per_mm3,
      "an impact force c_i R^2 (h/R) v with c_i = VALUE N s/mm^3 takes part "
      "of the held force (null: 0)",
-     StrengthMap::kAboveNull, "concave at high force"},
+     StrengthMap::kAboveNull, "concave at high force", false},
     {"friction_erosion", "friction_erosion_per_n_s", "1/(N s)", 0.0,
      &Effects::friction_erosion_per_n_s,
      "erosion at alpha + VALUE |F_e|, friction-driven wear (null: 0)",
-     StrengthMap::kAboveNull, "log-log slope rises at high force"},
+     StrengthMap::kAboveNull, "log-log slope rises at high force", false},
     {"contact_exponent", "contact_exponent", "", 1.5,
      &Effects::contact_exponent,
      "F_e = c_e R^2 (h/R)^VALUE, plastic contact below 1.5 (null: 1.5)",
-     StrengthMap::kBelowNull, "log-log slope changes everywhere"},
+     StrengthMap::kBelowNull, "log-log slope changes everywhere", false},
     {"porosity", "porosity", "", 0.0, &Effects::porosity,
      "void fraction VALUE in [0, 1): c_e (1 - VALUE)^2 (null: 0)",
-     StrengthMap::kAboveNull, "none: absorbed by c_e"},
+     StrengthMap::kAboveNull, "none: absorbed by c_e", false},
+    {"load_cell_lag", "load_cell_lag_s", "s", 0.0, &Effects::load_cell_lag_s,
+     "an extra first-order lag of VALUE s in the load cell; the controller "
+     "acts on the lagged force (null: 0; traces only)",
+     StrengthMap::kAboveNull,
+     "none in steady v(F); overshoot and ringing of the force after contact",
+     true},
+    {"arm_compliance", "arm_compliance_mm_per_n", "mm/N", 0.0,
+     &Effects::arm_compliance_mm_per_n,
+     "a series spring of VALUE mm/N between the arm and the burr; the depth "
+     "recorded is the arm's (null: 0; traces only)",
+     StrengthMap::kAboveNull,
+     "none in steady v(F); recorded depth deeper by F x compliance, slower "
+     "loading",
+     true},
 };
 
 }  // namespace
@@ -83,6 +98,16 @@ Status Effects::Validate() const {
   }
   if (!(porosity >= 0.0 && porosity < 1.0)) {
     return Error{fmt::format("porosity must lie in [0, 1), got {}", porosity)};
+  }
+  if (!(load_cell_lag_s >= 0.0 && load_cell_lag_s <= 10.0)) {
+    return Error{fmt::format(
+        "load_cell_lag must be a time constant in [0, 10] s, got {}",
+        load_cell_lag_s)};
+  }
+  if (!(arm_compliance_mm_per_n >= 0.0 && arm_compliance_mm_per_n <= 100.0)) {
+    return Error{fmt::format(
+        "arm_compliance must be a compliance in [0, 100] mm/N, got {}",
+        arm_compliance_mm_per_n)};
   }
   return {};
 }

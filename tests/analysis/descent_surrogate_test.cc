@@ -45,6 +45,21 @@ TEST(DescentSurrogate, TableInvertsTheQuadrature) {
   }
 }
 
+// load_cell_lag and arm_compliance sit in the measurement chain: the steady
+// penetration velocity is the same number with and without them.
+TEST(DescentSurrogate, TraceOnlyEffectsLeaveTheSteadyVelocityUnchanged) {
+  for (double force_n : {0.5, 1.0, 2.0, 4.0}) {
+    SteadyDescentInput plain;
+    plain.force_n = force_n;
+    plain.radius_mm = 1.0;
+    SteadyDescentInput traced = plain;
+    traced.effects.load_cell_lag_s = 0.2;
+    traced.effects.arm_compliance_mm_per_n = 0.5;
+    ASSERT_FALSE(traced.effects.IsNull());
+    EXPECT_EQ(SteadyVelocityMmS(traced), SteadyVelocityMmS(plain)) << force_n;
+  }
+}
+
 }  // namespace
 }  // namespace burrlab::analysis
 

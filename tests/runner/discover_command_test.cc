@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -20,6 +21,8 @@
 
 #include "../results_schema/temp_dir.h"
 #include "burrlab/analysis/discover_scenarios.h"
+#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/synthetic_measurement.h"
 #include "run_cli.h"
 
 namespace burrlab::runner {
@@ -99,6 +102,95 @@ TEST_F(DiscoverCommand, NamesAHiddenPowerLimitAndWritesTheReport) {
   EXPECT_EQ(again.err, "burrlab: " + out.string() +
                            " already holds a report.json; choose another "
                            "--out or remove it\n");
+}
+
+// Bone at loads 0.5-1.5 (R = 1 mm), 4 replicates, CV 10 %, no effect in
+// v(F) (surrogate truth; trace-only effects leave it unchanged), and every
+// run's trace from the voxel rig (voxel R/12, 5 ms, as `sim measure`) up to
+// 4 s after contact with `effects` hidden in it.
+struct TracedData {
+  std::string csv, traces;
+};
+TracedData TracedBone(const sim::Effects& effects, std::uint64_t seed) {
+  analysis::ScenarioDesign d;
+  d.material.c_e_n_per_mm2 = 2.145;
+  d.material.alpha_per_s = 0.087;
+  d.full_rig = false;
+  TracedData out;
+  out.csv = analysis::ScenarioCsv(
+      d, analysis::TruthVelocitiesMmS(d, {}).value(), {}, seed);
+  analysis::SyntheticMeasurementOptions rig;
+  rig.material = d.material;
+  rig.effects = effects;
+  rig.forces_n = d.ForcesN();
+  rig.radius_mm = d.radius_mm;
+  analysis::SyntheticMeasurement m;
+  for (std::size_t level = 0; level < rig.forces_n.size(); ++level) {
+    m.level_traces.push_back(
+        analysis::RigTransientTrace(rig, rig.forces_n[level],
+                                    seed * 1000 + level, 4.0)
+            .value());
+  }
+  const analysis::MeasuredData measured =
+      analysis::ParseMeasuredData("m.csv", out.csv).value();
+  for (const analysis::MeasuredRun& r : measured.runs) {
+    m.runs.push_back({std::stoi(r.run), r.force_n, r.velocity_mm_s, 0.0});
+  }
+  out.traces = analysis::FormatTraceCsv(m, rig);
+  return out;
+}
+
+TEST_F(DiscoverCommand, NamesAHiddenLoadCellLagOnlyFromTraces) {
+  sim::Effects lag;
+  lag.load_cell_lag_s = 0.05;
+  const TracedData data = TracedBone(lag, 7);
+  const std::string csv = Write("lag.csv", data.csv);
+  const std::string traces = Write("lag_traces.csv", data.traces);
+  const CliRun with =
+      RunBurrlab({"discover", "--measured", csv, "--traces", traces, "--out",
+                  (dir_ / "with").string(), "--json"});
+  ASSERT_EQ(with.code, 0) << with.err;
+  const nlohmann::json j = nlohmann::json::parse(with.out);
+  EXPECT_EQ(j["verdict"], "named") << with.out;
+  EXPECT_EQ(j["effect"], "load_cell_lag") << with.out;
+  EXPECT_NEAR(j["effect_params"]["load_cell_lag_s"].get<double>(), 0.05, 0.015);
+  EXPECT_LT(
+      j["tests"]["trace_effects"]["load_cell_lag"]["lr_p_holm"].get<double>(),
+      0.05);
+  EXPECT_GT(
+      j["tests"]["trace_effects"]["arm_compliance"]["lr_p_holm"].get<double>(),
+      0.05);
+  EXPECT_LT(j["tests"]["trace_effects"]["load_cell_lag"]["rmse_force_n"]
+                .get<double>(),
+            j["tests"]["trace_rmse_force_n"].get<double>());
+  EXPECT_THAT(Read(dir_ / "with" / "report.md"),
+              HasSubstr("## Trace-only effects (24 traced runs"));
+  // The same v(F) without the traces: nothing to see.
+  const CliRun without = RunBurrlab({"discover", "--measured", csv, "--out",
+                                     (dir_ / "without").string(), "--json"});
+  ASSERT_EQ(without.code, 0) << without.err;
+  const nlohmann::json k = nlohmann::json::parse(without.out);
+  EXPECT_EQ(k["verdict"], "none") << without.out;
+  EXPECT_FALSE(k["tests"].contains("trace_effects"));
+  EXPECT_TRUE(k["tests"]["effects"].contains("porosity"));
+  EXPECT_FALSE(k["tests"]["effects"].contains("load_cell_lag"));
+}
+
+TEST_F(DiscoverCommand, TracesOfUnknownRunsAreOneErrorAndExitOne) {
+  const std::string csv =
+      Write("m.csv", "run,force_n,velocity_mm_s\n1,1,0.1\n2,1,0.11\n3,2,0.3\n");
+  const std::string traces =
+      Write("t.csv",
+            "run,t_s,force_n,depth_mm\n1,0,0,-0.2\n1,0.01,0,-0.15\n"
+            "9,0,0,-0.2\n9,0.01,0,-0.15\n");
+  const CliRun run =
+      RunBurrlab({"discover", "--measured", csv, "--radius-mm", "1", "--traces",
+                  traces, "--out", (dir_ / "r").string()});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err, "burrlab: " + traces +
+                         ":4:1: error: run 9 is not a run of the measured "
+                         "data\n9,0,0,-0.2\n^\n");
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "r"));
 }
 
 TEST_F(DiscoverCommand, BadInputIsOneErrorAndExitOne) {

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
 namespace burrlab::sim {
 namespace {
 
@@ -75,6 +79,110 @@ TEST(Descent, SameSeedReproducesTheTrace) {
                       b = RunDescent(options).value();
   EXPECT_EQ(a.final_depth_mm, b.final_depth_mm);
   EXPECT_EQ(a.removed_mm3, b.removed_mm3);
+}
+
+// A unit step of the true force through the load cell: two first-order
+// stages (tau_1 = 1/(2 pi f), tau_2 the lag) give
+// 1 - (tau_1 e^(-t/tau_1) - tau_2 e^(-t/tau_2)) / (tau_1 - tau_2), and
+// 1 - e^(-t/tau_1) without the lag.
+TEST(LoadCell, StepResponseMatchesTwoFirstOrderStages) {
+  constexpr double kDtS = 1e-6, kFilterHz = 100.0, kLagS = 0.05;
+  const double tau_1 = 1.0 / (2.0 * std::numbers::pi * kFilterHz);
+  LoadCell lagged(kFilterHz, kLagS, kDtS), plain(kFilterHz, 0.0, kDtS);
+  double worst_lagged = 0.0, worst_plain = 0.0;
+  for (int i = 1; i <= 200000; ++i) {
+    const double t = i * kDtS;
+    const double expected =
+        1.0 - (tau_1 * std::exp(-t / tau_1) - kLagS * std::exp(-t / kLagS)) /
+                  (tau_1 - kLagS);
+    worst_lagged =
+        std::max(worst_lagged, std::abs(lagged.Read(1.0) - expected));
+    worst_plain = std::max(
+        worst_plain, std::abs(plain.Read(1.0) - (1.0 - std::exp(-t / tau_1))));
+  }
+  EXPECT_LT(worst_lagged, 1e-3);
+  EXPECT_LT(worst_plain, 1e-3);
+  // After one time constant of the lag the reading is still well short.
+  LoadCell cell(kFilterHz, kLagS, 1e-3);
+  double reading = 0.0;
+  for (int i = 0; i < 50; ++i) reading = cell.Read(1.0);
+  EXPECT_NEAR(reading, 1.0 - std::exp(-1.0), 0.03);
+}
+
+DescentOptions TraceRig(const Effects& effects) {
+  DescentOptions options;
+  options.material = kPettigrew;
+  options.force_n = 1.5;
+  options.radius_mm = 1.0;
+  options.voxel_mm = 0.1;
+  options.dt_s = 2e-3;
+  options.effects = effects;
+  return options;
+}
+
+// Mean of f over the trace samples at least 1 s after the burr passed R/3.
+template <typename F>
+double SteadyMean(const DescentResult& result, double radius_mm, F f) {
+  double t_in = -1.0, sum = 0.0;
+  int n = 0;
+  for (const DescentSample& s : result.trace) {
+    if (t_in < 0.0 && s.depth_mm > radius_mm / 3.0) t_in = s.t_s;
+    if (t_in < 0.0 || s.t_s < t_in + 1.0) continue;
+    sum += f(s);
+    ++n;
+  }
+  EXPECT_GT(n, 100);
+  return sum / std::max(n, 1);
+}
+
+TEST(Descent, ArmComplianceOffsetsTheRecordedDepthByForceTimesCompliance) {
+  Effects effects;
+  effects.arm_compliance_mm_per_n = 0.3;
+  const DescentOptions options = TraceRig(effects);
+  const DescentResult with = RunDescent(options).value();
+  const DescentResult without = RunDescent(TraceRig(Effects{})).value();
+  ASSERT_TRUE(with.steady_reached && without.steady_reached);
+  // The spring carries the held force: arm depth - burr depth = F C.
+  const double offset_mm = SteadyMean(with, options.radius_mm, [](auto& s) {
+    return s.depth_mm - s.burr_depth_mm;
+  });
+  EXPECT_NEAR(offset_mm, 0.3 * 1.5, 0.02);
+  // A rigid arm bends nothing.
+  EXPECT_EQ(SteadyMean(without, options.radius_mm,
+                       [](auto& s) { return s.depth_mm - s.burr_depth_mm; }),
+            0.0);
+  // The steady velocity does not see the spring (voxel noise only).
+  EXPECT_NEAR(with.steady_velocity_mm_s / without.steady_velocity_mm_s, 1.0,
+              0.03);
+  // Loading through the spring takes longer: the arm passes R/3 later.
+  const auto time_to = [&](const DescentResult& r) {
+    for (const DescentSample& s : r.trace) {
+      if (s.burr_depth_mm > options.radius_mm / 3.0) return s.t_s;
+    }
+    return -1.0;
+  };
+  EXPECT_GT(time_to(with), time_to(without));
+}
+
+TEST(Descent, LoadCellLagRingsAfterContactButHoldsTheSameSteadyState) {
+  Effects effects;
+  effects.load_cell_lag_s = 0.1;
+  const DescentOptions options = TraceRig(effects);
+  const DescentResult with = RunDescent(options).value();
+  const DescentResult without = RunDescent(TraceRig(Effects{})).value();
+  ASSERT_TRUE(with.steady_reached && without.steady_reached);
+  const auto peak = [](const DescentResult& r) {
+    double p = 0.0;
+    for (const DescentSample& s : r.trace) p = std::max(p, s.force_n);
+    return p;
+  };
+  // The controller sees the force late, drives on and overshoots.
+  EXPECT_GT(peak(with), peak(without) + 0.2 * options.force_n);
+  EXPECT_NEAR(
+      SteadyMean(with, options.radius_mm, [](auto& s) { return s.force_n; }),
+      options.force_n, 0.05 * options.force_n);
+  EXPECT_NEAR(with.steady_velocity_mm_s / without.steady_velocity_mm_s, 1.0,
+              0.03);
 }
 
 TEST(Descent, RejectsBadOptionsNamingTheField) {

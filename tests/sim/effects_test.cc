@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string_view>
+#include <vector>
 
 #include "burrlab/sim/step.h"
 
@@ -28,7 +30,8 @@ TEST(Effects, NamesUnknownIdsAndBadValues) {
   EXPECT_EQ(SetEffect("porosty", 0.1, &effects).error().message,
             "unknown effect 'porosty'; known effects: motor_power_limit, "
             "spindle_slowdown, cutting_threshold, viscous_resistance, "
-            "friction_erosion, contact_exponent, porosity");
+            "friction_erosion, contact_exponent, porosity, load_cell_lag, "
+            "arm_compliance");
   EXPECT_EQ(SetEffect("motor_power_limit", 0.0, &effects).error().message,
             "motor_power_limit must be a positive removal rate in mm^3/s (inf "
             "for none), got 0");
@@ -36,6 +39,11 @@ TEST(Effects, NamesUnknownIdsAndBadValues) {
             "contact_exponent must lie in [1, 2] (Hertz 1.5), got 0.5");
   EXPECT_EQ(SetEffect("porosity", 1.0, &effects).error().message,
             "porosity must lie in [0, 1), got 1");
+  EXPECT_EQ(SetEffect("load_cell_lag", -0.1, &effects).error().message,
+            "load_cell_lag must be a time constant in [0, 10] s, got -0.1");
+  EXPECT_EQ(SetEffect("arm_compliance", 1e9, &effects).error().message,
+            "arm_compliance must be a compliance in [0, 100] mm/N, got "
+            "1000000000");
   EXPECT_EQ(SetEffect("spindle_slowdown", -2.0, &effects).error().message,
             "spindle_slowdown must be a positive stall force in N (inf for "
             "none), got -2");
@@ -58,6 +66,15 @@ TEST(Effects, EveryEffectHasOneParameterWithANullStrengthOfZero) {
     EXPECT_EQ(FindEffect(spec.id), &spec);
   }
   EXPECT_EQ(FindEffect("load_cell"), nullptr);
+}
+
+TEST(Effects, OnlyTheMeasurementChainEffectsAreTraceOnly) {
+  std::vector<std::string_view> trace_only;
+  for (const EffectSpec& spec : EffectLibrary()) {
+    if (spec.trace_only) trace_only.push_back(spec.id);
+  }
+  EXPECT_EQ(trace_only,
+            (std::vector<std::string_view>{"load_cell_lag", "arm_compliance"}));
 }
 
 // The elastic force of a burr held at depth h = R/2 in a solid half-space.

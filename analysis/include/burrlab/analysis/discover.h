@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/trace_gap.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/sim/result.h"
 
@@ -54,6 +55,9 @@ struct DiscoverOptions {
   // from the other replicates of its level is a gross outlier and is left
   // out (needs 3 or more replicates at the level).
   double outlier_sigmas = 5.0;
+  // Time traces of the runs (trace_data.h): the trace-only effects, which
+  // v(F) cannot see, are tested on them (trace_gap.h).
+  std::optional<TraceData> traces;
   // Called with (done, total, what runs now) as the work proceeds.
   std::function<void(int, int, std::string_view)> progress;
 
@@ -137,6 +141,8 @@ struct DiscoverReport {
   // probability 1/2 in this design (an equal shift of all level means
   // orthogonal to the base model): what "none" rules out.
   double detectable_rms_log_v = 0.0;
+  // The trace-gap test, when traces were given.
+  std::optional<TraceGapResult> trace_gap;
 };
 
 // Runs the workflow on `data`. Errors: bad options, data the base fit cannot

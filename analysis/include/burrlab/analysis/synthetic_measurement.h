@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/sim/result.h"
@@ -30,6 +31,10 @@ struct SyntheticMeasurementOptions {
   double spindle_rad_s = 2094.0;  // burr spin
   double voxels_per_radius = 12;  // rig discretisation: voxel = R / this
   double dt_s = 5e-3;             // rig control and simulation period
+  // Keep each level's time trace (trace_data.h): every 10 ms (100 Hz) until
+  // this long after contact, at the rig's coarser trace period after.
+  bool keep_traces = false;
+  double trace_fine_s = 10.0;  // s
 
   // Names the first bad field.
   Status Validate() const;
@@ -48,12 +53,25 @@ struct SyntheticMeasurement {
   std::vector<double> skipped_forces_n;  // levels where the rig reached no
                                          // steady velocity (the burr did not
                                          // cut, e.g. below a cutting threshold)
+  // With keep_traces: the rig's trace per force level (the replicates of a
+  // level share it, as they share its rig velocity).
+  std::vector<std::vector<sim::DescentSample>> level_traces;
 };
 
 // The rig's steady velocity at one force with the options' discretisation;
 // an error when the rig fails, 0 when it reached no steady state.
-Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& options,
-                                    double force_n, std::uint64_t seed);
+// The rig's trace at one force from its start to `after_contact_s` after
+// contact, every 10 ms: the first samples of RigSteadyVelocityMmS's run with
+// the same seed (cheap: the steady window is what costs).
+Result<std::vector<sim::DescentSample>> RigTransientTrace(
+    const SyntheticMeasurementOptions& options, double force_n,
+    std::uint64_t seed, double after_contact_s);
+
+// With `trace`, also the rig's trace, 100 Hz until options.trace_fine_s
+// after contact.
+Result<double> RigSteadyVelocityMmS(
+    const SyntheticMeasurementOptions& options, double force_n,
+    std::uint64_t seed, std::vector<sim::DescentSample>* trace = nullptr);
 
 // Runs the rig once per force level (its own erosion stream) and draws the
 // replicates' noise: velocity = rig velocity x exp(s z), z ~ N(0, 1),
@@ -66,7 +84,8 @@ Result<SyntheticMeasurement> MeasureSynthetic(
 // force level of `options` (0 where it reached none), and the replicates
 // drawn around them with options.seed.
 Result<std::vector<double>> RigVelocitiesMmS(
-    const SyntheticMeasurementOptions& options);
+    const SyntheticMeasurementOptions& options,
+    std::vector<std::vector<sim::DescentSample>>* traces = nullptr);
 SyntheticMeasurement DrawReplicates(const SyntheticMeasurementOptions& options,
                                     const std::vector<double>& rig_mm_s);
 
@@ -75,6 +94,11 @@ SyntheticMeasurement DrawReplicates(const SyntheticMeasurementOptions& options,
 std::string FormatMeasuredCsv(const SyntheticMeasurement& measurement,
                               const std::string& material_name,
                               const SyntheticMeasurementOptions& options);
+
+// The traces of trace_data.h, run,t_s,force_n,depth_mm: each run's level
+// trace (measurement.level_traces, in options.forces_n order).
+std::string FormatTraceCsv(const SyntheticMeasurement& measurement,
+                           const SyntheticMeasurementOptions& options);
 
 }  // namespace burrlab::analysis
 

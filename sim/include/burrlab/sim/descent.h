@@ -42,10 +42,32 @@ struct DescentOptions {
 };
 
 struct DescentSample {
-  double t_s = 0.0;       // time since the start of the approach
-  double depth_mm = 0.0;  // lowest point of the burr below the original surface
-  double force_n = 0.0;   // measured (filtered) vertical contact force
+  double t_s = 0.0;  // time since the start of the approach
+  // Lowest point of the burr below the original surface as the arm reports
+  // it (the arm's position; the burr itself unless arm_compliance bends the
+  // spring between them).
+  double depth_mm = 0.0;
+  double force_n = 0.0;        // measured (filtered) vertical contact force
   double velocity_mm_s = 0.0;  // commanded descent velocity
+  // Lowest point of the burr itself: depth_mm less the spring's deflection.
+  double burr_depth_mm = 0.0;
+};
+
+// The rig's force measurement, one tick at a time: a first-order filter of
+// bandwidth filter_hz (time constant 1 / (2 pi filter_hz)), then the extra
+// first-order lag of the load_cell_lag effect (none at 0 s), each stage
+// y += dt / (tau + dt) (x - y) (backward Euler).
+class LoadCell {
+ public:
+  LoadCell(double filter_hz, double lag_s, double dt_s);
+  // Feeds this tick's true force; returns the measured force.
+  double Read(double force_n);
+  double measured_n() const { return measured_; }
+
+ private:
+  double smoothing_ = 1.0, lag_smoothing_ = 1.0;
+  bool lagged_ = false;
+  double filtered_ = 0.0, measured_ = 0.0;
 };
 
 struct DescentResult {

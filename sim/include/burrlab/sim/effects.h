@@ -44,6 +44,16 @@ struct Effects {
   // eq. 7.3 runs at c_e (1 - phi)^2; the relative erosion rate of eq. 7.12 is
   // unchanged. v(F) cannot tell it from a lower c_e.
   double porosity = 0.0;
+  // load_cell_lag (trace only): an extra first-order lag of the load cell
+  // with this time constant, in series with the rig's own filter; the
+  // controller acts on the lagged force and the rig records it. Changes the
+  // loading transient, not the steady v(F).
+  double load_cell_lag_s = 0.0;
+  // arm_compliance (trace only): a massless series spring between the arm
+  // and the burr. The rig records the arm's position; the burr tip lags it by
+  // the contact force times this compliance. Shifts the recorded depth by
+  // F C at steady state and slows the loading, not the steady v(F).
+  double arm_compliance_mm_per_n = 0.0;
 
   // Names the first parameter out of its range.
   Status Validate() const;
@@ -68,6 +78,10 @@ struct EffectSpec {
   std::string_view help;       // one line for usage texts
   StrengthMap strength;        // the parameter as a strength >= 0
   std::string_view signature;  // the shape it gives steady v(F), for reports
+  // Visible only in time traces (the measurement chain): steady-state code
+  // (the surrogate, the v(F) attribution) skips it; analysis/trace_gap.h
+  // tests it.
+  bool trace_only = false;
 };
 
 // The parameter of `spec` at strength s >= 0, and back.

@@ -1,0 +1,71 @@
+// `burrlab sim measure --traces FILE` as a user meets it: every run of the
+// CSV gets its trace in FILE (run,t_s,force_n,depth_mm, 100 Hz through the
+// transient), which the trace parser reads back and matches to the runs; a
+// path that cannot be written fails before the slow runs.
+#include "sim_commands.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "../results_schema/temp_dir.h"
+#include "burrlab/analysis/trace_data.h"
+#include "run_cli.h"
+
+namespace burrlab::runner {
+namespace {
+
+std::string Read(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(file), {});
+}
+
+TEST(SimMeasure, TracesFlagWritesEveryRunsTrace) {
+  results_schema::TempDir temp;
+  const std::string path = (temp.path() / "traces.csv").string();
+  const CliRun run =
+      RunBurrlab({"sim", "measure", "--material", "pvc_k70", "--forces", "0.6",
+                  "--replicates", "2", "--seed", "3", "--traces", path});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::string text = Read(path);
+  ASSERT_TRUE(text.starts_with("run,t_s,force_n,depth_mm\n")) << text;
+  const analysis::TraceData traces =
+      analysis::ParseTraceData(path, text).value();
+  // The CSV's runs: 1 and 2 at 0.6 N.
+  EXPECT_NE(run.out.find("\n1,pvc_k70,1,2094,0.6,"), std::string::npos);
+  EXPECT_NE(run.out.find("\n2,pvc_k70,1,2094,0.6,"), std::string::npos);
+  ASSERT_EQ(traces.runs.size(), 2u);
+  EXPECT_EQ(traces.runs[0].run, "1");
+  EXPECT_EQ(traces.runs[1].run, "2");
+  for (const analysis::RunTrace& t : traces.runs) {
+    // From 0.2 mm above the surface to the end of the steady window, every
+    // 10 ms for the first seconds, the force held once settled.
+    EXPECT_EQ(t.t_s.front(), 0.0);
+    EXPECT_NEAR(t.depth_mm.front(), -0.2, 0.02);
+    EXPECT_GT(t.t_s.back(), 20.0);
+    int fine = 0;
+    for (std::size_t k = 1; k < t.t_s.size() && t.t_s[k] < 5.0; ++k) {
+      fine += t.t_s[k] - t.t_s[k - 1] < 0.0151;
+    }
+    EXPECT_GT(fine, 400);
+    EXPECT_NEAR(t.force_n.back(), 0.6, 0.02);
+    EXPECT_GT(t.depth_mm.back(), 1.0);
+  }
+}
+
+TEST(SimMeasure, TracesPathThatCannotBeWrittenFailsFirst) {
+  const CliRun run = RunBurrlab({"sim", "measure", "--material", "pvc_k70",
+                                 "--forces", "0.3", "--replicates", "2",
+                                 "--traces", "/nonexistent-dir/traces.csv"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.out, "");
+  EXPECT_EQ(run.err,
+            "burrlab: cannot write --traces file "
+            "'/nonexistent-dir/traces.csv': No such file or directory\n");
+}
+
+}  // namespace
+}  // namespace burrlab::runner

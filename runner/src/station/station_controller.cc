@@ -79,8 +79,11 @@ void StationController::BeginTrial(const protocols::TrialSpec& trial,
   interval_ = 0;
   SubjectView& s = frame_.subject;
   s.phase = StationPhase::kReady;
-  s.title = fmt::format("Trial {} of {}", trials_done + 1,
-                        frame_.experimenter.trials_total);
+  // An adaptive protocol may not know its length: then no "of N".
+  s.title = frame_.experimenter.trials_total > 0
+                ? fmt::format("Trial {} of {}", trials_done + 1,
+                              frame_.experimenter.trials_total)
+                : fmt::format("Trial {}", trials_done + 1);
   s.interval_label.clear();
   s.time_left_s = 0.0;
   s.question = trial.question;

@@ -57,6 +57,10 @@ class StationController {
 
   const StationFrame& frame() const { return frame_; }
   StationPhase phase() const { return frame_.subject.phase; }
+  // The interval shown (0-based; meaningful in kInterval).
+  std::size_t interval_index() const { return interval_; }
+  // When the interval shown started, s on the session clock.
+  double interval_start_s() const { return interval_start_s_; }
   // Whether the trial shown was cut short by a pause (reset by BeginTrial).
   bool trial_aborted() const { return trial_aborted_; }
   int aborted_trials() const { return aborted_trials_; }

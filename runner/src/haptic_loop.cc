@@ -125,7 +125,9 @@ void HapticLoop::SetUpRealtime() {
 #if defined(__SANITIZE_ADDRESS__)
   note = "mlockall skipped: AddressSanitizer maps terabytes of shadow memory";
 #else
-  if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+  if (!options_.lock_memory) {
+    // The caller holds the lock.
+  } else if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
     realtime_.memory_locked = true;
   } else {
     note = fmt::format(

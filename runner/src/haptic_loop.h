@@ -53,6 +53,8 @@ struct LoopOptions {
   std::int64_t budget_ns = 0;  // the force must be ready this long after the
                                // tick's deadline; 0 = one period
   bool realtime = true;        // try SCHED_FIFO and mlockall
+  bool lock_memory = true;     // mlockall for the run (false: the caller
+                               // holds the lock, e.g. for a whole session)
   int fifo_priority = 80;      // SCHED_FIFO priority, 1-99
   std::size_t max_samples = 600'000;  // period errors kept (the latest)
   double max_force_n = 0.0;  // clamp on |force| below the device's own limit

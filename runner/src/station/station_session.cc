@@ -2,10 +2,13 @@
 #include "station/station_session.h"
 
 #include <fmt/format.h>
+#include <sys/mman.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <glm/geometric.hpp>
 #include <thread>
@@ -129,10 +132,27 @@ StationSession::StationSession(StationSessionOptions options)
     std::error_code ec;
     std::filesystem::create_directories(options_.screenshots_dir, ec);
   }
+  // Memory is locked once for the session: locking it for each interval's
+  // loop would fault in the whole process (window and GL included) before
+  // every interval.
+#if !defined(__SANITIZE_ADDRESS__)
+  if (options_.realtime) {
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+      memory_locked_ = true;
+    } else {
+      Log(
+          fmt::format("mlockall failed ({}): page faults may delay haptic "
+                      "ticks; raise the memlock limit (ulimit -l) or run "
+                      "with CAP_IPC_LOCK",
+                      std::strerror(errno)));
+    }
+  }
+#endif
 }
 
 StationSession::~StationSession() {
   if (interval_ != nullptr) interval_->loop().Stop();
+  if (memory_locked_) munlockall();
 }
 
 double StationSession::NowS() const {
@@ -263,6 +283,7 @@ Status StationSession::SyncInterval(const protocols::TrialSpec& trial,
   LoopOptions loop_options;
   loop_options.rate_hz = kLoopRateHz;
   loop_options.realtime = options_.realtime;
+  loop_options.lock_memory = false;  // locked for the session
   loop_options.max_force_n = options_.limits.max_force_n;
   loop_options.max_samples = capacity + 10'000;
   interval_->StartLoop(&clock_, loop_options);

@@ -112,6 +112,7 @@ class StationSession final : public LiveStation {
   bool box_unplugged_ = false;
   std::string box_reason_;
   bool noted_realtime_ = false;
+  bool memory_locked_ = false;  // mlockall for the session
   int screenshots_ = 0;
 };
 

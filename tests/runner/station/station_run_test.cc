@@ -348,6 +348,9 @@ TEST_F(StationRunTest, UnplugThenResumePresentsTheTrialAgain) {
   EXPECT_NE(run.err.find("resumed: trial 1 is presented again"),
             std::string::npos)
       << run.err;
+  // The pause was shown, then the trial from its start.
+  EXPECT_TRUE(fs::exists(dir_ / "shots" / "004_trial1_paused.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "shots" / "005_trial1_ready.png"));
 }
 
 TEST_F(StationRunTest, ScriptRunningOutOfAnswersStopsWithTheTrialsSaved) {

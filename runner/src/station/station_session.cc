@@ -552,7 +552,8 @@ Result<LiveTrial> StationSession::PresentTrial(
       result.stop_reason = attempt.stop_reason;
       return result;
     }
-    ++result.aborted_presentations;
+    // A pause before SPACE cut nothing short.
+    if (controller_.trial_aborted()) ++result.aborted_presentations;
     std::string stop_reason;
     if (WaitForResume(trial, &stop_reason) == Ending::kStopped) {
       result.stop_reason = stop_reason;

@@ -115,6 +115,7 @@ void StationController::EnterInterval(std::size_t index, double now_s) {
 
 void StationController::EnterResponse(double now_s) {
   question_start_s_ = now_s;
+  question_shown_ = false;
   SubjectView& s = frame_.subject;
   s.phase = StationPhase::kResponse;
   s.interval_label.clear();
@@ -177,6 +178,14 @@ std::optional<protocols::Response> StationController::OnInput(
     }
   }
   return std::nullopt;
+}
+
+void StationController::MarkQuestionShown(double now_s) {
+  if (frame_.subject.phase != StationPhase::kResponse || question_shown_) {
+    return;
+  }
+  question_start_s_ = now_s;
+  question_shown_ = true;
 }
 
 void StationController::Pause(std::string reason) {

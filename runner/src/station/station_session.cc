@@ -388,6 +388,7 @@ StationSession::Ending StationSession::RunPresentation(
       last_phase = controller_.phase();
       last_interval = controller_.interval_index();
       phase_since_s_ = now_s;
+      question_shown_s_ = -1.0;
     }
     if (Status s = SyncInterval(trial, out); !s.ok()) {
       StopInterval(out, false);
@@ -401,6 +402,11 @@ StationSession::Ending StationSession::RunPresentation(
     const WindowInput input = DrawFrame();
     SaveShown(trial);
     w.Present();
+    if (controller_.phase() == StationPhase::kResponse &&
+        question_shown_s_ < 0.0) {
+      question_shown_s_ = NowS();
+      controller_.MarkQuestionShown(question_shown_s_);
+    }
 
     if (input.close_requested || input.action == ExperimenterAction::kAbort) {
       StopInterval(out, false);
@@ -430,8 +436,8 @@ StationSession::Ending StationSession::RunPresentation(
       if ((phase == StationPhase::kReady || paced_interval) &&
           in_phase_s >= script->start_delay_s) {
         keys.push_back({"SPACE", now_s});
-      } else if (phase == StationPhase::kResponse &&
-                 in_phase_s >= script->response_delay_s) {
+      } else if (phase == StationPhase::kResponse && question_shown_s_ >= 0.0 &&
+                 now_s - question_shown_s_ >= script->response_delay_s) {
         if (next_answer_ >= script->answers.size()) {
           out->stop_reason =
               fmt::format("the script's answers ran out ({} given) at trial {}",

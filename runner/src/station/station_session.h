@@ -102,6 +102,7 @@ class StationSession final : public LiveStation {
   std::optional<std::size_t> running_;  // interval index with a loop
   double trial_start_s_ = 0.0;
   double phase_since_s_ = 0.0;
+  double question_shown_s_ = -1.0;  // when the question reached the screen
   std::string shown_;      // phase (and interval) of the last screenshot
   int presentations_ = 0;  // trials presented in this run, repeats included
   std::size_t next_answer_ = 0;

@@ -48,7 +48,11 @@ HapticLoop::HapticLoop(HapticDevice* device, ForceSource* source,
       period_ns_(options.rate_hz > 0.0 && std::isfinite(options.rate_hz)
                      ? std::llround(1e9 / options.rate_hz)
                      : 0),
-      budget_ns_(options.budget_ns > 0 ? options.budget_ns : period_ns_) {
+      budget_ns_(options.budget_ns > 0 ? options.budget_ns : period_ns_),
+      max_force_n_(
+          options.max_force_n > 0.0
+              ? std::min(options.max_force_n, device->spec().max_force_n)
+              : device->spec().max_force_n) {
   period_errors_ns_.reserve(options_.max_samples);
 }
 
@@ -91,7 +95,7 @@ DeviceStatus HapticLoop::Tick(std::int64_t deadline_ns) noexcept {
     seh_.Reset();  // the history is a tick old
   } else {
     force_n = seh_.Update(force_n);
-    const double max_force_n = device_->spec().max_force_n;
+    const double max_force_n = max_force_n_;
     const double magnitude_n = glm::length(force_n);
     if (!std::isfinite(magnitude_n)) {  // overflow in the extrapolation
       ++counters_.non_finite;
@@ -121,7 +125,9 @@ void HapticLoop::SetUpRealtime() {
 #if defined(__SANITIZE_ADDRESS__)
   note = "mlockall skipped: AddressSanitizer maps terabytes of shadow memory";
 #else
-  if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+  if (!options_.lock_memory) {
+    // The caller holds the lock.
+  } else if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
     realtime_.memory_locked = true;
   } else {
     note = fmt::format(
@@ -178,11 +184,13 @@ Status HapticLoop::Start(std::int64_t ticks) {
                              options_.rate_hz)};
   }
   stop_ = false;
+  ended_ = false;
   fault_ = DeviceStatus{};
   thread_ = std::thread([this, ticks] {
     SetUpRealtime();
     Run(ticks);
     if (realtime_.memory_locked) munlockall();
+    ended_.store(true, std::memory_order_release);
   });
   return {};
 }

@@ -53,8 +53,12 @@ struct LoopOptions {
   std::int64_t budget_ns = 0;  // the force must be ready this long after the
                                // tick's deadline; 0 = one period
   bool realtime = true;        // try SCHED_FIFO and mlockall
+  bool lock_memory = true;     // mlockall for the run (false: the caller
+                               // holds the lock, e.g. for a whole session)
   int fifo_priority = 80;      // SCHED_FIFO priority, 1-99
   std::size_t max_samples = 600'000;  // period errors kept (the latest)
+  double max_force_n = 0.0;  // clamp on |force| below the device's own limit
+                             // (the station file's); 0 = the device's limit
 };
 
 // Counters, MuJoCo style: fixed fields, only ever incremented.
@@ -106,6 +110,9 @@ class HapticLoop {
   void Wait();
   // Asks the thread to stop and waits for it.
   void Stop();
+  // Whether a started thread has ended by itself (its tick count ran out or
+  // the device failed); any thread may ask.
+  bool ended() const { return ended_.load(std::memory_order_acquire); }
 
   const LoopCounters& counters() const { return counters_; }
   LoopStats Stats() const;
@@ -115,6 +122,9 @@ class HapticLoop {
   // The force sent by the last tick.
   const glm::dvec3& last_force_n() const { return last_force_n_; }
   std::int64_t period_ns() const { return period_ns_; }
+  // The force limit the loop applies: the smaller of the device's and
+  // LoopOptions::max_force_n.
+  double max_force_n() const { return max_force_n_; }
 
  private:
   void Run(std::int64_t ticks) noexcept;
@@ -127,6 +137,7 @@ class HapticLoop {
   LoopOptions options_;
   std::int64_t period_ns_;
   std::int64_t budget_ns_;
+  double max_force_n_;
   sim::SampleEstimateHold seh_;
   LoopCounters counters_;
   std::vector<std::int64_t> period_errors_ns_;  // ring of the latest errors
@@ -137,6 +148,7 @@ class HapticLoop {
   RealtimeSetup realtime_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> ended_{false};
 };
 
 }  // namespace burrlab::runner

@@ -54,6 +54,41 @@ struct Presented {
   double end_time_s = 0.0;   // session clock after the intervals
 };
 
+// The station's part of a trial's `extra`: the loop statistics of every
+// simulated interval ("intervals") and how often the trial was cut short
+// before this presentation ("aborted_presentations").
+nlohmann::ordered_json LiveIntervalsJson(const LiveTrial& live) {
+  nlohmann::ordered_json intervals = nlohmann::ordered_json::array();
+  for (const LiveIntervalRecord& r : live.intervals) {
+    nlohmann::ordered_json loop;
+    loop["rate_hz"] = r.rate_hz;
+    loop["ticks"] = r.counters.ticks;
+    loop["period_error_p50_us"] = r.stats.p50_us;
+    loop["period_error_p99_us"] = r.stats.p99_us;
+    loop["period_error_max_us"] = r.stats.max_us;
+    loop["missed_deadlines"] = r.counters.missed_deadlines;
+    loop["non_finite_forces"] = r.counters.non_finite;
+    loop["clamped_ticks"] = r.counters.clamped;
+    loop["stale_reads"] = r.counters.stale_reads;
+    loop["device_errors"] = r.counters.device_errors;
+    loop["skipped_ticks"] = r.counters.skipped_ticks;
+    nlohmann::ordered_json j;
+    j["interval_index"] = r.interval_index;
+    j["loop"] = loop;
+    j["max_force_n"] = r.max_force_n;
+    j["c_e_n_per_mm2"] = r.c_e_n_per_mm2;
+    j["c_e_limited_from_n_per_mm2"] =
+        r.c_e_limited_from_n_per_mm2.has_value()
+            ? nlohmann::ordered_json(*r.c_e_limited_from_n_per_mm2)
+            : nlohmann::ordered_json(nullptr);
+    intervals.push_back(std::move(j));
+  }
+  nlohmann::ordered_json out;
+  out["intervals"] = std::move(intervals);
+  out["aborted_presentations"] = live.aborted_presentations;
+  return out;
+}
+
 class SessionRunner {
  public:
   SessionRunner(const LoadedProtocol& loaded, const SessionOptions& options,
@@ -328,21 +363,41 @@ Result<SessionSummary> SessionRunner::Run() {
   summary.trials_resumed = next.value();
   while (!engine_.finished()) {
     const TrialSpec trial = engine_.current();
-    Result<Presented> presented = PresentTrial(trial);
-    if (!presented.ok()) return presented.error();
-    Result<protocols::Response> response =
-        options_.responder == Responder::kSimulated
-            ? SimulatedResponse(trial, *presented)
-            : TerminalResponse(trial);
-    if (!response.ok()) {
-      if (response.error().message == "input ended") {
+    Result<Presented> presented = Presented{};
+    Result<protocols::Response> response = protocols::Response{};
+    nlohmann::ordered_json live_intervals;
+    if (options_.responder == Responder::kStation) {
+      Result<LiveTrial> live = options_.station->PresentTrial(
+          trial, summary.trials_resumed + summary.trials_run);
+      if (!live.ok()) return live.error();
+      if (!live->response.has_value()) {
+        summary.stop_reason = live->stop_reason;
         summary.trials_total = summary.trials_resumed + summary.trials_run;
         return summary;
       }
-      return response.error();
-    }
-    if (response->response_time_s.has_value()) {
-      clock_s_ += *response->response_time_s;
+      for (rs::TraceSamples& t : live->traces) {
+        t.start_time_s += clock_s_;
+        presented->traces.push_back(std::move(t));
+      }
+      clock_s_ += live->duration_s;
+      response = std::move(*live->response);
+      live_intervals = LiveIntervalsJson(*live);
+    } else {
+      presented = PresentTrial(trial);
+      if (!presented.ok()) return presented.error();
+      response = options_.responder == Responder::kSimulated
+                     ? SimulatedResponse(trial, *presented)
+                     : TerminalResponse(trial);
+      if (!response.ok()) {
+        if (response.error().message == "input ended") {
+          summary.trials_total = summary.trials_resumed + summary.trials_run;
+          return summary;
+        }
+        return response.error();
+      }
+      if (response->response_time_s.has_value()) {
+        clock_s_ += *response->response_time_s;
+      }
     }
     Result<protocols::Outcome> outcome = engine_.Respond(*response);
     if (!outcome.ok()) return outcome.error();
@@ -377,6 +432,9 @@ Result<SessionSummary> SessionRunner::Run() {
     if (options_.renderings != nullptr) {
       extra["rendering_pool"] = options_.renderings->renderings();
     }
+    if (!live_intervals.is_null()) {
+      for (auto& [key, value] : live_intervals.items()) extra[key] = value;
+    }
     r.extra = extra.dump();
     if (rs::Status s = journal_.Append(r, presented->traces); !s.ok()) {
       return Error{fmt::format(
@@ -396,6 +454,7 @@ Result<SessionSummary> SessionRunner::Run() {
   }
   summary.finished = true;
   summary.trials_total = summary.trials_resumed + summary.trials_run;
+  if (options_.station != nullptr) options_.station->Finish();
   if (scored_ > 0) {
     summary.score = static_cast<double>(correct_) / scored_;
   }
@@ -492,6 +551,10 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
   }
   if (options.responder == Responder::kSimulated) {
     if (Status s = options.observer.Validate(); !s.ok()) return s.error();
+  }
+  if ((options.responder == Responder::kStation) !=
+      (options.station != nullptr)) {
+    return Error{"a station session needs a station (and only it does)"};
   }
   std::vector<rs::TrialRecord> records;
   auto journal = [&]() -> rs::Result<rs::Journal> {

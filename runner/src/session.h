@@ -1,6 +1,8 @@
 // Sessions: one subject runs a protocol. The engine plans trials, each
-// interval is rendered by the simulator with a simulated hand (stimuli), the
-// response comes from the simulated observer or a terminal prompt, and every
+// interval is rendered by the simulator with a simulated hand (stimuli) and
+// the response comes from the simulated observer or a terminal prompt, or a
+// person at a station (LiveStation) feels the intervals through a haptic
+// device and answers in the subject window; every
 // completed trial is committed to the journal (one transaction, durable
 // before the next trial starts). --resume replays the journaled responses
 // through the engine, checks the random state matches the journal's, and goes
@@ -19,8 +21,10 @@
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/results_schema/records.h"
 #include "burrlab/sim/result.h"
 #include "burrlab/stimuli/interval.h"
+#include "haptic_loop.h"
 #include "rendering_pool.h"
 
 namespace burrlab::runner {
@@ -65,6 +69,48 @@ std::string Sha256Hex(std::string_view text);
 enum class Responder {
   kSimulated,  // the simulated observer
   kTerminal,   // a person typing answers at a prompt
+  kStation,    // a person at a station (SessionOptions::station)
+};
+
+// What one interval of a live trial left behind: the haptic loop's timing and
+// counters, and what the simulator rendered. Stored in the trial's `extra`
+// ("intervals").
+struct LiveIntervalRecord {
+  int interval_index = 0;  // 0-based within the trial
+  double rate_hz = 1000.0;
+  LoopCounters counters;
+  LoopStats stats;
+  double max_force_n = 0.0;    // the loop's clamp (station and device)
+  double c_e_n_per_mm2 = 0.0;  // the elastic constant rendered
+  // The material's c_e when the stiffness limit lowered it (else none).
+  std::optional<double> c_e_limited_from_n_per_mm2;
+};
+
+// One trial as a person at a station did it.
+struct LiveTrial {
+  // The answer; none when the session stops here (stop_reason says why and
+  // the trial is not recorded).
+  std::optional<protocols::Response> response;
+  std::string stop_reason;
+  // The traces of the simulated intervals; start_time_s counts from the
+  // trial's start.
+  std::vector<results_schema::TraceSamples> traces;
+  std::vector<LiveIntervalRecord> intervals;  // one per simulated interval
+  double duration_s = 0.0;        // from the trial's start to the answer
+  int aborted_presentations = 0;  // times the trial was cut short and shown
+                                  // again (a device fault, a pause)
+};
+
+// A subject station: presents trials to a person and brings back answers.
+class LiveStation {
+ public:
+  virtual ~LiveStation() = default;
+  // Presents `trial` (after trials_done completed trials) until the subject
+  // answers or the session stops; an error is a failure of the station.
+  virtual Result<LiveTrial> PresentTrial(const protocols::TrialSpec& trial,
+                                         int trials_done) = 0;
+  // Shows that the session ran to its end.
+  virtual void Finish() = 0;
 };
 
 struct SessionOptions {
@@ -78,6 +124,7 @@ struct SessionOptions {
   double radius_mm = 2.0;              // burr radius of every interval
   std::istream* in = nullptr;          // kTerminal: answers
   std::ostream* prompt = nullptr;      // kTerminal: trial descriptions
+  LiveStation* station = nullptr;      // kStation: the station
   bool export_bids = true;             // write the BIDS files at the end
   // Non-null: intervals come from this shared pool of renderings (picked by
   // each interval's erosion seed) instead of being rendered afresh; trials
@@ -96,6 +143,7 @@ struct SessionSummary {
   int trials_resumed = 0;       // trials found in the journal
   int trials_total = 0;         // trials in the journal at the end
   bool finished = false;        // the protocol ran to its end
+  std::string stop_reason;      // why it stopped early (kStation), if it did
   std::optional<double> score;  // fraction correct over trials with an
                                 // answer key, when any
 };

@@ -5,9 +5,12 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <thread>
 #include <vector>
 
@@ -19,6 +22,11 @@
 #include "progress.h"
 #include "rendering_pool.h"
 #include "session.h"
+#include "station/station_devices.h"
+#include "station/station_file.h"
+#include "station/station_script.h"
+#include "station/station_session.h"
+#include "station/window.h"
 #include "study.h"
 #include "virtual_study.h"
 
@@ -58,6 +66,64 @@ Result<protocols::ObserverParams> ObserverFor(
       protocols::ObserverParamsFrom(protocol.observer);
   if (spec.empty()) return base;
   return protocols::ParseObserverSpec(spec, base);
+}
+
+// Station files and scripts are small; larger ones are refused unread.
+constexpr std::uintmax_t kMaxStationFileBytes = 1 << 20;
+
+// The text of a small file `what` names (e.g. "station file").
+Result<std::string> ReadSmallFile(const std::string& path,
+                                  std::string_view what) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) {
+    return Error{
+        fmt::format("cannot read {} {}: {}", what, path, ec.message())};
+  }
+  if (size > kMaxStationFileBytes) {
+    return Error{
+        fmt::format("{}: error: the file is {} bytes; a {} is "
+                    "limited to {} bytes",
+                    path, size, what, kMaxStationFileBytes)};
+  }
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (!file) return Error{fmt::format("cannot read {} {}", what, path)};
+  return text.str();
+}
+
+// Every diagnostic of a parsed file, formatted as `burrlab validate` prints
+// them (without the final line break).
+std::string Diagnostics(const std::string& path, const std::string& text,
+                        const std::vector<protocols::Diagnostic>& all) {
+  std::string out;
+  for (const protocols::Diagnostic& d : all) {
+    out += protocols::FormatDiagnostic(path, text, d);
+  }
+  if (!out.empty() && out.back() == '\n') out.pop_back();
+  return out;
+}
+
+// The number of trials `protocol` presents when every answer is correct (the
+// station's "Trial k of N"); 0 when that is not known ahead (adaptive blocks
+// depend on the answers).
+int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
+                  std::uint64_t seed) {
+  for (const protocols::Block& b : protocol.blocks) {
+    if (IsAdaptive(b.method)) return 0;
+  }
+  Result<protocols::Engine> engine =
+      protocols::Engine::Create(protocol, subject_index, seed);
+  if (!engine.ok()) return 0;
+  int n = 0;
+  while (!engine->finished() && n < 1'000'000) {
+    Result<protocols::Response> r =
+        protocols::ScriptedResponse(engine->current(), "1");
+    if (!r.ok() || !engine->Respond(*r).ok()) return 0;
+    ++n;
+  }
+  return engine->finished() ? n : 0;
 }
 
 }  // namespace
@@ -194,11 +260,172 @@ int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+namespace {
+
+// `burrlab run ... --device ...`: the flags a station run needs, checked.
+struct StationFlags {
+  std::string device;  // empty: no station
+  std::string station_path;
+  std::string script_path;
+  std::string firmware_path;
+  std::string screenshots_dir;
+};
+
+// The error for a bad combination of run flags, if any.
+std::optional<std::string> CheckRunFlags(const StationFlags& f,
+                                         const std::string& observer) {
+  if (!f.device.empty() && f.device != "mouse" && f.device != "hid" &&
+      f.device != "falcon" && f.device != "simulated") {
+    return fmt::format(
+        "--device must be one of mouse, hid, falcon, simulated, got '{}'",
+        f.device);
+  }
+  const bool station = !f.device.empty() || !f.station_path.empty();
+  if (station && !observer.empty()) {
+    return std::string(
+        "--observer cannot be combined with --device or --station: the "
+        "simulated observer answers without a station");
+  }
+  if (!f.script_path.empty() && f.device != "simulated") {
+    return std::string("--script needs --device simulated");
+  }
+  if (f.device == "simulated" && f.script_path.empty()) {
+    return std::string(
+        "--device simulated needs --script FILE (the burr's path and the "
+        "answers)");
+  }
+  if (!f.firmware_path.empty() && f.device != "falcon") {
+    return std::string("--firmware needs --device falcon");
+  }
+  if (!f.screenshots_dir.empty() && !station) {
+    return std::string("--screenshots needs --device");
+  }
+  return std::nullopt;
+}
+
+// Runs the session at a station; prints like RunRunCommand.
+int RunAtStation(const LoadedProtocol& loaded, SessionOptions options,
+                 const StationFlags& f, std::ostream& out, std::ostream& err) {
+  for (const protocols::Block& b : loaded.protocol.blocks) {
+    if (b.method == protocols::Method::kAdjustment) {
+      return Fail(err,
+                  fmt::format("{}: block \"{}\" uses the adjustment method, "
+                              "which a station does not run yet (run it with "
+                              "--observer or at the prompt)",
+                              loaded.path, b.name));
+    }
+  }
+  std::optional<StationConfig> station;
+  if (!f.station_path.empty()) {
+    Result<std::string> text = ReadSmallFile(f.station_path, "station file");
+    if (!text.ok()) return Fail(err, text.error().message);
+    StationParseOutcome parsed = ParseStation(f.station_path, *text);
+    if (!parsed.station.has_value()) {
+      err << Diagnostics(f.station_path, *text, parsed.diagnostics) << '\n';
+      return 1;
+    }
+    station = std::move(parsed.station);
+  }
+  const std::string backend = !f.device.empty() ? f.device : station->device;
+  if (backend == "simulated" && f.script_path.empty()) {
+    return Fail(err, fmt::format("{}: the simulated backend needs --script "
+                                 "FILE (the burr's path and the answers)",
+                                 f.station_path));
+  }
+  std::optional<StationScript> script;
+  if (!f.script_path.empty()) {
+    Result<std::string> text = ReadSmallFile(f.script_path, "station script");
+    if (!text.ok()) return Fail(err, text.error().message);
+    StationScriptParseOutcome parsed = ParseStationScript(f.script_path, *text);
+    if (!parsed.script.has_value()) {
+      err << Diagnostics(f.script_path, *text, parsed.diagnostics) << '\n';
+      return 1;
+    }
+    script = std::move(parsed.script);
+  }
+  StationDeviceRequest request;
+  request.backend = backend;
+  request.station = station ? &*station : nullptr;
+  request.script = script ? &*script : nullptr;
+  request.firmware_path = f.firmware_path;
+  if (backend == "hid" && (!station || !station->response_box.has_value())) {
+    return Fail(err,
+                "--device hid needs --station FILE with a "
+                "[response_box] table (the box's ids and buttons)");
+  }
+  Result<StationDevices> devices = OpenStationDevices(request);
+  if (!devices.ok()) return Fail(err, devices.error().message);
+
+  const DeviceSpec& spec = devices->haptic->spec();
+  RenderLimits limits;
+  limits.max_force_n = station
+                           ? std::min(station->max_force_n, spec.max_force_n)
+                           : spec.max_force_n;
+  limits.max_stiffness_n_per_mm = spec.max_stiffness_n_per_mm;
+  if (station && station->max_stiffness_n_per_mm > 0.0) {
+    limits.max_stiffness_n_per_mm =
+        limits.max_stiffness_n_per_mm > 0.0
+            ? std::min(limits.max_stiffness_n_per_mm,
+                       station->max_stiffness_n_per_mm)
+            : station->max_stiffness_n_per_mm;
+  }
+  WindowOptions window_options;
+  if (station) {
+    window_options.width = station->screen_width;
+    window_options.height = station->screen_height;
+  }
+  window_options.title = fmt::format("burrlab - sub-{}", options.subject);
+  Result<std::unique_ptr<StationWindow>> window =
+      StationWindow::Open(window_options);
+  if (!window.ok()) return Fail(err, window.error().message);
+
+  StationSessionOptions so;
+  so.device_name = backend;
+  so.device = devices->haptic;
+  so.mouse = devices->mouse.get();
+  so.simulated = devices->simulated.get();
+  so.box = devices->box.get();
+  so.script = script ? &*script : nullptr;
+  so.window = window->get();
+  so.trials_total =
+      PlannedTrials(loaded.protocol, options.subject_index, options.seed);
+  so.radius_mm = options.radius_mm;
+  so.trace_hz = loaded.protocol.trace_hz;
+  so.limits = limits;
+  so.screenshots_dir = f.screenshots_dir;
+  so.log = &err;
+  StationSession session(std::move(so));
+  options.responder = Responder::kStation;
+  options.station = &session;
+  Result<SessionSummary> summary = RunSession(loaded, options);
+  if (!summary.ok()) return Fail(err, summary.error().message);
+  const SessionSummary& s = summary.value();
+  if (!s.finished) {
+    out << fmt::format(
+        "sub-{}: stopped after {} trials: {}. They are saved; continue with "
+        "--resume.\n",
+        options.subject, s.trials_total, s.stop_reason);
+    return 1;
+  }
+  out << fmt::format(
+      "sub-{}: {} trials ({} resumed, {} run now){}; results in {}\n",
+      options.subject, s.trials_total, s.trials_resumed, s.trials_run,
+      s.score.has_value() ? fmt::format(", {:.1f} % correct", 100.0 * *s.score)
+                          : std::string(),
+      options.out_dir.string());
+  return 0;
+}
+
+}  // namespace
+
 int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
-      "Run one subject's session: every interval is rendered by the "
-      "simulator; answers come from the simulated observer or are typed at "
-      "the prompt. Each completed trial is saved before the next starts; "
+      "Run one subject's session. At a station (--device) a person feels "
+      "every interval through the haptic device, rendered by the simulator "
+      "in a 1 kHz loop, and answers in the subject window or on the "
+      "response box; without one, every interval is rendered by the "
+      "simulator and answers come from the simulated observer or are typed "
+      "at the prompt. Each completed trial is saved before the next starts; "
       "--resume continues an interrupted session.",
       "burrlab run"};
   std::string path;
@@ -209,6 +436,7 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   std::string observer;
   bool resume = false;
   double radius_mm = 2.0;
+  StationFlags station;
   app.add_option("file", path, "the protocol file")->required();
   FlagSet flags(&app);
   flags.AddText("--subject", "subject label: letters and digits (required)",
@@ -226,10 +454,31 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
                   &resume);
   flags.AddPositive("--radius-mm", "burr radius (default 2)", "mm", &radius_mm,
                     5.0);
+  flags.AddText("--device",
+                "mouse|hid|falcon|simulated: run at a station with this "
+                "haptic device (overrides the station file's backend)",
+                &station.device);
+  flags.AddText("--station",
+                "station file (burrlab-station/1): device, force limits, "
+                "response box, screen",
+                &station.station_path);
+  flags.AddText("--script",
+                "station script (burrlab-station-script/1) for --device "
+                "simulated: the burr's path and the answers",
+                &station.script_path);
+  flags.AddText("--firmware",
+                "Falcon firmware file, loaded when no firmware runs",
+                &station.firmware_path);
+  flags.AddText("--screenshots",
+                "folder for a PNG of the subject window at each phase",
+                &station.screenshots_dir);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   if (subject.empty()) return Fail(err, "--subject is required");
   if (out_dir.empty()) return Fail(err, "--out is required");
+  if (std::optional<std::string> e = CheckRunFlags(station, observer)) {
+    return Fail(err, *e);
+  }
   Result<LoadedProtocol> loaded = LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   SessionOptions options;
@@ -240,6 +489,9 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   options.seed = seed;
   options.resume = resume;
   options.radius_mm = radius_mm;
+  if (!station.device.empty() || !station.station_path.empty()) {
+    return RunAtStation(loaded.value(), options, station, out, err);
+  }
   if (observer.empty()) {
     options.responder = Responder::kTerminal;
     options.in = &std::cin;

@@ -14,7 +14,8 @@ namespace burrlab::runner {
 // `burrlab plan FILE [--seed S] [--subject ID] [--responses 1,0,...] [--json]`.
 int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err);
 // `burrlab run FILE --subject ID --out DIR [--seed S] [--observer ...]
-// [--resume]`.
+// [--resume] [--device mouse|hid|falcon|simulated] [--station FILE]
+// [--script FILE] [--firmware FILE] [--screenshots DIR]`.
 int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err);
 // `burrlab study FILE --simulated-subjects N --out DIR [--seed S] [--jobs J]`.
 int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err);

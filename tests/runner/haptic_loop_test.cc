@@ -251,6 +251,35 @@ TEST(HapticLoop, HoldsTheSampleEstimateAndClampsToTheDevice) {
   EXPECT_EQ(loop.counters().clamped, 1);
 }
 
+TEST(HapticLoop, ClampsToTheStationLimitBelowTheDevicesAndCountsIt) {
+  // The station file asks for 3 N on an 8 N device: 2 N passes, more comes
+  // out as 3 N along its direction; a 20 N station limit above the device's
+  // leaves the device's 8 N.
+  FakeClock clock;
+  ScriptedSource source(&clock,
+                        {glm::dvec3(0.0, 0.0, 2.0), glm::dvec3(0.0, 3.0, 4.0)});
+  SimulatedDevice device = MakeDevice({glm::dvec3(0.0)});
+  LoopOptions options = TestOptions();
+  options.max_force_n = 3.0;
+  HapticLoop loop(&device, &source, &clock, options);
+  EXPECT_DOUBLE_EQ(loop.max_force_n(), 3.0);
+  RunTicks(loop, clock, 1);
+  EXPECT_DOUBLE_EQ(device.forces_n()[0].z, 2.0);
+  EXPECT_EQ(loop.counters().clamped, 0);
+  RunTicks(loop, clock, 2);
+  ASSERT_EQ(device.forces_n().size(), 3u);
+  // Tick 2 holds (0, 4.5, 5) N, tick 3 (0, 3, 4) N: both over 3 N.
+  EXPECT_NEAR(glm::length(device.forces_n()[1]), 3.0, 1e-12);
+  EXPECT_NEAR(glm::length(device.forces_n()[2]), 3.0, 1e-12);
+  EXPECT_NEAR(device.forces_n()[2].y / device.forces_n()[2].z, 0.75, 1e-12);
+  EXPECT_EQ(loop.counters().clamped, 2);
+
+  SimulatedDevice device8 = MakeDevice({glm::dvec3(0.0)});
+  options.max_force_n = 20.0;
+  HapticLoop loose(&device8, &source, &clock, options);
+  EXPECT_DOUBLE_EQ(loose.max_force_n(), 8.0);
+}
+
 TEST(HapticLoop, ForceNeverExceedsTheDeviceLimitAndIsNeverNaN) {
   // Property: random positions in and around a half-space of each built-in
   // material, probing and drilling, through the loop body.

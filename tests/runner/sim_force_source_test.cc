@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <glm/geometric.hpp>
 
 #include "burrlab/sim/phantoms.h"
@@ -68,6 +70,79 @@ TEST(SimForceSource, ImpactForceOpposesTheEstimatedVelocity) {
   EXPECT_NEAR(source.last_output().impact_n.x,
               -0.001 * 9.0 * (source.last_output().h_mm / 3.0) * 10.0, 1e-9);
   EXPECT_LT(source.last_output().impact_n.x, 0.0);
+}
+
+TEST(SimForceSource, MaxRenderableCeMeetsTheStiffnessLimitWhereTheForceIs) {
+  // At c_e = MaxRenderableCe the depth where F = c_e R^0.5 h^1.5 reaches
+  // F_max has local stiffness 1.5 c_e R^0.5 h^0.5 = K exactly.
+  const double r_mm = 2.0, f_max_n = 8.0, k_n_per_mm = 3.0;
+  const double c_e = MaxRenderableCe(r_mm, f_max_n, k_n_per_mm);
+  EXPECT_NEAR(c_e, std::pow(2.0, 1.5) / 4.0, 1e-12);  // 0.707 N/mm^2
+  const double h_mm = std::pow(f_max_n / (c_e * std::sqrt(r_mm)), 2.0 / 3.0);
+  EXPECT_NEAR(1.5 * c_e * std::sqrt(r_mm) * std::sqrt(h_mm), k_n_per_mm, 1e-12);
+  EXPECT_TRUE(std::isinf(MaxRenderableCe(r_mm, f_max_n, 0.0)));
+  EXPECT_TRUE(std::isinf(MaxRenderableCe(r_mm, 0.0, k_n_per_mm)));
+}
+
+TEST(SimForceSource, SoftensATooStiffMaterialToTheStationLimits) {
+  sim::Model model;
+  model.radius_mm = 3.0;
+  model.material.c_e_n_per_mm2 = 50.0;  // far stiffer than bone
+  sim::State state = sim::State::Create(model, HalfSpace(), 1).value();
+  const RenderLimits limits{8.0, 3.0};
+  SimForceSource source(model, &state, glm::dvec3(0.0), glm::dvec3(0.0),
+                        limits);
+  const double c_e_max = MaxRenderableCe(3.0, 8.0, 3.0);
+  ASSERT_TRUE(source.stiffness_limited());
+  EXPECT_DOUBLE_EQ(source.rendered_c_e_n_per_mm2(), c_e_max);
+
+  // The rendered force is the model's at the limited c_e (F_e is linear in
+  // c_e), and the contact stiffness over the burr's depth stays under 3 N/mm
+  // where the material as given is more than ten times stiffer.
+  sim::Model limited = model;
+  limited.material.c_e_n_per_mm2 = c_e_max;
+  double worst_rendered_n_per_mm = 0.0, worst_given_n_per_mm = 0.0;
+  double previous_rendered_n = 0.0, previous_given_n = 0.0;
+  const double step_mm = 0.1;
+  for (int k = 0; k <= 30; ++k) {
+    const double h_mm = k * step_mm;
+    const glm::dvec3 at(9.6, 9.6, 9.6 + 3.0 - h_mm);
+    (void)source.Force(at);
+    const glm::dvec3 rendered_n = source.Force(at);  // zero velocity
+    const sim::Output expected = sim::EvaluateForce(
+        limited, state.volume(), state.octree(), sim::Input{at, {}, {}});
+    const sim::Output given = sim::EvaluateForce(
+        model, state.volume(), state.octree(), sim::Input{at, {}, {}});
+    EXPECT_NEAR(rendered_n.z, expected.elastic_n.z, 1e-9) << h_mm << " mm";
+    if (k > 0) {
+      worst_rendered_n_per_mm =
+          std::max(worst_rendered_n_per_mm,
+                   (rendered_n.z - previous_rendered_n) / step_mm);
+      worst_given_n_per_mm =
+          std::max(worst_given_n_per_mm,
+                   (given.elastic_n.z - previous_given_n) / step_mm);
+    }
+    previous_rendered_n = rendered_n.z;
+    previous_given_n = given.elastic_n.z;
+  }
+  EXPECT_LE(worst_rendered_n_per_mm, 3.0);
+  EXPECT_GT(worst_given_n_per_mm, 30.0);
+}
+
+TEST(SimForceSource, LeavesARenderableMaterialAndTheForceClampToTheLoop) {
+  sim::Model model;
+  model.radius_mm = 3.0;
+  model.material.c_e_n_per_mm2 = 0.462;  // PVC: under 0.577 at R = 3 mm
+  sim::State state = sim::State::Create(model, HalfSpace(), 1).value();
+  SimForceSource source(model, &state, glm::dvec3(0.0), glm::dvec3(0.0),
+                        RenderLimits{8.0, 3.0});
+  EXPECT_FALSE(source.stiffness_limited());
+  EXPECT_DOUBLE_EQ(source.rendered_c_e_n_per_mm2(), 0.462);
+  SimForceSource low(model, &state, glm::dvec3(0.0), glm::dvec3(0.0),
+                     RenderLimits{2.0, 0.0});  // no stiffness limit
+  const glm::dvec3 deep(9.6, 9.6, 9.6);        // h = R: c_e R^2 = 4.2 N
+  (void)low.Force(deep);
+  EXPECT_NEAR(glm::length(low.Force(deep)), 0.462 * 9.0, 0.462 * 9.0 * 0.05);
 }
 
 }  // namespace

@@ -45,8 +45,20 @@ class SimulatedDevice final : public HapticDevice {
   // non-finite force is recorded as zero and refused.
   DeviceStatus WriteForce(const glm::dvec3& force_n) noexcept override;
 
-  // Unplugs (true) or re-plugs (false) the device now.
+  // Unplugs (true) or re-plugs (false) the device now. Like the calls
+  // below, only while no loop thread uses the device.
   void SetUnplugged(bool unplugged) noexcept { unplugged_ = unplugged; }
+  // Plays the script from its first position again.
+  void Rewind() noexcept { reads_ = 0; }
+  // Unplugs after `reads` more successful reads (negative: never).
+  void UnplugAfterReads(std::int64_t reads) noexcept {
+    options_.unplug_after_reads = reads < 0 ? -1 : reads_ + reads;
+  }
+  // Re-plugs the device and cancels a pending unplug.
+  void Replug() noexcept {
+    unplugged_ = false;
+    options_.unplug_after_reads = -1;
+  }
   // The forces sent so far, oldest first, up to record_capacity.
   std::span<const glm::dvec3> forces_n() const { return forces_n_; }
   std::int64_t reads() const { return reads_; }

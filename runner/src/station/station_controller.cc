@@ -79,8 +79,11 @@ void StationController::BeginTrial(const protocols::TrialSpec& trial,
   interval_ = 0;
   SubjectView& s = frame_.subject;
   s.phase = StationPhase::kReady;
-  s.title = fmt::format("Trial {} of {}", trials_done + 1,
-                        frame_.experimenter.trials_total);
+  // An adaptive protocol may not know its length: then no "of N".
+  s.title = frame_.experimenter.trials_total > 0
+                ? fmt::format("Trial {} of {}", trials_done + 1,
+                              frame_.experimenter.trials_total)
+                : fmt::format("Trial {}", trials_done + 1);
   s.interval_label.clear();
   s.time_left_s = 0.0;
   s.question = trial.question;
@@ -112,6 +115,7 @@ void StationController::EnterInterval(std::size_t index, double now_s) {
 
 void StationController::EnterResponse(double now_s) {
   question_start_s_ = now_s;
+  question_shown_ = false;
   SubjectView& s = frame_.subject;
   s.phase = StationPhase::kResponse;
   s.interval_label.clear();
@@ -174,6 +178,14 @@ std::optional<protocols::Response> StationController::OnInput(
     }
   }
   return std::nullopt;
+}
+
+void StationController::MarkQuestionShown(double now_s) {
+  if (frame_.subject.phase != StationPhase::kResponse || question_shown_) {
+    return;
+  }
+  question_start_s_ = now_s;
+  question_shown_ = true;
 }
 
 void StationController::Pause(std::string reason) {

@@ -38,6 +38,10 @@ class StationController {
   // from the moment the question appeared.
   std::optional<protocols::Response> OnInput(std::string_view key_or_answer,
                                              double now_s);
+  // A live window: the question first reached the screen at now_s (the
+  // first call in a response phase counts); the response time then counts
+  // from there, not from when the last interval was due to end.
+  void MarkQuestionShown(double now_s);
   // Pauses with a reason for both views; a trial under way is aborted (it
   // will be presented again from the start after Resume).
   void Pause(std::string reason);
@@ -57,6 +61,10 @@ class StationController {
 
   const StationFrame& frame() const { return frame_; }
   StationPhase phase() const { return frame_.subject.phase; }
+  // The interval shown (0-based; meaningful in kInterval).
+  std::size_t interval_index() const { return interval_; }
+  // When the interval shown started, s on the session clock.
+  double interval_start_s() const { return interval_start_s_; }
   // Whether the trial shown was cut short by a pause (reset by BeginTrial).
   bool trial_aborted() const { return trial_aborted_; }
   int aborted_trials() const { return aborted_trials_; }
@@ -70,6 +78,7 @@ class StationController {
   std::size_t interval_ = 0;
   double interval_start_s_ = 0.0;
   double question_start_s_ = 0.0;
+  bool question_shown_ = false;  // MarkQuestionShown came in this phase
   bool trial_aborted_ = false;
   int aborted_trials_ = 0;
 };

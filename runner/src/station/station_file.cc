@@ -108,7 +108,8 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
     if (t == nullptr) {
       p.Report(*n, "[device] must be a table");
     } else {
-      p.OnlyKeys(*t, "[device]", {"backend", "max_force_n"});
+      p.OnlyKeys(*t, "[device]",
+                 {"backend", "max_force_n", "max_stiffness_n_per_mm"});
       if (const toml::node* b = t->get("backend")) {
         const std::optional<std::string> name = b->value<std::string>();
         if (!name.has_value() || !b->is_string() ||
@@ -127,6 +128,16 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
           p.Report(*f, "max_force_n must be a number of newtons in (0, 20]");
         } else {
           config.max_force_n = *v;
+        }
+      }
+      if (const toml::node* k = t->get("max_stiffness_n_per_mm")) {
+        const std::optional<double> v = k->value<double>();
+        if (!v.has_value() || !std::isfinite(*v) || *v <= 0.0 || *v > 50.0) {
+          p.Report(*k,
+                   "max_stiffness_n_per_mm must be a number of N/mm in (0, "
+                   "50]");
+        } else {
+          config.max_stiffness_n_per_mm = *v;
         }
       }
     }

@@ -21,6 +21,8 @@ inline constexpr std::string_view kStationFormat = "burrlab-station/1";
 struct StationConfig {
   std::string device = "mouse";  // mouse, hid, falcon or simulated
   double max_force_n = 8.0;      // clamp of the haptic loop, N (0-20]
+  // Stiffest contact rendered, N/mm (0-50]; 0 = the device's own limit.
+  double max_stiffness_n_per_mm = 0.0;
   std::optional<HidBoxOptions> response_box;  // [response_box], when given
   int screen_width = 1280;                    // pixels
   int screen_height = 720;

@@ -68,5 +68,24 @@ TEST(SimulatedDevice, UnplugsAfterTheScriptedReads) {
   EXPECT_EQ(DeviceCodeName(status.code), "unplugged");
 }
 
+TEST(SimulatedDevice, RewindsUnplugsLaterAndReplugs) {
+  SimulatedDeviceOptions options;
+  options.positions_mm = {{1.0, 0.0, 0.0}, {2.0, 0.0, 0.0}};
+  SimulatedDevice device(options);
+  glm::dvec3 p;
+  ASSERT_TRUE(device.ReadPosition(&p).ok());
+  ASSERT_TRUE(device.ReadPosition(&p).ok());
+  device.Rewind();
+  device.UnplugAfterReads(1);
+  ASSERT_TRUE(device.ReadPosition(&p).ok());
+  EXPECT_EQ(p, glm::dvec3(1.0, 0.0, 0.0));  // the script starts again
+  EXPECT_EQ(device.ReadPosition(&p).code, DeviceCode::kUnplugged);
+  EXPECT_EQ(device.ReadPosition(&p).code, DeviceCode::kUnplugged);  // stays
+  device.Replug();
+  ASSERT_TRUE(device.ReadPosition(&p).ok());
+  EXPECT_EQ(p, glm::dvec3(2.0, 0.0, 0.0));
+  EXPECT_TRUE(device.WriteForce(glm::dvec3(0.0)).ok());
+}
+
 }  // namespace
 }  // namespace burrlab::runner

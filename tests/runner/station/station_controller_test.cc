@@ -66,6 +66,20 @@ TEST(StationController, RunsTimedIntervalsThenAsks) {
             "trial 5: answered 2 after 10.25 s");
 }
 
+TEST(StationController, ResponseTimeCountsFromWhenTheQuestionWasShown) {
+  StationController c(1, "simulated", 8.0);
+  c.BeginTrial(TwoIntervals(5.0), 0);
+  (void)c.OnInput("SPACE", 10.0);
+  c.MarkQuestionShown(12.0);  // not asked yet: ignored
+  c.Advance(20.5);            // the question was due at 20 s
+  ASSERT_EQ(c.phase(), StationPhase::kResponse);
+  c.MarkQuestionShown(20.6);  // the frame that showed it
+  c.MarkQuestionShown(21.0);  // later frames change nothing
+  const auto r = c.OnInput("1", 21.1);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_NEAR(*r->response_time_s, 0.5, 1e-12);
+}
+
 TEST(StationController, SubjectPacedIntervalsEndWithSpace) {
   StationController c(1, "hid", 0.0);
   c.BeginTrial(TwoIntervals(0.0), 0);

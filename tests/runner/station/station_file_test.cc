@@ -27,6 +27,7 @@ format = "burrlab-station/1"
 [device]
 backend = "falcon"
 max_force_n = 6.5
+max_stiffness_n_per_mm = 2.5
 [response_box]
 vendor_id = 0x16c0
 product_id = 0x05df
@@ -41,6 +42,7 @@ fullscreen = true
   const StationConfig& s = *o.station;
   EXPECT_EQ(s.device, "falcon");
   EXPECT_DOUBLE_EQ(s.max_force_n, 6.5);
+  EXPECT_DOUBLE_EQ(s.max_stiffness_n_per_mm, 2.5);
   ASSERT_TRUE(s.response_box.has_value());
   EXPECT_EQ(s.response_box->vendor_id, 0x16c0);
   EXPECT_EQ(s.response_box->serial, "RB7");
@@ -58,6 +60,7 @@ TEST(ParseStation, DefaultsToTheMouse) {
   ASSERT_TRUE(o.station.has_value());
   EXPECT_EQ(o.station->device, "mouse");
   EXPECT_EQ(o.station->screen_width, 1280);
+  EXPECT_DOUBLE_EQ(o.station->max_stiffness_n_per_mm, 0.0);  // the device's
 }
 
 TEST(ParseStation, NamesEachProblemWithItsPlace) {
@@ -73,6 +76,12 @@ TEST(ParseStation, NamesEachProblemWithItsPlace) {
             "newtons in (0, 20]\n"
             "max_force_n = nan\n"
             "              ^\n");
+  EXPECT_EQ(Problems("format = \"burrlab-station/1\"\n[device]\n"
+                     "max_stiffness_n_per_mm = 0\n"),
+            "station.toml:3:26: error: max_stiffness_n_per_mm must be a "
+            "number of N/mm in (0, 50]\n"
+            "max_stiffness_n_per_mm = 0\n"
+            "                         ^\n");
   EXPECT_EQ(Problems("format = \"burrlab-station/1\"\n[screen]\nwidth = 99\n"
                      "colour = 1\n"),
             "station.toml:4:1: error: unknown key 'colour' in [screen] (known: "

@@ -1,0 +1,246 @@
+// Station script parsing and checking.
+#include "station/station_script.h"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <set>
+
+#include "burrlab/stimuli/toml_guard.h"
+
+namespace burrlab::runner {
+namespace {
+
+using protocols::Diagnostic;
+using protocols::SourceLocation;
+
+constexpr std::size_t kMaxWaypoints = 100'000;
+constexpr std::size_t kMaxAnswers = 100'000;
+constexpr std::size_t kMaxUnplugs = 1'000;
+constexpr double kMaxTimeS = 3600.0;
+constexpr double kMaxCoordinateMm = 1000.0;
+
+SourceLocation At(const toml::node& node) {
+  return {static_cast<int>(node.source().begin.line),
+          static_cast<int>(node.source().begin.column)};
+}
+
+SourceLocation AtKey(const toml::key& key) {
+  return {static_cast<int>(key.source().begin.line),
+          static_cast<int>(key.source().begin.column)};
+}
+
+// Reports keys of `table` outside `known`.
+void OnlyKeys(const toml::table& table, std::string_view where,
+              const std::set<std::string_view>& known,
+              std::vector<Diagnostic>* d) {
+  for (const auto& [key, node] : table) {
+    if (known.contains(key.str())) continue;
+    std::string list;
+    for (std::string_view k : known) {
+      list += (list.empty() ? "" : ", ") + std::string(k);
+    }
+    d->push_back({AtKey(key), fmt::format("unknown key '{}' in {} (known: {})",
+                                          key.str(), where, list)});
+  }
+}
+
+// A number (integer or float) in [lo, hi], or a diagnostic naming `name`.
+std::optional<double> Number(const toml::node& n, std::string_view name,
+                             double lo, double hi, std::string_view unit,
+                             std::vector<Diagnostic>* d) {
+  const std::optional<double> v = n.value<double>();
+  if (!v.has_value() || !(n.is_floating_point() || n.is_integer()) ||
+      !std::isfinite(*v) || *v < lo || *v > hi) {
+    d->push_back({At(n), fmt::format("{} must be a number{} from {} to {}",
+                                     name, unit, lo, hi)});
+    return std::nullopt;
+  }
+  return v;
+}
+
+void ParsePath(const toml::node& node, StationScript* script,
+               std::vector<Diagnostic>* d) {
+  const toml::array* points = node.as_array();
+  if (points == nullptr || points->empty() || points->size() > kMaxWaypoints) {
+    d->push_back({At(node), fmt::format("path must be an array of 1 to {} "
+                                        "waypoints [t_s, x_mm, y_mm, z_mm]",
+                                        kMaxWaypoints)});
+    return;
+  }
+  double last_t_s = 0.0;
+  for (std::size_t k = 0; k < points->size(); ++k) {
+    const toml::node& p = *points->get(k);
+    const toml::array* a = p.as_array();
+    if (a == nullptr || a->size() != 4) {
+      d->push_back({At(p), fmt::format("path[{}] must be [t_s, x_mm, y_mm, "
+                                       "z_mm]",
+                                       k)});
+      continue;
+    }
+    Waypoint w;
+    const std::optional<double> t = Number(
+        *a->get(0), fmt::format("path[{}] t_s", k), 0.0, kMaxTimeS, " of s", d);
+    bool ok = t.has_value();
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::optional<double> c =
+          Number(*a->get(static_cast<std::size_t>(axis) + 1),
+                 fmt::format("path[{}] {}_mm", k, "xyz"[axis]),
+                 -kMaxCoordinateMm, kMaxCoordinateMm, " of mm", d);
+      if (c.has_value()) {
+        w.position_mm[axis] = *c;
+      } else {
+        ok = false;
+      }
+    }
+    if (!ok) continue;
+    if (k > 0 && *t < last_t_s) {
+      d->push_back({At(*a->get(0)),
+                    fmt::format("path[{}] t_s = {} comes before the previous "
+                                "waypoint's {} (times must not decrease)",
+                                k, *t, last_t_s)});
+      continue;
+    }
+    w.t_s = *t;
+    last_t_s = *t;
+    script->path.push_back(w);
+  }
+}
+
+void ParseAnswers(const toml::node& node, StationScript* script,
+                  std::vector<Diagnostic>* d) {
+  const toml::array* answers = node.as_array();
+  if (answers == nullptr || answers->size() > kMaxAnswers) {
+    d->push_back({At(node), fmt::format("answers must be an array of at most "
+                                        "{} keys, e.g. [\"1\", \"2\"]",
+                                        kMaxAnswers)});
+    return;
+  }
+  for (std::size_t k = 0; k < answers->size(); ++k) {
+    const toml::node& a = *answers->get(k);
+    const std::optional<std::string> key = a.value<std::string>();
+    if (!a.is_string() || !key.has_value() || key->empty() ||
+        key->size() > 64) {
+      d->push_back({At(a), fmt::format("answers[{}] must be a key or answer "
+                                       "of 1 to 64 characters",
+                                       k)});
+      continue;
+    }
+    script->answers.push_back(*key);
+  }
+}
+
+void ParseUnplugs(const toml::node& node, StationScript* script,
+                  std::vector<Diagnostic>* d) {
+  const toml::array* unplugs = node.as_array();
+  if (unplugs == nullptr || !unplugs->is_array_of_tables() ||
+      unplugs->size() > kMaxUnplugs) {
+    d->push_back({At(node), fmt::format("unplug must be [[unplug]] tables "
+                                        "(at most {})",
+                                        kMaxUnplugs)});
+    return;
+  }
+  for (const toml::node& n : *unplugs) {
+    const toml::table& t = *n.as_table();
+    OnlyKeys(t, "[[unplug]]", {"presentation", "interval", "after_s", "resume"},
+             d);
+    ScriptedUnplug u;
+    bool ok = true;
+    for (auto [key, field] : {std::pair{"presentation", &u.presentation},
+                              std::pair{"interval", &u.interval}}) {
+      const toml::node* v = t.get(key);
+      if (v == nullptr) {
+        d->push_back({At(n), fmt::format("[[unplug]] needs {}", key)});
+        ok = false;
+        continue;
+      }
+      const std::optional<std::int64_t> i = v->value<std::int64_t>();
+      if (!v->is_integer() || !i.has_value() || *i < 1 || *i > 1'000'000) {
+        d->push_back(
+            {At(*v),
+             fmt::format("{} must be an integer from 1 to 1000000", key)});
+        ok = false;
+        continue;
+      }
+      *field = static_cast<int>(*i);
+    }
+    if (const toml::node* v = t.get("after_s")) {
+      if (auto s = Number(*v, "after_s", 0.0, kMaxTimeS, " of s", d)) {
+        u.after_s = *s;
+      } else {
+        ok = false;
+      }
+    }
+    if (const toml::node* v = t.get("resume")) {
+      if (!v->is_boolean()) {
+        d->push_back({At(*v), "resume must be true or false"});
+        ok = false;
+      } else {
+        u.resume = *v->value<bool>();
+      }
+    }
+    if (ok) script->unplugs.push_back(u);
+  }
+}
+
+}  // namespace
+
+StationScriptParseOutcome ParseStationScript(std::string_view path,
+                                             std::string_view text) {
+  StationScriptParseOutcome outcome;
+  std::vector<Diagnostic>& d = outcome.diagnostics;
+  if (auto at = stimuli::ExcessDotOffset(text, 64)) {
+    const toml::source_position p = stimuli::PositionOf(text, *at);
+    d.push_back({{static_cast<int>(p.line), static_cast<int>(p.column)},
+                 "too many dotted keys (a station script needs few)"});
+    return outcome;
+  }
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    d.push_back({{static_cast<int>(e.source().begin.line),
+                  static_cast<int>(e.source().begin.column)},
+                 stimuli::SyntaxMessage(e.description())});
+    return outcome;
+  } catch (const std::exception& e) {
+    d.push_back({{1, 1}, fmt::format("cannot parse: {}", e.what())});
+    return outcome;
+  }
+  StationScript script;
+  OnlyKeys(root, "the station script",
+           {"format", "path", "answers", "start_delay_s", "response_delay_s",
+            "unplug"},
+           &d);
+  const toml::node* format = root.get("format");
+  if (format == nullptr) {
+    d.push_back({{1, 1},
+                 fmt::format("missing key 'format' (expected \"{}\")",
+                             kStationScriptFormat)});
+  } else if (format->value<std::string>() !=
+             std::string(kStationScriptFormat)) {
+    d.push_back({At(*format),
+                 fmt::format("format must be \"{}\"", kStationScriptFormat)});
+  }
+  if (const toml::node* n = root.get("path")) {
+    ParsePath(*n, &script, &d);
+  } else {
+    d.push_back({{1, 1},
+                 "missing key 'path' (the burr's waypoints in every interval, "
+                 "e.g. path = [[0.0, 0.0, 0.0, 3.0], [0.5, 0.0, 0.0, 1.0]])"});
+  }
+  if (const toml::node* n = root.get("answers")) ParseAnswers(*n, &script, &d);
+  for (auto [key, field] :
+       {std::pair{"start_delay_s", &script.start_delay_s},
+        std::pair{"response_delay_s", &script.response_delay_s}}) {
+    if (const toml::node* n = root.get(key)) {
+      if (auto v = Number(*n, key, 0.0, 60.0, " of s", &d)) *field = *v;
+    }
+  }
+  if (const toml::node* n = root.get("unplug")) ParseUnplugs(*n, &script, &d);
+  if (d.empty()) outcome.script = std::move(script);
+  return outcome;
+}
+
+}  // namespace burrlab::runner

@@ -168,7 +168,7 @@ TEST_F(CalibrateCommand, SimMeasureRefusesUnknownEffects) {
             "burrlab: --effect: unknown effect 'motor_limit'; known effects: "
             "motor_power_limit, spindle_slowdown, cutting_threshold, "
             "viscous_resistance, friction_erosion, contact_exponent, "
-            "porosity\n");
+            "porosity, load_cell_lag, arm_compliance\n");
   const CliRun bad = RunBurrlab({"sim", "measure", "--material", "pvc_k70",
                                  "--forces", "0.2,0.4", "--replicates", "2",
                                  "--effect", "cutting_threshold=-1"});

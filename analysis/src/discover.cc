@@ -66,11 +66,13 @@ Runs MakeRuns(const MeasuredData& data, double radius_mm) {
 }
 
 // The model's parameters: log c_e, log alpha and each active effect's
-// strength in its unit (strength = u * unit, u of order 1).
+// strength in its unit (strength = u * unit, u of order 1; times the point's
+// alpha for an effect whose shape depends on its ratio to alpha).
 struct ActiveEffect {
   const sim::EffectSpec* spec = nullptr;
-  double unit = 1.0;   // strength per u
-  double upper = 1.0;  // largest u
+  double unit = 1.0;       // strength per u
+  double upper = 1.0;      // largest u
+  bool per_alpha = false;  // strength = u * unit * alpha
 };
 
 struct Point {
@@ -78,12 +80,16 @@ struct Point {
   std::vector<double> u;  // one per active effect
 };
 
+double Strength(const ActiveEffect& e, const Point& p, std::size_t k) {
+  return p.u[k] * e.unit * (e.per_alpha ? std::exp(p.ln_alpha) : 1.0);
+}
+
 sim::Effects MakeEffects(const std::vector<ActiveEffect>& active,
-                         const std::vector<double>& u) {
+                         const Point& p) {
   sim::Effects effects;
   for (std::size_t k = 0; k < active.size(); ++k) {
     effects.*(active[k].spec->field) =
-        sim::ParameterAtStrength(*active[k].spec, u[k] * active[k].unit);
+        sim::ParameterAtStrength(*active[k].spec, Strength(active[k], p, k));
   }
   return effects;
 }
@@ -91,7 +97,7 @@ sim::Effects MakeEffects(const std::vector<ActiveEffect>& active,
 std::vector<double> Predict(const Runs& runs,
                             const std::vector<ActiveEffect>& active,
                             const Point& p) {
-  const sim::Effects effects = MakeEffects(active, p.u);
+  const sim::Effects effects = MakeEffects(active, p);
   std::vector<double> y(runs.size());
   for (int i = 0; i < runs.size(); ++i) {
     y[i] = ModelLogVelocity(runs.force_n[i], std::exp(p.ln_c_e),
@@ -295,7 +301,12 @@ ActiveEffect ScaleEffect(const sim::EffectSpec& spec, const Runs& runs,
     e.unit = f_max / (r * r * v_top);
     e.upper = 5.0;
   } else if (id == "friction_erosion") {
-    e.unit = alpha / f_max;  // k F_max comparable with alpha at u = 1
+    // The rate alpha + k |F_e| = alpha (1 + u |F_e| / F_max): k relative to
+    // the point's own alpha, so that log alpha still enters additively and
+    // a strength means one shape whatever the base fit's alpha (which may
+    // sit at the end of its box, where k would need many decades less).
+    e.unit = 1.0 / f_max;
+    e.per_alpha = true;
     e.upper = 50.0;
   } else if (id == "contact_exponent") {
     e.unit = 1.0;
@@ -462,6 +473,20 @@ void CombineGapTests(GapTests* g, double level) {
                       : std::min({1.0, omnibus / kOmnibusShare,
                                   g->library_p / (1.0 - kOmnibusShare)});
   g->detected = g->holm_min_p < level;
+}
+
+// The residual tests of `g` for a message: "lack of fit p = 0.031,
+// curvature p = 0.014, runs p = 0.51; Holm p = 0.042".
+std::string DescribeGap(const GapTests& g) {
+  std::string text;
+  const auto add = [&](const char* name, double p) {
+    if (std::isnan(p)) return;
+    text += fmt::format("{}{} p = {:.2g}", text.empty() ? "" : ", ", name, p);
+  };
+  add("lack of fit", g.lack_of_fit_p);
+  add("curvature", g.curvature_p);
+  add("runs", g.runs_p);
+  return fmt::format("{}; Holm p = {:.3g}", text, g.holm_min_p);
 }
 
 // The omnibus gap tests on the residuals of a fit with Jacobian `jacobian`
@@ -665,6 +690,13 @@ class Workflow {
     for (double fraction : {0.01, 0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0}) {
       ladder.push_back(fraction * active[k].upper);
     }
+    // ... and decades below them: an effect scaled by a base fit at the end
+    // of the c_e box (alpha ~ 1e6, so friction's unit alpha / F_max is huge)
+    // acts at the truth's alpha with a strength many decades below the
+    // rungs above.
+    for (double fraction = 1e-9; fraction < 5e-3; fraction *= 10.0) {
+      ladder.push_back(fraction * active[k].upper);
+    }
     std::sort(ladder.begin(), ladder.end());
     ladder.erase(std::unique(ladder.begin(), ladder.end()), ladder.end());
     std::vector<std::pair<double, Point>> profile;
@@ -740,7 +772,7 @@ class Workflow {
     f.c_e_n_per_mm2 = std::exp(m.point.ln_c_e);
     f.alpha_per_s = std::exp(m.point.ln_alpha);
     for (std::size_t k = 0; k < m.active.size(); ++k) {
-      const double strength = m.point.u[k] * m.active[k].unit;
+      const double strength = Strength(m.active[k], m.point, k);
       f.effects.emplace_back(m.active[k].spec->id);
       f.strengths.push_back(strength);
       f.effect_values.push_back(
@@ -850,7 +882,7 @@ class Workflow {
         }
         e.aicc = Aicc(fit.rss, n, 2 + static_cast<int>(active.size()));
         e.value =
-            sim::ParameterAtStrength(spec, fit.point.u[k] * active[k].unit);
+            sim::ParameterAtStrength(spec, Strength(active[k], fit.point, k));
       } else {
         fit.active = active;
         fit.point = at;
@@ -1257,10 +1289,10 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
     const int parameters = 3 + step;
     if (runs.levels - parameters < 3 && step > 0) {
       failure = fmt::format(
-          "after {} the residual tests still fail (Holm p = {:.3g}), and {} "
-          "force levels leave too few degrees of freedom to check a model "
-          "with a further effect",
-          Join(report.effects), report.gap_after.holm_min_p, runs.levels);
+          "after {} the residual tests still fail ({}), and {} force levels "
+          "leave too few degrees of freedom to check a model with a further "
+          "effect",
+          Join(report.effects), DescribeGap(report.gap_after), runs.levels);
       break;
     }
     std::vector<Model> fits;
@@ -1288,39 +1320,64 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
                     ? "no effect's likelihood-ratio test is significant after "
                       "the family-wise (max-T) correction"
                     : fmt::format(
-                          "after {} the residual tests still fail (Holm p = "
-                          "{:.3g}) and no further effect is significant",
-                          Join(report.effects), report.gap_after.holm_min_p);
+                          "after {} the residual tests still fail ({}) and no "
+                          "further effect is significant",
+                          Join(report.effects), DescribeGap(report.gap_after));
       break;
     }
     // The best candidate that passes the confirmation; the runners-up
     // within 2 of its AICc (which the data cannot rank) are tried in turn.
+    // Among those, the first whose residual tests also pass is taken; when
+    // none passes them, the first that lowers AICc and the held-out error
+    // (and the next step looks for a further effect).
     ModelFit before = step == 0 ? report.baseline : report.augmented;
     std::size_t best = candidates[0];
     ModelFit after;
+    GapTests after_gap;
     bool confirmed = false;
+    std::optional<std::size_t> fallback;
+    ModelFit fallback_fit;
+    GapTests fallback_gap;
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       const std::size_t k = candidates[c];
       if (c > 0 && round[k].aicc - round[candidates[0]].aicc >= 2.0) break;
-      after = flow.Describe(fits[k]);
+      const ModelFit fit = flow.Describe(fits[k]);
       tried.push_back(round[k].id);
-      const double delta_aicc = after.aicc - before.aicc;
+      const double delta_aicc = fit.aicc - before.aicc;
       if (!(delta_aicc < 0.0)) {
         failure = fmt::format("adding {} does not lower AICc ({:+.3g})",
                               round[k].id, delta_aicc);
         continue;
       }
-      if (after.cv_rmse_log_v >= before.cv_rmse_log_v) {  // NaN passes
+      if (fit.cv_rmse_log_v >= before.cv_rmse_log_v) {  // NaN passes
         failure = fmt::format(
             "adding {} does not lower the held-out error ({:.4g} -> {:.4g})",
-            round[k].id, before.cv_rmse_log_v, after.cv_rmse_log_v);
+            round[k].id, before.cv_rmse_log_v, fit.cv_rmse_log_v);
+        continue;
+      }
+      const GapTests gap = flow.Gap(fits[k]);
+      if (gap.detected) {
+        if (!fallback) {
+          fallback = k;
+          fallback_fit = fit;
+          fallback_gap = gap;
+        }
         continue;
       }
       best = k;
+      after = fit;
+      after_gap = gap;
       confirmed = true;
       break;
     }
+    if (!confirmed && fallback) {
+      best = *fallback;
+      after = fallback_fit;
+      after_gap = fallback_gap;
+      confirmed = true;
+    }
     if (!confirmed) break;
+    failure.clear();
     const Model& augmented = fits[best];
     report.lr_p = round[best].lr_p;
     report.delta_aicc = after.aicc - before.aicc;
@@ -1405,7 +1462,7 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
     current = augmented;
     report.effects.push_back(round[best].id);
     report.augmented = after;
-    report.gap_after = flow.Gap(current);
+    report.gap_after = after_gap;
     if (!report.gap_after.detected) {
       explained = true;
       break;
@@ -1454,9 +1511,8 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
       report.gap_before.holm_min_p,
       tried.empty() ? "" : fmt::format(" (tried: {})", Join(tried)),
       failure.empty()
-          ? fmt::format("after {} the residual tests still fail (Holm p = "
-                        "{:.3g})",
-                        Join(report.effects), report.gap_after.holm_min_p)
+          ? fmt::format("after {} the residual tests still fail ({})",
+                        Join(report.effects), DescribeGap(report.gap_after))
           : failure,
       outliers_text);
   report.effects.clear();

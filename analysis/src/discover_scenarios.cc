@@ -4,10 +4,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/normal_distribution.hpp>
 #include <boost/random/uniform_01.hpp>
 #include <cmath>
+#include <optional>
+#include <thread>
 
 #include "burrlab/analysis/calibration.h"
 #include "burrlab/analysis/descent_surrogate.h"
@@ -181,38 +184,65 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
                                     const Distortion& distortion,
                                     const std::string& expected_id,
                                     std::uint64_t first_seed, int seeds,
-                                    const DiscoverOptions& options) {
-  ScenarioOutcome out;
-  for (int k = 0; k < seeds; ++k) {
-    const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(k);
-    const std::string csv = ScenarioCsv(d, truth_mm_s, distortion, seed);
-    Result<MeasuredData> data =
-        ParseMeasuredData(fmt::format("seed-{}.csv", seed), csv);
-    if (!data.ok()) return data.error();
-    DiscoverOptions o = options;
-    o.radius_mm = d.radius_mm;
-    Result<DiscoverReport> report = Discover(*data, o);
-    if (!report.ok()) return report.error();
-    ++out.seeds;
-    ++out.verdicts[report->verdict];
-    const bool physical =
-        report->verdict == "named" || report->verdict == "ambiguous";
-    out.named_physical += physical;
-    const bool hit =
-        !expected_id.empty() &&
-        ((physical && !report->effects.empty() &&
-          report->effects[0] == expected_id) ||
-         (physical &&
+                                    const DiscoverOptions& options, int jobs) {
+  // One slot per seed, filled by whichever worker takes it and summed in
+  // seed order, so the outcome does not depend on `jobs`.
+  struct Slot {
+    std::optional<Error> error;
+    std::string verdict;
+    bool physical = false, hit = false;
+    double cv_before = 0.0, cv_after = 0.0;
+  };
+  std::vector<Slot> slots(std::max(seeds, 0));
+  std::atomic<int> next{0};
+  const auto work = [&] {
+    for (int k = next++; k < seeds; k = next++) {
+      Slot& slot = slots[k];
+      const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(k);
+      const std::string csv = ScenarioCsv(d, truth_mm_s, distortion, seed);
+      Result<MeasuredData> data =
+          ParseMeasuredData(fmt::format("seed-{}.csv", seed), csv);
+      if (!data.ok()) {
+        slot.error = data.error();
+        continue;
+      }
+      DiscoverOptions o = options;
+      o.radius_mm = d.radius_mm;
+      Result<DiscoverReport> report = Discover(*data, o);
+      if (!report.ok()) {
+        slot.error = report.error();
+        continue;
+      }
+      slot.verdict = report->verdict;
+      slot.physical =
+          report->verdict == "named" || report->verdict == "ambiguous";
+      const bool in_set =
           std::find(report->alias_set.begin(), report->alias_set.end(),
-                    expected_id) != report->alias_set.end()) ||
-         (report->verdict == "absorbed" && !report->effects.empty() &&
-          report->effects[0] == expected_id));
-    if (hit) {
+                    expected_id) != report->alias_set.end();
+      const bool first =
+          !report->effects.empty() && report->effects[0] == expected_id;
+      slot.hit =
+          !expected_id.empty() && ((slot.physical && (first || in_set)) ||
+                                   (report->verdict == "absorbed" && first));
+      slot.cv_before = report->baseline.cv_rmse_log_v;
+      slot.cv_after = report->augmented.cv_rmse_log_v;
+    }
+  };
+  std::vector<std::thread> workers;
+  for (int j = 1; j < std::min(jobs, seeds); ++j) workers.emplace_back(work);
+  work();
+  for (std::thread& t : workers) t.join();
+  ScenarioOutcome out;
+  for (const Slot& slot : slots) {
+    if (slot.error) return *slot.error;
+    ++out.seeds;
+    ++out.verdicts[slot.verdict];
+    out.named_physical += slot.physical;
+    if (slot.hit) {
       ++out.hits;
-      out.mean_cv_before += report->baseline.cv_rmse_log_v;
-      out.mean_cv_after += report->augmented.cv_rmse_log_v;
-      out.cv_shrank +=
-          report->augmented.cv_rmse_log_v < report->baseline.cv_rmse_log_v;
+      out.mean_cv_before += slot.cv_before;
+      out.mean_cv_after += slot.cv_after;
+      out.cv_shrank += slot.cv_after < slot.cv_before;
     }
   }
   if (out.hits > 0) {

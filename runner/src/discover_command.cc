@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 #include <system_error>
+#include <thread>
 #include <utility>
 
 #include "burrlab/analysis/discover.h"
@@ -457,6 +458,8 @@ int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
       "burrlab discover-matrix"};
   std::string material_name = "human_temporal_bone", snr_text = "2,3,4,5,6,8";
   int seeds = 20, null_seeds = 100;
+  int jobs =
+      static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   bool full_rig = false;
   FlagSet flags(&app);
   flags
@@ -472,6 +475,10 @@ int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
                   "truth from the full descent rig (slow: 5-60 s per force "
                   "level) instead of the continuum surrogate",
                   &full_rig);
+  flags.AddInteger("--jobs",
+                   "threads sharing each cell's seeds (default: the core "
+                   "count; the table is the same for any number)",
+                   1, 256, &jobs);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   std::vector<double> snrs;
@@ -517,7 +524,7 @@ int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
         analysis::TruthVelocitiesMmS(design, fx);
     if (!truth.ok()) return truth.error();
     return analysis::RunScenario(design, *truth, distortion, expected, 1, count,
-                                 options);
+                                 options, jobs);
   };
   std::string table = "| effect |";
   std::string rule = "|---|";

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -158,6 +159,57 @@ TEST(Discover, NamesNoEffectWhenFivePercentAreGrossOutliers) {
   EXPECT_LE(out.named_physical, seeds / 10);
   EXPECT_GE(out.verdicts.count("none") ? out.verdicts.at("none") : 0,
             kSanitized ? 1 : (9 * seeds + 9) / 10);
+}
+
+// Friction erosion at the truth's alpha is a small k; the base fit of these
+// data sits at the end of the c_e box with alpha ~ 1e6. A strength scaled by
+// that alpha (k = u alpha_base / F_max) put the truth many decades below the
+// refit's ladder, and the refit stopped in the friction-dominated basin (k ~
+// 1e5, RSS above the truth's). k is now relative to the point's own alpha.
+TEST(Discover, FitsFrictionErosionWhenTheBaseFitSitsAtTheEndOfTheCeBox) {
+  const ScenarioDesign d = BoneDesign();
+  const sim::Effects fx = EffectAtSnr(d, "friction_erosion", 4.0).value();
+  const std::vector<double> truth = TruthVelocitiesMmS(d, fx).value();
+  const Result<MeasuredData> data =
+      ParseMeasuredData("seed-34.csv", ScenarioCsv(d, truth, {}, 34));
+  ASSERT_TRUE(data.ok()) << data.error().message;
+  const Result<DiscoverReport> report = Discover(*data, Options(d));
+  ASSERT_TRUE(report.ok()) << report.error().message;
+  EXPECT_GT(report->baseline.c_e_n_per_mm2, 999.0);
+  EXPECT_GT(report->baseline.alpha_per_s, 1e4);
+  ASSERT_FALSE(report->rounds.empty());
+  double fitted = 0.0;
+  for (const EffectAttribution& a : report->rounds[0]) {
+    if (a.id == "friction_erosion") fitted = a.value;
+  }
+  EXPECT_NEAR(fitted / fx.friction_erosion_per_n_s, 1.0, 0.4)
+      << "fitted k " << fitted << " 1/(N s), truth "
+      << fx.friction_erosion_per_n_s;
+  EXPECT_EQ(report->verdict, "ambiguous") << report->summary;
+  EXPECT_NE(std::find(report->alias_set.begin(), report->alias_set.end(),
+                      "friction_erosion"),
+            report->alias_set.end())
+      << report->summary;
+}
+
+TEST(DiscoverScenarios, OutcomeIsTheSameForAnyNumberOfJobs) {
+  const ScenarioDesign d = BoneDesign();
+  const sim::Effects fx = EffectAtSnr(d, "spindle_slowdown", 4.0).value();
+  const std::vector<double> truth = TruthVelocitiesMmS(d, fx).value();
+  const ScenarioOutcome one =
+      RunScenario(d, truth, {}, "spindle_slowdown", 3, 2, Options(d), 1)
+          .value();
+  const ScenarioOutcome two =
+      RunScenario(d, truth, {}, "spindle_slowdown", 3, 2, Options(d), 2)
+          .value();
+  EXPECT_EQ(one.seeds, 2);
+  EXPECT_EQ(two.seeds, one.seeds);
+  EXPECT_EQ(two.verdicts, one.verdicts);
+  EXPECT_EQ(two.hits, one.hits);
+  EXPECT_EQ(two.named_physical, one.named_physical);
+  EXPECT_EQ(two.cv_shrank, one.cv_shrank);
+  EXPECT_EQ(two.mean_cv_before, one.mean_cv_before);
+  EXPECT_EQ(two.mean_cv_after, one.mean_cv_after);
 }
 
 TEST(Discover, RefusesBadOptionsAndTooLittleData) {

@@ -86,13 +86,15 @@ struct ScenarioOutcome {
 };
 
 // Runs Discover on `seeds` seeds from `first_seed`; `expected_id` empty for
-// scenarios where no effect should be named.
+// scenarios where no effect should be named. `jobs` threads share the seeds;
+// the outcome is the same for any `jobs`.
 Result<ScenarioOutcome> RunScenario(const ScenarioDesign& design,
                                     const std::vector<double>& truth_mm_s,
                                     const Distortion& distortion,
                                     const std::string& expected_id,
                                     std::uint64_t first_seed, int seeds,
-                                    const DiscoverOptions& options);
+                                    const DiscoverOptions& options,
+                                    int jobs = 1);
 
 }  // namespace burrlab::analysis
 

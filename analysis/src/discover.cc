@@ -1283,6 +1283,9 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
   std::vector<std::string> tried;
   std::string failure;
   bool explained = false;
+  // A step was taken on AICc alone (see below): the final model must then
+  // lower the held-out error against the base model.
+  bool held_out_deferred = false;
   for (int step = 0; step < options.max_effects; ++step) {
     // A model must leave the lack-of-fit test at least 3 degrees of freedom
     // (levels - parameters) to be checked at all.
@@ -1327,56 +1330,60 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
     }
     // The best candidate that passes the confirmation; the runners-up
     // within 2 of its AICc (which the data cannot rank) are tried in turn.
-    // Among those, the first whose residual tests also pass is taken; when
-    // none passes them, the first that lowers AICc and the held-out error
-    // (and the next step looks for a further effect).
+    // Preferred: the first that lowers AICc and the held-out error and whose
+    // residual tests pass; then the first that lowers both (the next step
+    // looks for a further effect); then, when a further effect can still be
+    // checked, the first that lowers AICc and leaves the residual tests
+    // failing: with two effects in the data one alone may not predict a
+    // held-out end level better, so the held-out error is then required of
+    // the final model against the base model instead.
     ModelFit before = step == 0 ? report.baseline : report.augmented;
-    std::size_t best = candidates[0];
-    ModelFit after;
-    GapTests after_gap;
-    bool confirmed = false;
-    std::optional<std::size_t> fallback;
-    ModelFit fallback_fit;
-    GapTests fallback_gap;
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const bool further_step_possible =
+        step + 1 < options.max_effects && runs.levels - (parameters + 1) >= 3;
+    struct Pick {
+      std::size_t k = 0;
+      ModelFit fit;
+      GapTests gap;
+    };
+    std::optional<Pick> clean, open_gap, provisional;
+    for (std::size_t c = 0; c < candidates.size() && !clean; ++c) {
       const std::size_t k = candidates[c];
       if (c > 0 && round[k].aicc - round[candidates[0]].aicc >= 2.0) break;
-      const ModelFit fit = flow.Describe(fits[k]);
+      Pick pick{k, flow.Describe(fits[k]), {}};
       tried.push_back(round[k].id);
-      const double delta_aicc = fit.aicc - before.aicc;
+      const double delta_aicc = pick.fit.aicc - before.aicc;
       if (!(delta_aicc < 0.0)) {
         failure = fmt::format("adding {} does not lower AICc ({:+.3g})",
                               round[k].id, delta_aicc);
         continue;
       }
-      if (fit.cv_rmse_log_v >= before.cv_rmse_log_v) {  // NaN passes
+      pick.gap = flow.Gap(fits[k]);
+      // NaN passes.
+      const bool held_out_drops =
+          !(pick.fit.cv_rmse_log_v >= before.cv_rmse_log_v);
+      if (!held_out_drops) {
         failure = fmt::format(
             "adding {} does not lower the held-out error ({:.4g} -> {:.4g})",
-            round[k].id, before.cv_rmse_log_v, fit.cv_rmse_log_v);
-        continue;
-      }
-      const GapTests gap = flow.Gap(fits[k]);
-      if (gap.detected) {
-        if (!fallback) {
-          fallback = k;
-          fallback_fit = fit;
-          fallback_gap = gap;
+            round[k].id, before.cv_rmse_log_v, pick.fit.cv_rmse_log_v);
+        if (further_step_possible && pick.gap.detected && !provisional) {
+          provisional = pick;
         }
         continue;
       }
-      best = k;
-      after = fit;
-      after_gap = gap;
-      confirmed = true;
-      break;
+      if (pick.gap.detected) {
+        if (!open_gap) open_gap = pick;
+        continue;
+      }
+      clean = pick;
     }
-    if (!confirmed && fallback) {
-      best = *fallback;
-      after = fallback_fit;
-      after_gap = fallback_gap;
-      confirmed = true;
-    }
-    if (!confirmed) break;
+    const std::optional<Pick>& chosen = clean      ? clean
+                                        : open_gap ? open_gap
+                                                   : provisional;
+    if (!chosen) break;
+    if (!clean && !open_gap) held_out_deferred = true;
+    const std::size_t best = chosen->k;
+    const ModelFit after = chosen->fit;
+    const GapTests after_gap = chosen->gap;
     failure.clear();
     const Model& augmented = fits[best];
     report.lr_p = round[best].lr_p;
@@ -1468,6 +1475,14 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
       break;
     }
   }
+  if (explained && held_out_deferred &&
+      report.augmented.cv_rmse_log_v >= report.baseline.cv_rmse_log_v) {
+    explained = false;
+    failure = fmt::format(
+        "adding {} does not lower the held-out error ({:.4g} -> {:.4g})",
+        Join(report.effects), report.baseline.cv_rmse_log_v,
+        report.augmented.cv_rmse_log_v);
+  }
   if (explained) {
     report.verdict = report.alias_set.size() > 1 ? "ambiguous" : "named";
     std::string params;
@@ -1478,27 +1493,39 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
                             spec->parameter, report.augmented.effect_values[k],
                             spec->unit);
     }
+    // A second effect, when one was needed after the first.
+    const std::string second =
+        report.effects.size() > 1
+            ? fmt::format(" and, once it is added, {} ({})", report.effects[1],
+                          sim::FindEffect(report.effects[1])->signature)
+            : std::string();
+    const std::string adding =
+        report.effects.size() > 1 ? "Adding both" : "Adding it";
     report.summary =
         report.verdict == "named"
             ? fmt::format(
-                  "The base model misses {} ({}). Adding it ({}) closes the "
-                  "gap: likelihood ratio p = {:.3g} (boundary-corrected), "
-                  "AICc {:+.3g}, held-out RMSE of log v {:.3g} -> {:.3g}, "
-                  "and the residual tests pass (Holm p = {:.3g}).{}",
-                  Join(report.effects),
-                  sim::FindEffect(report.effects[0])->signature, params,
-                  report.lr_p, report.augmented.aicc - report.baseline.aicc,
+                  "The base model misses {} ({}){}. {} ({}) closes the gap: "
+                  "likelihood ratio p = {:.3g} (boundary-corrected), AICc "
+                  "{:+.3g}, held-out RMSE of log v {:.3g} -> {:.3g}, and the "
+                  "residual tests pass (Holm p = {:.3g}).{}",
+                  report.effects[0],
+                  sim::FindEffect(report.effects[0])->signature, second, adding,
+                  params, report.lr_p,
+                  report.augmented.aicc - report.baseline.aicc,
                   report.baseline.cv_rmse_log_v, report.augmented.cv_rmse_log_v,
                   report.gap_after.holm_min_p, outliers_text)
             : fmt::format(
                   "The base model misses an effect of the set {{{}}}, which "
                   "this design cannot tell apart (projected signatures "
-                  "nearly parallel or AICc within 2). The best, {} ({}), "
+                  "nearly parallel or AICc within 2){}. The best, {}, {}({}) "
                   "closes the gap: AICc {:+.3g}, held-out RMSE of log v "
                   "{:.3g} -> {:.3g}. Force levels where their predictions "
                   "differ most would separate them.{}",
-                  Join(report.alias_set), report.effects[0], params,
-                  report.augmented.aicc - report.baseline.aicc,
+                  Join(report.alias_set), second, report.effects[0],
+                  report.effects.size() > 1
+                      ? fmt::format("with {} ", report.effects[1])
+                      : std::string(),
+                  params, report.augmented.aicc - report.baseline.aicc,
                   report.baseline.cv_rmse_log_v, report.augmented.cv_rmse_log_v,
                   outliers_text);
     return report;

@@ -1517,13 +1517,13 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
             : fmt::format(
                   "The base model misses an effect of the set {{{}}}, which "
                   "this design cannot tell apart (projected signatures "
-                  "nearly parallel or AICc within 2){}. The best, {}, {}({}) "
+                  "nearly parallel or AICc within 2){}. The best, {}{} ({}) "
                   "closes the gap: AICc {:+.3g}, held-out RMSE of log v "
                   "{:.3g} -> {:.3g}. Force levels where their predictions "
                   "differ most would separate them.{}",
                   Join(report.alias_set), second, report.effects[0],
                   report.effects.size() > 1
-                      ? fmt::format("with {} ", report.effects[1])
+                      ? fmt::format(", with {}", report.effects[1])
                       : std::string(),
                   params, report.augmented.aicc - report.baseline.aicc,
                   report.baseline.cv_rmse_log_v, report.augmented.cv_rmse_log_v,

@@ -505,10 +505,12 @@ Status AddTraceGap(const MeasuredData& data, const DiscoverOptions& options,
     report->verdict = "named";
     report->effects = {named->id};
     report->alias_set = {named->id};
+    report->alias_sets = {report->alias_set};
     add(&report->augmented);
     report->summary = finding + " " + report->summary;
   } else if (report->verdict == "named" || report->verdict == "ambiguous") {
     report->effects.push_back(named->id);
+    report->alias_sets.push_back({named->id});
     add(&report->augmented);
     report->summary += " " + finding;
   } else {

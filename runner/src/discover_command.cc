@@ -72,6 +72,7 @@ Json ReportJson(const analysis::DiscoverReport& r) {
   j["verdict"] = r.verdict;
   j["effect"] = r.effects.empty() ? Json(nullptr) : Json(r.effects[0]);
   j["alias_set"] = r.alias_set;
+  j["alias_sets"] = r.alias_sets;
   Json params = Json::object();
   for (std::size_t k = 0; k < r.augmented.effects.size(); ++k) {
     params[std::string(sim::FindEffect(r.augmented.effects[k])->parameter)] =
@@ -150,9 +151,16 @@ std::string ReportMarkdown(const analysis::DiscoverReport& r,
     }
   }
   md += "\n\n" + r.summary + "\n\n";
-  if (r.alias_set.size() > 1) {
-    md += "Alias set (cannot be told apart with this design): ";
-    for (const std::string& id : r.alias_set) md += "`" + id + "` ";
+  for (std::size_t k = 0; k < r.alias_sets.size(); ++k) {
+    if (r.alias_sets[k].size() < 2) continue;
+    md += r.alias_sets.size() > 1
+              ? fmt::format(
+                    "Alias set of effect {} (cannot be told apart "
+                    "with this design): ",
+                    k + 1)
+              : std::string(
+                    "Alias set (cannot be told apart with this design): ");
+    for (const std::string& id : r.alias_sets[k]) md += "`" + id + "` ";
     md += "\n\n";
   }
   md +=

@@ -210,7 +210,7 @@ TEST(Discover, AddsTwoHiddenEffectsOneAtATime) {
       EffectAtSnr(d, "motor_power_limit", 8.0).value().max_removal_mm3_per_s;
   const std::vector<double> truth = TruthVelocitiesMmS(d, fx).value();
   const int seeds = kSanitized ? 1 : 8;
-  int both = 0;
+  int both = 0, power_second = 0;
   for (int seed = 1; seed <= seeds; ++seed) {
     const Result<MeasuredData> data = ParseMeasuredData(
         "two.csv", ScenarioCsv(d, truth, {}, static_cast<std::uint64_t>(seed)));
@@ -220,17 +220,35 @@ TEST(Discover, AddsTwoHiddenEffectsOneAtATime) {
     std::printf("seed %d %s: %s\n", seed, report->verdict.c_str(),
                 report->summary.c_str());
     if (report->effects.size() != 2) continue;
-    const auto& set = report->alias_set;
+    // Each step reports the effect it added first in its alias set. The
+    // first set holds the threshold. The second step names the power limit
+    // or spindle slowdown: the design separates them in expectation (the
+    // remainder is >= 6.2 sigma^2), but the noise can rank them wrongly
+    // (seeds 1 and 6: slowdown by 6.9 and 3.7 AICc), so the power limit must be
+    // in the second set in most seeds, not all.
+    ASSERT_EQ(report->alias_sets.size(), 2u);
+    EXPECT_EQ(report->alias_sets[0], report->alias_set);
+    for (std::size_t k = 0; k < 2; ++k) {
+      EXPECT_EQ(report->alias_sets[k].front(), report->effects[k]);
+    }
+    const auto holds = [&](std::size_t k, const char* id) {
+      const auto& set = report->alias_sets[k];
+      return std::find(set.begin(), set.end(), id) != set.end();
+    };
+    EXPECT_TRUE(holds(0, "cutting_threshold")) << report->summary;
     const std::string& second = report->effects[1];
-    EXPECT_NE(std::find(set.begin(), set.end(), "cutting_threshold"), set.end())
-        << report->summary;
     EXPECT_TRUE(second == "motor_power_limit" || second == "spindle_slowdown")
         << report->summary;
+    power_second += holds(1, "motor_power_limit");
+    const bool ambiguous =
+        report->alias_sets[0].size() > 1 || report->alias_sets[1].size() > 1;
+    EXPECT_EQ(report->verdict, ambiguous ? "ambiguous" : "named");
     EXPECT_LT(report->augmented.cv_rmse_log_v, report->baseline.cv_rmse_log_v);
     EXPECT_FALSE(report->gap_after.detected);
     both += 1;
   }
   EXPECT_GE(both, kSanitized ? 1 : 5);
+  EXPECT_GE(power_second, kSanitized ? 0 : 4);
 }
 
 TEST(DiscoverScenarios, OutcomeIsTheSameForAnyNumberOfJobs) {

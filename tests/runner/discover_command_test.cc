@@ -67,13 +67,15 @@ TEST_F(DiscoverCommand, NamesAHiddenPowerLimitAndWritesTheReport) {
   EXPECT_EQ(run.err, "");  // no progress bar off a terminal
   const nlohmann::json j = nlohmann::json::parse(run.out);
   EXPECT_EQ(nlohmann::json::parse(Read(out / "report.json")), j);
-  for (const char* key : {"verdict", "effect", "alias_set", "effect_params",
-                          "baseline", "augmented", "gap", "tests"}) {
+  for (const char* key :
+       {"verdict", "effect", "alias_set", "alias_sets", "effect_params",
+        "baseline", "augmented", "gap", "tests"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   const std::string verdict = j["verdict"];
   ASSERT_TRUE(verdict == "named" || verdict == "ambiguous") << run.out;
   const std::vector<std::string> alias = j["alias_set"];
+  EXPECT_EQ(j["alias_sets"], nlohmann::json::array({j["alias_set"]}));
   EXPECT_NE(std::find(alias.begin(), alias.end(), "motor_power_limit"),
             alias.end())
       << run.out;

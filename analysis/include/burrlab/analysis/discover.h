@@ -121,6 +121,10 @@ struct DiscoverReport {
   std::string verdict;
   std::vector<std::string> effects;    // added, in order (empty: none)
   std::vector<std::string> alias_set;  // cannot be told from effects[0]
+  // One per added effect: alias_sets[k] holds effects[k] and the effects
+  // the design cannot tell from it once effects[0..k-1] are in the model
+  // (alias_sets[0] == alias_set).
+  std::vector<std::vector<std::string>> alias_sets;
   ModelFit baseline;
   ModelFit augmented;  // = baseline when nothing was added
   GapTests gap_before, gap_after;

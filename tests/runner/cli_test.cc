@@ -351,16 +351,29 @@ TEST(BenchCommand, JsonHasEveryDefaultCase) {
 namespace burrlab::runner {
 namespace {
 
-// A fresh folder under the system's temporary directory.
-std::filesystem::path TempDir(const std::string& name) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() /
-      ("burrlab_cli_" + name + "_" +
-       std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// A fresh folder under the system's temporary directory, removed with its
+// contents when the test ends.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& name)
+      : path_(std::filesystem::temp_directory_path() /
+              ("burrlab_cli_" + name + "_" +
+               std::to_string(
+                   ::testing::UnitTest::GetInstance()->random_seed()))) {
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 void WriteFile(const std::filesystem::path& path, const std::string& bytes) {
   std::ofstream file(path, std::ios::binary);
@@ -393,7 +406,8 @@ source = "test"
 )";
 
 TEST(ForceCurveCommand, MaterialMayBeAFile) {
-  const std::filesystem::path dir = TempDir("material");
+  const TempDir temp("material");
+  const std::filesystem::path& dir = temp.path();
   WriteFile(dir / "soft.toml", kMaterialFile);
   const CliRun run = RunBurrlab({"sim", "force-curve", "--material",
                                  (dir / "soft.toml").string(), "--radius-mm",
@@ -407,7 +421,8 @@ TEST(ForceCurveCommand, MaterialMayBeAFile) {
 }
 
 TEST(ForceCurveCommand, MaterialFileWithAMissingKeyIsOneErrorLine) {
-  const std::filesystem::path dir = TempDir("bad_material");
+  const TempDir temp("bad_material");
+  const std::filesystem::path& dir = temp.path();
   std::string text = kMaterialFile;
   text.replace(text.find("[parameters.alpha]"),
                std::string("[parameters.alpha]").size(), "[parameters.alpah]");
@@ -420,7 +435,8 @@ TEST(ForceCurveCommand, MaterialFileWithAMissingKeyIsOneErrorLine) {
 }
 
 TEST(VolumeCommand, SummarisesAnNrrdVolume) {
-  const std::filesystem::path dir = TempDir("volume");
+  const TempDir temp("volume");
+  const std::filesystem::path& dir = temp.path();
   std::string data(4 * 4 * 2, '\0');
   for (std::size_t n = 0; n < 16; ++n)
     data[n] = static_cast<char>(200);  // lower slice
@@ -439,7 +455,8 @@ TEST(VolumeCommand, SummarisesAnNrrdVolume) {
 }
 
 TEST(VolumeCommand, TruncatedNrrdIsOneErrorLine) {
-  const std::filesystem::path dir = TempDir("truncated");
+  const TempDir temp("truncated");
+  const std::filesystem::path& dir = temp.path();
   const std::string path = (dir / "cut.nrrd").string();
   WriteFile(
       path,
@@ -463,7 +480,8 @@ namespace burrlab::runner {
 namespace {
 
 TEST(SimMaterialsCommand, PrintsTheOrderCheckAndWritesThreeFigures) {
-  const std::filesystem::path dir = TempDir("materials") / "figures";
+  const TempDir temp("materials");
+  const std::filesystem::path dir = temp.path() / "figures";
   const CliRun run = RunBurrlab({"sim", "materials", "--plots", dir.string()});
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_THAT(run.out, HasSubstr("at 4 N:  PVC > Pettigrew > bone holds"));

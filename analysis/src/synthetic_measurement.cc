@@ -31,6 +31,16 @@ Status SyntheticMeasurementOptions::Validate() const {
     return Error{fmt::format("noise_cv must be finite and at least 0, got {}",
                              noise_cv)};
   }
+  if (!std::isfinite(trace_force_noise_n) || trace_force_noise_n < 0.0) {
+    return Error{
+        fmt::format("trace_force_noise_n must be finite and at least 0, got {}",
+                    trace_force_noise_n)};
+  }
+  if (!std::isfinite(trace_depth_noise_mm) || trace_depth_noise_mm < 0.0) {
+    return Error{fmt::format(
+        "trace_depth_noise_mm must be finite and at least 0, got {}",
+        trace_depth_noise_mm)};
+  }
   if (!std::isfinite(radius_mm) || radius_mm <= 0.0) {
     return Error{fmt::format("radius_mm must be positive, got {}", radius_mm)};
   }
@@ -205,9 +215,15 @@ std::string FormatTraceCsv(const SyntheticMeasurement& m,
         std::find(o.forces_n.begin(), o.forces_n.end(), r.force_n) -
         o.forces_n.begin();
     if (level >= static_cast<std::ptrdiff_t>(m.level_traces.size())) continue;
+    // The run's own sensor noise.
+    boost::random::mt19937_64 rng(o.seed * 0x100000001b3ULL +
+                                  static_cast<std::uint64_t>(r.run));
+    boost::random::normal_distribution<double> normal;
     for (const sim::DescentSample& s : m.level_traces[level]) {
-      csv += fmt::format("{},{:.4f},{:.6g},{:.6g}\n", r.run, s.t_s, s.force_n,
-                         s.depth_mm);
+      const double force_n = s.force_n + o.trace_force_noise_n * normal(rng);
+      const double depth_mm = s.depth_mm + o.trace_depth_noise_mm * normal(rng);
+      csv += fmt::format("{},{:.4f},{:.6g},{:.6g}\n", r.run, s.t_s, force_n,
+                         depth_mm);
     }
   }
   return csv;

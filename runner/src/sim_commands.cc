@@ -604,9 +604,21 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
                "also write each run's force and depth trace to FILE as "
                "run,t_s,force_n,depth_mm (100 Hz for the first 10 s after "
                "contact, coarser after; replicates share their level's rig "
-               "trace)",
+               "trace, each with its own sensor noise)",
                &traces_path)
       ->type_name("FILE");
+  flags.AddNonNegative(
+      "--trace-force-noise-n",
+      fmt::format("the traces' force sensor noise, standard deviation, N "
+                  "(default {})",
+                  options.trace_force_noise_n),
+      "N", &options.trace_force_noise_n);
+  flags.AddNonNegative(
+      "--trace-depth-noise-mm",
+      fmt::format("the traces' depth sensor noise, standard deviation, mm "
+                  "(default {})",
+                  options.trace_depth_noise_mm),
+      "mm", &options.trace_depth_noise_mm);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   options.replicates = replicates;

@@ -69,6 +69,7 @@ Scenario MakeScenario(const sim::Effects& effects, std::uint64_t seed) {
   rig.effects = effects;
   rig.forces_n = d.ForcesN();
   rig.radius_mm = d.radius_mm;
+  rig.seed = seed;  // the traces' sensor noise (default size)
   SyntheticMeasurement m;
   for (std::size_t level = 0; level < rig.forces_n.size(); ++level) {
     m.level_traces.push_back(

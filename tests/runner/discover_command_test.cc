@@ -126,6 +126,7 @@ TracedData TracedBone(const sim::Effects& effects, std::uint64_t seed) {
   rig.effects = effects;
   rig.forces_n = d.ForcesN();
   rig.radius_mm = d.radius_mm;
+  rig.seed = seed;  // the traces' sensor noise
   analysis::SyntheticMeasurement m;
   for (std::size_t level = 0; level < rig.forces_n.size(); ++level) {
     m.level_traces.push_back(

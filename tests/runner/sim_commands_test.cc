@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -54,6 +55,31 @@ TEST(SimMeasure, TracesFlagWritesEveryRunsTrace) {
     EXPECT_NEAR(t.force_n.back(), 0.6, 0.02);
     EXPECT_GT(t.depth_mm.back(), 1.0);
   }
+  // The replicates share the level's rig trace but not the sensor noise
+  // (defaults 0.005 N and 0.001 mm): their difference has sqrt(2) times its
+  // standard deviation.
+  const analysis::RunTrace& a = traces.runs[0];
+  const analysis::RunTrace& b = traces.runs[1];
+  ASSERT_EQ(a.t_s, b.t_s);
+  double ss_force = 0.0, ss_depth = 0.0;
+  for (std::size_t k = 0; k < a.t_s.size(); ++k) {
+    ss_force += std::pow(a.force_n[k] - b.force_n[k], 2);
+    ss_depth += std::pow(a.depth_mm[k] - b.depth_mm[k], 2);
+  }
+  const double n = static_cast<double>(a.t_s.size());
+  EXPECT_NEAR(std::sqrt(ss_force / n / 2.0), 0.005, 0.0005);
+  EXPECT_NEAR(std::sqrt(ss_depth / n / 2.0), 0.001, 0.0001);
+}
+
+TEST(SimMeasure, TraceNoiseFlagsTakeNumbersOfAtLeastZero) {
+  const CliRun run =
+      RunBurrlab({"sim", "measure", "--material", "pvc_k70", "--forces", "0.3",
+                  "--replicates", "2", "--trace-force-noise-n", "-0.01"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.out, "");
+  EXPECT_EQ(run.err,
+            "burrlab: --trace-force-noise-n must be zero or a positive number "
+            "of N, got '-0.01'\n");
 }
 
 TEST(SimMeasure, TracesPathThatCannotBeWrittenFailsFirst) {

@@ -35,6 +35,13 @@ struct SyntheticMeasurementOptions {
   // this long after contact, at the rig's coarser trace period after.
   bool keep_traces = false;
   double trace_fine_s = 10.0;  // s
+  // Sensor noise of the written traces (FormatTraceCsv): white, Gaussian,
+  // drawn afresh for every run and sample, standard deviations. Defaults:
+  // a few mN, as a small 6-axis load cell, and a depth encoder's 1 um.
+  // Added to the recorded channels only; the rig's controller sees the
+  // noise-free load cell.
+  double trace_force_noise_n = 0.005;
+  double trace_depth_noise_mm = 0.001;
 
   // Names the first bad field.
   Status Validate() const;
@@ -96,7 +103,9 @@ std::string FormatMeasuredCsv(const SyntheticMeasurement& measurement,
                               const SyntheticMeasurementOptions& options);
 
 // The traces of trace_data.h, run,t_s,force_n,depth_mm: each run's level
-// trace (measurement.level_traces, in options.forces_n order).
+// trace (measurement.level_traces, in options.forces_n order) with the
+// options' sensor noise, drawn for each run from options.seed and the run
+// number (replicates share the rig trace, not the noise).
 std::string FormatTraceCsv(const SyntheticMeasurement& measurement,
                            const SyntheticMeasurementOptions& options);
 

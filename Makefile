@@ -47,21 +47,10 @@ demo: deps $(BUILD_DIR)/release/build.ninja
 	cmake --build $(BUILD_DIR)/release -j $(JOBS) --target burrlab
 	$(BUILD_DIR)/release/runner/burrlab demo --out $(BUILD_DIR)/demo
 
-# ctest starts the tests it knows to be long first, from the costs of earlier runs in the
-# build folder; a fresh build gets the slow tests' costs from cmake/ctest_costs/ (measured
-# on a clean clone), so that a 200 s test does not start last and run alone.
-define seed_ctest_costs
-	@mkdir -p $(BUILD_DIR)/$(1)/Testing/Temporary
-	@[ -f $(BUILD_DIR)/$(1)/Testing/Temporary/CTestCostData.txt ] || \
-	  cp cmake/ctest_costs/$(1).txt $(BUILD_DIR)/$(1)/Testing/Temporary/CTestCostData.txt
-endef
-
 test-release: build
-	$(call seed_ctest_costs,release)
 	cd $(BUILD_DIR)/release && ctest --output-on-failure -j $(JOBS)
 
 test-asan: build-asan
-	$(call seed_ctest_costs,asan)
 	cd $(BUILD_DIR)/asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS)
 

@@ -2,7 +2,9 @@
 # configures, builds and runs. Other targets are conveniences for developers.
 SHELL := /bin/bash
 BUILD_DIR ?= build
-JOBS ?= 2
+# Build and test jobs: the machine's cores, at most 8 (a sanitizer compile of the larger files
+# takes about 1 GB).
+JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 2); [ "$$n" -gt 8 ] && n=8; echo $$n)
 CMAKE_FLAGS ?=
 
 PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchmark-dev \

@@ -190,6 +190,7 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
   struct Slot {
     std::optional<Error> error;
     std::string verdict;
+    std::vector<std::string> named;
     bool physical = false, hit = false;
     double cv_before = 0.0, cv_after = 0.0;
   };
@@ -216,6 +217,12 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
       slot.verdict = report->verdict;
       slot.physical =
           report->verdict == "named" || report->verdict == "ambiguous";
+      if (slot.physical) {
+        for (const std::vector<std::string>& set : report->alias_sets) {
+          slot.named.insert(slot.named.end(), set.begin(), set.end());
+        }
+        if (slot.named.empty()) slot.named = report->alias_set;
+      }
       const bool in_set =
           std::find(report->alias_set.begin(), report->alias_set.end(),
                     expected_id) != report->alias_set.end();
@@ -233,8 +240,10 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
   work();
   for (std::thread& t : workers) t.join();
   ScenarioOutcome out;
+  std::uint64_t seed = first_seed;
   for (const Slot& slot : slots) {
     if (slot.error) return *slot.error;
+    out.per_seed.push_back({seed++, slot.verdict, slot.named});
     ++out.seeds;
     ++out.verdicts[slot.verdict];
     out.named_physical += slot.physical;
@@ -250,6 +259,22 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
     out.mean_cv_after /= out.hits;
   }
   return out;
+}
+
+std::vector<std::uint64_t> NamedBeyond(const ScenarioOutcome& scenario,
+                                       const ScenarioOutcome& control) {
+  std::map<std::uint64_t, bool> control_named;
+  for (const SeedOutcome& s : control.per_seed) {
+    control_named[s.seed] = !s.named.empty();
+  }
+  std::vector<std::uint64_t> beyond;
+  for (const SeedOutcome& s : scenario.per_seed) {
+    const auto it = control_named.find(s.seed);
+    if (!s.named.empty() && (it == control_named.end() || !it->second)) {
+      beyond.push_back(s.seed);
+    }
+  }
+  return beyond;
 }
 
 }  // namespace burrlab::analysis

@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "burrlab/analysis/discover_scenarios.h"
 #include "burrlab/analysis/measured_data.h"
@@ -122,16 +123,30 @@ TEST(Discover, SaysNoneWithoutAHiddenEffect) {
             kSanitized ? 1 : (9 * seeds + 9) / 10);
 }
 
+// Porosity (c_e (1 - phi)^2) is invisible in v(F) alone: it must never be
+// named, in any step's alias set. Against the reference it is `absorbed`,
+// unless the reference with porosity misfits by chance (its 5 % test) or the
+// noise draws a chance shape that the shape tests name: the truth is the
+// base model at c_e x 0.64, that is a null at loads 0.78-2.34, so such names
+// come at the null's false-discovery rate (<= 10 %). Seeds 1-40 measured:
+// absorbed 36, none 1 (seed 12, reference + porosity p = 0.023), a chance
+// shape 3 (seeds 8, 14, 16; 14 and 16 are the null's own at loads 0.5-1.5).
 TEST(Discover, ReportsPorosityAsAbsorbedNeverNamed) {
   const ScenarioDesign d = BoneDesign();
   sim::Effects porous;
   porous.porosity = 0.2;  // c_e 36 % lower than the reference's
-  const int seeds = kSanitized ? 1 : 5;
+  const int seeds = kSanitized ? 1 : 40;
   const ScenarioOutcome out = RunHidden(d, porous, {}, "porosity", seeds);
   Print("porosity", out);
-  EXPECT_EQ(out.verdicts.count("absorbed") ? out.verdicts.at("absorbed") : 0,
-            seeds);
-  EXPECT_EQ(out.named_physical, 0);
+  ASSERT_EQ(out.per_seed.size(), static_cast<std::size_t>(seeds));
+  for (const SeedOutcome& s : out.per_seed) {
+    EXPECT_EQ(std::count(s.named.begin(), s.named.end(), "porosity"), 0)
+        << "seed " << s.seed << ": " << s.verdict;
+  }
+  EXPECT_EQ(out.hits,
+            out.verdicts.count("absorbed") ? out.verdicts.at("absorbed") : 0);
+  EXPECT_GE(out.hits, kSanitized ? 1 : (85 * seeds + 99) / 100);
+  EXPECT_LE(out.named_physical, seeds / 10);
 }
 
 TEST(Discover, LeavesABumpOutsideTheLibraryUnexplained) {
@@ -147,17 +162,19 @@ TEST(Discover, LeavesABumpOutsideTheLibraryUnexplained) {
   EXPECT_EQ(out.named_physical, 0);
 }
 
+// The outliers are drawn on top of the null's noise (same seeds), so any
+// seed they name an effect in beyond the null's own chance shapes would be
+// the outliers' doing: they must add none.
 TEST(Discover, NamesNoEffectWhenFivePercentAreGrossOutliers) {
   const ScenarioDesign d = BoneDesign();
   Distortion outliers;
   outliers.outlier_fraction = 0.05;
   outliers.outlier_factor = 3.0;
   const int seeds = kSanitized ? 2 : 20;
+  const ScenarioOutcome null = RunHidden(d, {}, {}, "", seeds);
   const ScenarioOutcome out = RunHidden(d, {}, outliers, "", seeds);
   Print("outliers", out);
-  // Outliers are screened out, so physical effects are named no more often
-  // than in the null control (its false-discovery rate, <= 10 %).
-  EXPECT_LE(out.named_physical, seeds / 10);
+  EXPECT_EQ(NamedBeyond(out, null), std::vector<std::uint64_t>{});
   EXPECT_GE(out.verdicts.count("none") ? out.verdicts.at("none") : 0,
             kSanitized ? 1 : (9 * seeds + 9) / 10);
 }

@@ -76,8 +76,16 @@ std::string ScenarioCsv(const ScenarioDesign& design,
                         const std::vector<double>& truth_mm_s,
                         const Distortion& distortion, std::uint64_t seed);
 
+// One seed's report, as the scenario tally saw it.
+struct SeedOutcome {
+  std::uint64_t seed = 0;
+  std::string verdict;
+  std::vector<std::string> named;  // every alias set's ids (named/ambiguous)
+};
+
 struct ScenarioOutcome {
   int seeds = 0;
+  std::vector<SeedOutcome> per_seed;    // in seed order
   std::map<std::string, int> verdicts;  // count per verdict
   int hits = 0;  // expected id named, or in the alias set (named/ambiguous)
   int named_physical = 0;  // verdict named or ambiguous (any effect)
@@ -95,6 +103,15 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& design,
                                     std::uint64_t first_seed, int seeds,
                                     const DiscoverOptions& options,
                                     int jobs = 1);
+
+// Seeds where `scenario` names or sets out a physical effect while
+// `control`, run on the same seeds (the same noise draws), does not: what
+// the scenario adds beyond the control's own chance shapes. Porosity only
+// rescales c_e and the outlier distortion is drawn on top of the null's
+// noise, so against the null control both should add none. Seeds missing
+// from `control` count as named beyond it.
+std::vector<std::uint64_t> NamedBeyond(const ScenarioOutcome& scenario,
+                                       const ScenarioOutcome& control);
 
 }  // namespace burrlab::analysis
 

@@ -103,17 +103,18 @@ double RigOverSurrogate(const RigCase& m, double force_n,
 // use. Measured: the rig is 0.6-1.5 % faster than the surrogate at every
 // point (voxel and time-step error of the rig).
 // Three materials at three loads in the optimised build; the sanitizer
-// build (several times slower on the full rig) checks bone at load 1.
+// build (several times slower on the full rig) checks PVC, the fastest to
+// settle, at load 1.
 #if defined(__SANITIZE_ADDRESS__)
-constexpr std::size_t kRigMaterials = 1;
+constexpr std::size_t kFirstRigMaterial = 2;
 constexpr double kRigLoads[] = {1.0};
 #else
-constexpr std::size_t kRigMaterials = 3;
+constexpr std::size_t kFirstRigMaterial = 0;
 constexpr double kRigLoads[] = {0.7, 1.0, 1.4};
 #endif
 
 TEST(DescentSurrogate, MatchesTheFullRigOnTheBuiltInMaterials) {
-  for (std::size_t k = 0; k < kRigMaterials; ++k) {
+  for (std::size_t k = kFirstRigMaterial; k < std::size(kMaterials); ++k) {
     const RigCase& m = kMaterials[k];
     for (double load : kRigLoads) {
       EXPECT_NEAR(RigOverSurrogate(m, load * m.c_e_n_per_mm2, {}), 1.0, 0.025)
@@ -124,11 +125,18 @@ TEST(DescentSurrogate, MatchesTheFullRigOnTheBuiltInMaterials) {
 
 // The surrogate follows the effects the rig's model carries.
 TEST(DescentSurrogate, FollowsTheEffectsOfTheRig) {
+#if defined(__SANITIZE_ADDRESS__)
+  // One effect on PVC, the fastest to settle, is enough there: the limit at
+  // 40 % of the free velocity (0.0895 mm/s at load 1).
+  const RigCase& pvc = kMaterials[2];
+  sim::Effects power;
+  power.max_removal_mm3_per_s = 0.075;
+  EXPECT_NEAR(RigOverSurrogate(pvc, pvc.c_e_n_per_mm2, power), 1.0, 0.03);
+#else
   const RigCase& bone = kMaterials[0];
   sim::Effects power;
   power.max_removal_mm3_per_s = 0.03;  // about 40 % of the free removal
   EXPECT_NEAR(RigOverSurrogate(bone, bone.c_e_n_per_mm2, power), 1.0, 0.03);
-#if !defined(__SANITIZE_ADDRESS__)  // one effect is enough there
   sim::Effects threshold;
   threshold.cutting_threshold_n = 1.0;
   EXPECT_NEAR(RigOverSurrogate(bone, bone.c_e_n_per_mm2, threshold), 1.0, 0.05);

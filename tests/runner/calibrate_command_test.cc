@@ -49,15 +49,15 @@ constexpr BuiltIn kBuiltIns[] = {
 };
 
 // Every material in the optimised build; the sanitizer build (several times
-// slower on the full rig) checks human temporal bone only.
+// slower on the full rig) checks PVC only, the fastest to settle.
 #if defined(__SANITIZE_ADDRESS__)
-constexpr std::size_t kMaterialsChecked = 1;
+constexpr std::size_t kFirstChecked = 2;
 #else
-constexpr std::size_t kMaterialsChecked = std::size(kBuiltIns);
+constexpr std::size_t kFirstChecked = 0;
 #endif
 
 TEST_F(CalibrateCommand, RecoversTheBuiltInMaterialsFromSimMeasureData) {
-  for (std::size_t k = 0; k < kMaterialsChecked; ++k) {
+  for (std::size_t k = kFirstChecked; k < std::size(kBuiltIns); ++k) {
     const BuiltIn& m = kBuiltIns[k];
     const CliRun measure = RunBurrlab(
         {"sim", "measure", "--material", m.name, "--forces", m.forces_n,

@@ -8,10 +8,12 @@
 #include <cmath>
 #include <limits>
 
+#include "non_finite.h"
+
 namespace burrlab::analysis {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using detail::kNaN;
 
 double NormalQuantile(double p) {
   if (!(p > 0.0 && p < 1.0)) return kNaN;

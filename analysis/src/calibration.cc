@@ -16,11 +16,12 @@
 #include <limits>
 
 #include "burrlab/analysis/descent_surrogate.h"
+#include "non_finite.h"
 
 namespace burrlab::analysis {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using detail::kInf;
 constexpr int kGridPoints = 240;  // starts of the search over log c_e
 
 // The least-squares problem in (L, A) = (log c_e, log alpha).

@@ -26,12 +26,14 @@
 
 #include "burrlab/analysis/descent_surrogate.h"
 #include "burrlab/sim/effects.h"
+#include "nlopt_ptr.h"
+#include "non_finite.h"
 
 namespace burrlab::analysis {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using detail::kInf;
+using detail::kNaN;
 // Residual charged to a run the model cannot reach (v = 0 or inf), so the
 // optimiser stays where every run is modelled.
 constexpr double kUnreachableResidual = 30.0;
@@ -135,7 +137,7 @@ double OffsetAlpha(const Runs& runs, const std::vector<ActiveEffect>& active,
   return n > 0 ? p.ln_alpha + sum / n : p.ln_alpha;
 }
 
-struct Objective {
+struct FitObjective {
   const Runs* runs;
   const std::vector<ActiveEffect>* active;
   const std::vector<char>* use;
@@ -146,7 +148,7 @@ struct Objective {
 };
 
 double NloptObjective(unsigned n, const double* x, double*, void* data) {
-  Objective& o = *static_cast<Objective*>(data);
+  FitObjective& o = *static_cast<FitObjective*>(data);
   Point p;
   p.ln_c_e = x[0];
   p.ln_alpha = x[1];
@@ -158,10 +160,6 @@ double NloptObjective(unsigned n, const double* x, double*, void* data) {
   }
   return rss;
 }
-
-struct NloptDeleter {
-  void operator()(nlopt_opt opt) const { nlopt_destroy(opt); }
-};
 
 // Bounded local fit (NLopt BOBYQA) from each start; the best.
 // With `fixed` an index into `active`, that effect's strength stays at each
@@ -182,9 +180,8 @@ Point FitFromStarts(const Runs& runs, const std::vector<ActiveEffect>& active,
     lower[2 + k] = 0.0;
     upper[2 + k] = active[k].upper;
   }
-  Objective objective{&runs, &active, &use, {}, kInf};
-  std::unique_ptr<nlopt_opt_s, NloptDeleter> opt(
-      nlopt_create(NLOPT_LN_BOBYQA, dim));
+  FitObjective objective{&runs, &active, &use, {}, kInf};
+  detail::NloptPtr opt(nlopt_create(NLOPT_LN_BOBYQA, dim));
   nlopt_set_lower_bounds(opt.get(), lower.data());
   nlopt_set_upper_bounds(opt.get(), upper.data());
   nlopt_set_min_objective(opt.get(), NloptObjective, &objective);

@@ -23,6 +23,8 @@
 #include <set>
 
 #include "burrlab/analysis/bootstrap.h"
+#include "nlopt_ptr.h"
+#include "non_finite.h"
 #include "sigmoids.h"
 
 namespace burrlab::analysis {
@@ -32,7 +34,7 @@ using detail::LocationScale;
 using detail::Standard;
 using detail::StandardPoint;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using detail::kNaN;
 // Search box in normalised levels (u - middle) / span: the location within 5
 // spans of the middle of the tested range, the scale from 1e-4 to 100 spans.
 constexpr double kLocationLimit = 5.0;
@@ -115,10 +117,6 @@ double Objective(unsigned /*dim*/, const double* v, double* gradient,
   }
   return -log_l * problem.scale;
 }
-
-struct NloptDeleter {
-  void operator()(nlopt_opt opt) const { nlopt_destroy(opt); }
-};
 
 struct Outcome {
   Internal v{};
@@ -405,7 +403,7 @@ class Fitter {
   double middle_ = 0.0, span_ = 1.0;
   std::vector<std::pair<double, double>> steps_;
   double steepest_ = 0.0;
-  std::unique_ptr<nlopt_opt_s, NloptDeleter> opt_;
+  detail::NloptPtr opt_;
 };
 
 // d psi / d(alpha, beta, gamma, lambda) and psi, 1 - psi at each level.

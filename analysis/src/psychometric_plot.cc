@@ -7,10 +7,12 @@
 #include <cmath>
 #include <limits>
 
+#include "non_finite.h"
+
 namespace burrlab::analysis {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using detail::kNaN;
 constexpr double kLargestMarkerPx = 22.0;  // side of the block with most trials
 constexpr double kSmallestMarkerPx = 4.0;
 constexpr int kCurvePoints = 300;

@@ -9,14 +9,10 @@
 #include <cstdint>
 #include <utility>
 
+#include "max_trials.h"
 #include "shuffle.h"
 
 namespace burrlab::protocols {
-namespace {
-
-constexpr std::int64_t kMaxTrials = 100000;
-
-}  // namespace
 
 std::string_view TrialOrderName(TrialOrder order) {
   return order == TrialOrder::kFull ? "full" : "blocked";

@@ -63,46 +63,6 @@ double IntervalDuration(const Block& block, std::size_t i) {
                                      : block.interval_s.back();
 }
 
-// Per-block method state.
-struct SameDifferentState {
-  std::vector<SameDifferentTrial> plan;
-};
-struct TwoIntervalState {
-  std::vector<TwoIntervalTrial> plan;
-};
-struct ReferenceState {
-  std::vector<ReferenceTrial> plan;
-};
-struct ConstantState {
-  std::vector<ConstantStimuliTrial> plan;
-};
-struct LimitsState {
-  MethodOfLimits limits;
-};
-struct AdjustmentState {
-  std::vector<Adjustment> done;       // finished adjustments
-  std::optional<Adjustment> current;  // the running one
-};
-struct StaircaseState {
-  InterleavedStaircases staircases;
-  int current = 0;              // staircase of the current trial
-  int comparison_interval = 1;  // 2AFC: interval of the comparison
-  int trials = 0;
-};
-struct QuestState {
-  Quest quest;
-  int trials = 0;
-  double intensity_log10 = 0.0;  // placement of the current trial
-  double level = 0.0;            // level presented (clamped to the axis)
-  bool clamped = false;
-  int comparison_interval = 1;
-};
-
-using BlockState =
-    std::variant<std::monostate, SameDifferentState, TwoIntervalState,
-                 ReferenceState, ConstantState, LimitsState, AdjustmentState,
-                 StaircaseState, QuestState>;
-
 // Closed domain bounds of an axis (for clamping adaptive placements).
 std::pair<double, double> AxisBounds(const Axis& axis) {
   constexpr double kTiny = 1e-9;
@@ -140,6 +100,49 @@ std::uint64_t SeedFor(std::uint64_t master_seed, StreamPurpose purpose,
 }
 
 struct Engine::Impl {
+  // Per-block method state. Nested here rather than in the anonymous
+  // namespace: a member of Engine::Impl (external linkage) must not have a type
+  // with internal linkage (-Wsubobject-linkage, which GCC raises when this file
+  // is compiled as part of a unity source).
+  struct SameDifferentState {
+    std::vector<SameDifferentTrial> plan;
+  };
+  struct TwoIntervalState {
+    std::vector<TwoIntervalTrial> plan;
+  };
+  struct ReferenceState {
+    std::vector<ReferenceTrial> plan;
+  };
+  struct ConstantState {
+    std::vector<ConstantStimuliTrial> plan;
+  };
+  struct LimitsState {
+    MethodOfLimits limits;
+  };
+  struct AdjustmentState {
+    std::vector<Adjustment> done;       // finished adjustments
+    std::optional<Adjustment> current;  // the running one
+  };
+  struct StaircaseState {
+    InterleavedStaircases staircases;
+    int current = 0;              // staircase of the current trial
+    int comparison_interval = 1;  // 2AFC: interval of the comparison
+    int trials = 0;
+  };
+  struct QuestState {
+    Quest quest;
+    int trials = 0;
+    double intensity_log10 = 0.0;  // placement of the current trial
+    double level = 0.0;            // level presented (clamped to the axis)
+    bool clamped = false;
+    int comparison_interval = 1;
+  };
+
+  using BlockState =
+      std::variant<std::monostate, SameDifferentState, TwoIntervalState,
+                   ReferenceState, ConstantState, LimitsState, AdjustmentState,
+                   StaircaseState, QuestState>;
+
   const Protocol* protocol = nullptr;
   std::uint64_t master_seed = 0;
   std::vector<int> order;
@@ -524,7 +527,7 @@ std::string Engine::RngState() const {
 }
 
 Result<double> Engine::PreviewAdjustment(std::string_view path) const {
-  const auto* s = std::get_if<AdjustmentState>(&impl_->state);
+  const auto* s = std::get_if<Impl::AdjustmentState>(&impl_->state);
   if (impl_->finished || s == nullptr || !s->current.has_value()) {
     return Error{"the current trial is not an adjustment"};
   }
@@ -592,7 +595,7 @@ Result<Outcome> Engine::Respond(const Response& response) {
   Status status = std::visit(
       [&](auto& s) -> Status {
         using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, LimitsState>) {
+        if constexpr (std::is_same_v<S, Impl::LimitsState>) {
           Result<LimitsTrial> r = s.limits.Update(answer == "yes");
           if (!r.ok()) return r.error();
           extra["series"] = r->series;
@@ -607,7 +610,7 @@ Result<Outcome> Engine::Respond(const Response& response) {
             out.estimate = th.value();
           }
           return {};
-        } else if constexpr (std::is_same_v<S, AdjustmentState>) {
+        } else if constexpr (std::is_same_v<S, Impl::AdjustmentState>) {
           if (answer.empty() || answer.back() != '=') {
             return Error{fmt::format(
                 "trial {} (block \"{}\"): an adjustment answer is a path of "
@@ -642,7 +645,7 @@ Result<Outcome> Engine::Respond(const Response& response) {
           out.estimate = sum / static_cast<double>(s.done.size());
           extra["mean_final_level"] = *out.estimate;
           return {};
-        } else if constexpr (std::is_same_v<S, StaircaseState>) {
+        } else if constexpr (std::is_same_v<S, Impl::StaircaseState>) {
           Result<StaircaseTrial> r =
               s.staircases.Update(s.current, out.correct.value_or(false));
           if (!r.ok()) return r.error();
@@ -665,7 +668,7 @@ Result<Outcome> Engine::Respond(const Response& response) {
             out.estimate = th.value();
           }
           return {};
-        } else if constexpr (std::is_same_v<S, QuestState>) {
+        } else if constexpr (std::is_same_v<S, Impl::QuestState>) {
           const bool r1 = b.adaptive_response == AdaptiveResponse::kYesNo
                               ? answer == "yes"
                               : out.correct.value_or(false);
@@ -680,9 +683,9 @@ Result<Outcome> Engine::Respond(const Response& response) {
           extra["posterior_mean_log10"] = mean;
           extra["posterior_sd_log10"] = s.quest.Sd();
           return {};
-        } else if constexpr (std::is_same_v<S, TwoIntervalState> ||
-                             std::is_same_v<S, ConstantState>) {
-          if constexpr (std::is_same_v<S, ConstantState>) {
+        } else if constexpr (std::is_same_v<S, Impl::TwoIntervalState> ||
+                             std::is_same_v<S, Impl::ConstantState>) {
+          if constexpr (std::is_same_v<S, Impl::ConstantState>) {
             const ConstantStimuliTrial& p = s.plan[im.trial_in_block];
             extra["level_index"] = p.level_index;
             extra["repetition"] = p.repetition;
@@ -700,13 +703,13 @@ Result<Outcome> Engine::Respond(const Response& response) {
       },
       im.state);
   if (!status.ok()) return status.error();
-  if (const auto* s = std::get_if<StaircaseState>(&im.state)) {
+  if (const auto* s = std::get_if<Impl::StaircaseState>(&im.state)) {
     extra["comparison_interval"] =
         b.adaptive_response == AdaptiveResponse::k2Afc
             ? Json(s->comparison_interval)
             : Json(nullptr);
   }
-  if (const auto* s = std::get_if<QuestState>(&im.state)) {
+  if (const auto* s = std::get_if<Impl::QuestState>(&im.state)) {
     extra["comparison_interval"] =
         b.adaptive_response == AdaptiveResponse::k2Afc
             ? Json(s->comparison_interval)

@@ -6,14 +6,10 @@
 #include <boost/random/uniform_int_distribution.hpp>
 #include <utility>
 
+#include "max_trials.h"
 #include "shuffle.h"
 
 namespace burrlab::protocols {
-namespace {
-
-constexpr int kMaxTrials = 100000;
-
-}  // namespace
 
 std::string_view PairName(Pair pair) {
   switch (pair) {

@@ -13,8 +13,8 @@
 namespace burrlab::protocols {
 namespace {
 
-// Error unless value is finite and > 0.
-Status CheckPositive(std::string_view name, double value) {
+// Error unless the step size `value` is finite and > 0.
+Status CheckStepSize(std::string_view name, double value) {
   if (!std::isfinite(value)) {
     return Error{fmt::format("staircase: {} must be a finite number, got {}",
                              name, value)};
@@ -97,8 +97,8 @@ Status StaircaseOptions::Validate() const {
     return Error{
         fmt::format("staircase: n_up must be at least 1, got {}", n_up)};
   }
-  if (Status s = CheckPositive("step_down", step_down); !s.ok()) return s;
-  if (Status s = CheckPositive("step_up", step_up); !s.ok()) return s;
+  if (Status s = CheckStepSize("step_down", step_down); !s.ok()) return s;
+  if (Status s = CheckStepSize("step_up", step_up); !s.ok()) return s;
   for (std::size_t i = 0; i < step_schedule.size(); ++i) {
     const StepChange& change = step_schedule[i];
     if (change.after_reversals < 1) {
@@ -115,12 +115,12 @@ Status StaircaseOptions::Validate() const {
           i, i - 1, step_schedule[i - 1].after_reversals,
           change.after_reversals)};
     }
-    if (Status s = CheckPositive(fmt::format("step_schedule[{}].step_down", i),
+    if (Status s = CheckStepSize(fmt::format("step_schedule[{}].step_down", i),
                                  change.step_down);
         !s.ok()) {
       return s;
     }
-    if (Status s = CheckPositive(fmt::format("step_schedule[{}].step_up", i),
+    if (Status s = CheckStepSize(fmt::format("step_schedule[{}].step_up", i),
                                  change.step_up);
         !s.ok()) {
       return s;

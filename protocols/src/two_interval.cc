@@ -6,12 +6,11 @@
 #include <boost/random/uniform_int_distribution.hpp>
 #include <utility>
 
+#include "max_trials.h"
 #include "shuffle.h"
 
 namespace burrlab::protocols {
 namespace {
-
-constexpr int kMaxTrials = 100000;
 
 // Error unless n_trials is positive, even and at most kMaxTrials.
 Status CheckEvenCount(std::string_view method, int n_trials,

@@ -31,8 +31,6 @@ namespace {
 
 using OrderedJson = nlohmann::ordered_json;
 
-constexpr std::string_view kNa = "n/a";
-
 std::atomic<unsigned> g_temp_counter{0};
 
 fs::path TempPathFor(const fs::path& path) {

@@ -25,7 +25,6 @@ namespace burrlab::results_schema {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr std::string_view kNa = "n/a";
 
 // Splits a line at tabs, keeping the 0-based byte offset of each cell.
 struct Cell {

@@ -32,7 +32,7 @@ namespace {
 constexpr std::string_view kJournalFile = "journal.sqlite";
 constexpr std::string_view kCreatingPrefix = "journal.sqlite.creating-";
 
-std::atomic<unsigned> g_temp_counter{0};
+std::atomic<unsigned> g_creating_counter{0};
 
 Error Internal(std::string_view what, const std::exception& e) {
   return Error{fmt::format("{}: internal error: {}", what, e.what())};
@@ -189,7 +189,7 @@ Result<Journal> Journal::Create(const fs::path& dir,
     }
     const fs::path temp =
         sub / fmt::format("{}{}-{}", kCreatingPrefix, ::getpid(),
-                          g_temp_counter.fetch_add(1));
+                          g_creating_counter.fetch_add(1));
     RemoveDbFiles(temp);
     if (Status s = BuildJournalFile(temp, session); !s) {
       RemoveDbFiles(temp);

@@ -7,6 +7,9 @@
 
 namespace burrlab::results_schema {
 
+// The text of a missing value in the BIDS-style .tsv tables.
+inline constexpr std::string_view kNa = "n/a";
+
 // `text` in double quotes for error messages; bytes that are not printable
 // ASCII, quotes and backslashes are escaped (\xC3, \", \\).
 std::string Quoted(std::string_view text);

@@ -24,6 +24,7 @@
 #include "burrlab/analysis/psychometric_plot.h"
 #include "burrlab/analysis/sdt.h"
 #include "flags.h"
+#include "json_number.h"
 
 namespace burrlab::runner {
 namespace {
@@ -33,11 +34,6 @@ using Json = nlohmann::ordered_json;
 
 // Exit code when the results are printed but the fit did not converge.
 constexpr int kNotConverged = 2;
-
-// A number for JSON: null when not finite.
-Json Number(double value) {
-  return std::isfinite(value) ? Json(value) : Json(nullptr);
-}
 
 // The whole file; an error names it.
 Result<std::string> ReadText(const std::string& path) {
@@ -102,7 +98,7 @@ Json Bounds(const PsychometricOptions& options,
             const std::vector<double>& bounds) {
   Json object = Json::object();
   for (std::size_t k = 0; k < options.conf.size(); ++k) {
-    object[fmt::format("{}", options.conf[k])] = Number(bounds[k]);
+    object[fmt::format("{}", options.conf[k])] = JsonNumber(bounds[k]);
   }
   return object;
 }
@@ -112,24 +108,24 @@ Json AnalysisJson(const analysis::PsychometricAnalysis& a,
                   const analysis::PsychometricDataFile& file) {
   const PsychometricOptions& o = a.options;
   Json j;
-  j["alpha"] = Number(a.fit.params.alpha);
-  j["beta"] = Number(a.fit.params.beta);
-  j["gamma"] = Number(a.fit.params.gamma);
-  j["lambda"] = Number(a.fit.params.lambda);
-  j["log_likelihood"] = Number(a.fit.log_likelihood);
-  j["deviance"] = Number(a.fit.deviance);
-  j["deviance_p"] = Number(a.deviance_p);
+  j["alpha"] = JsonNumber(a.fit.params.alpha);
+  j["beta"] = JsonNumber(a.fit.params.beta);
+  j["gamma"] = JsonNumber(a.fit.params.gamma);
+  j["lambda"] = JsonNumber(a.fit.params.lambda);
+  j["log_likelihood"] = JsonNumber(a.fit.log_likelihood);
+  j["deviance"] = JsonNumber(a.fit.deviance);
+  j["deviance_p"] = JsonNumber(a.deviance_p);
   j["converged"] = a.fit.converged;
   j["thresholds"] = Json::array();
   for (const analysis::BootstrapEstimate& t : a.thresholds) {
     j["thresholds"].push_back({{"cut", t.cut},
-                               {"value", Number(t.value)},
+                               {"value", JsonNumber(t.value)},
                                {"ci", Bounds(o, t.bca)},
                                {"ci_percentile", Bounds(o, t.percentile)}});
   }
   j["slopes"] = Json::array();
   for (const analysis::BootstrapEstimate& s : a.slopes) {
-    j["slopes"].push_back({{"cut", s.cut}, {"value", Number(s.value)}});
+    j["slopes"].push_back({{"cut", s.cut}, {"value", JsonNumber(s.value)}});
   }
   j["sigmoid"] = analysis::SigmoidName(o.sigmoid);
   j["task"] = TaskName(o.n_intervals);

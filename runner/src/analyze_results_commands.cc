@@ -19,6 +19,7 @@
 #include "burrlab/analysis/thresholds.h"
 #include "burrlab/results_schema/bids_read.h"
 #include "flags.h"
+#include "json_number.h"
 #include "observer_fit.h"
 #include "progress.h"
 #include "session.h"
@@ -30,11 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-Json Number(double value) {
-  return std::isfinite(value) ? Json(value) : Json(nullptr);
-}
 Json Optional(const std::optional<double>& value) {
-  return value.has_value() ? Number(*value) : Json(nullptr);
+  return value.has_value() ? JsonNumber(*value) : Json(nullptr);
 }
 
 // The study's exports, or one error line.
@@ -64,8 +62,8 @@ Json RatesJson(const analysis::SameDifferentRates& r) {
           {"different_trials", r.different_trials},
           {"false_alarms", r.false_alarms},
           {"same_trials", r.same_trials},
-          {"hit_rate", Number(r.hit_rate)},
-          {"false_alarm_rate", Number(r.false_alarm_rate)},
+          {"hit_rate", JsonNumber(r.hit_rate)},
+          {"false_alarm_rate", JsonNumber(r.false_alarm_rate)},
           {"corrected", r.corrected},
           {"dprime_differencing", Optional(r.dprime_differencing)},
           {"dprime_independent_observation",

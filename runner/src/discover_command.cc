@@ -27,6 +27,7 @@
 #include "burrlab/stimuli/materials.h"
 #include "calibrate_command.h"
 #include "flags.h"
+#include "json_number.h"
 #include "progress.h"
 
 namespace burrlab::runner {
@@ -43,9 +44,6 @@ analysis::Series MakeSeries(std::string label, bool line, int colour) {
   return s;
 }
 
-// NaN and infinities as null.
-Json Number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
-
 sim::Effects EffectsOf(const analysis::ModelFit& fit) {
   sim::Effects effects;
   for (std::size_t k = 0; k < fit.effects.size(); ++k) {
@@ -56,13 +54,13 @@ sim::Effects EffectsOf(const analysis::ModelFit& fit) {
 
 Json FitJson(const analysis::ModelFit& fit) {
   Json j;
-  j["c_e"] = Number(fit.c_e_n_per_mm2);
-  j["alpha"] = Number(fit.alpha_per_s);
-  j["rmse_log_v"] = Number(fit.rmse_log_v);
-  j["aicc"] = Number(fit.aicc);
+  j["c_e"] = JsonNumber(fit.c_e_n_per_mm2);
+  j["alpha"] = JsonNumber(fit.alpha_per_s);
+  j["rmse_log_v"] = JsonNumber(fit.rmse_log_v);
+  j["aicc"] = JsonNumber(fit.aicc);
   for (std::size_t k = 0; k < fit.effects.size(); ++k) {
     j[std::string(sim::FindEffect(fit.effects[k])->parameter)] =
-        Number(fit.effect_values[k]);
+        JsonNumber(fit.effect_values[k]);
   }
   return j;
 }
@@ -76,60 +74,60 @@ Json ReportJson(const analysis::DiscoverReport& r) {
   Json params = Json::object();
   for (std::size_t k = 0; k < r.augmented.effects.size(); ++k) {
     params[std::string(sim::FindEffect(r.augmented.effects[k])->parameter)] =
-        Number(r.augmented.effect_values[k]);
+        JsonNumber(r.augmented.effect_values[k]);
   }
   j["effect_params"] = params;
   j["baseline"] = FitJson(r.baseline);
   j["augmented"] = FitJson(r.augmented);
-  j["gap"] = {{"rmse_before", Number(r.baseline.rmse_log_v)},
-              {"rmse_after", Number(r.augmented.rmse_log_v)},
-              {"cv_rmse_before", Number(r.baseline.cv_rmse_log_v)},
-              {"cv_rmse_after", Number(r.augmented.cv_rmse_log_v)}};
+  j["gap"] = {{"rmse_before", JsonNumber(r.baseline.rmse_log_v)},
+              {"rmse_after", JsonNumber(r.augmented.rmse_log_v)},
+              {"cv_rmse_before", JsonNumber(r.baseline.cv_rmse_log_v)},
+              {"cv_rmse_after", JsonNumber(r.augmented.cv_rmse_log_v)}};
   Json tests;
-  tests["lack_of_fit_p"] = Number(r.gap_before.lack_of_fit_p);
-  tests["curvature_p"] = Number(r.gap_before.curvature_p);
-  tests["runs_p"] = Number(r.gap_before.runs_p);
-  tests["library_p"] = Number(r.gap_before.library_p);
-  tests["gap_holm_p"] = Number(r.gap_before.holm_min_p);
-  tests["lack_of_fit_p_after"] = Number(r.gap_after.lack_of_fit_p);
-  tests["curvature_p_after"] = Number(r.gap_after.curvature_p);
-  tests["runs_p_after"] = Number(r.gap_after.runs_p);
-  tests["gap_holm_p_after"] = Number(r.gap_after.holm_min_p);
+  tests["lack_of_fit_p"] = JsonNumber(r.gap_before.lack_of_fit_p);
+  tests["curvature_p"] = JsonNumber(r.gap_before.curvature_p);
+  tests["runs_p"] = JsonNumber(r.gap_before.runs_p);
+  tests["library_p"] = JsonNumber(r.gap_before.library_p);
+  tests["gap_holm_p"] = JsonNumber(r.gap_before.holm_min_p);
+  tests["lack_of_fit_p_after"] = JsonNumber(r.gap_after.lack_of_fit_p);
+  tests["curvature_p_after"] = JsonNumber(r.gap_after.curvature_p);
+  tests["runs_p_after"] = JsonNumber(r.gap_after.runs_p);
+  tests["gap_holm_p_after"] = JsonNumber(r.gap_after.holm_min_p);
   Json scores = Json::object();
   if (!r.rounds.empty()) {
     for (const analysis::EffectAttribution& e : r.rounds[0]) {
-      scores[e.id] = {{"score_p", Number(e.score_p)},
-                      {"lr_p", Number(e.lr_p)},
-                      {"lr_p_adjusted", Number(e.lr_p_adjusted)},
-                      {"identifiability", Number(e.identifiability)}};
+      scores[e.id] = {{"score_p", JsonNumber(e.score_p)},
+                      {"lr_p", JsonNumber(e.lr_p)},
+                      {"lr_p_adjusted", JsonNumber(e.lr_p_adjusted)},
+                      {"identifiability", JsonNumber(e.identifiability)}};
     }
   }
   tests["effects"] = scores;
-  tests["lr_p"] = r.effects.empty() ? Json(nullptr) : Number(r.lr_p);
+  tests["lr_p"] = r.effects.empty() ? Json(nullptr) : JsonNumber(r.lr_p);
   tests["delta_aicc"] = r.effects.empty()
                             ? Json(nullptr)
-                            : Number(r.augmented.aicc - r.baseline.aicc);
-  tests["reference_p"] = Number(r.reference_p);
-  tests["reference_effect_p"] = Number(r.reference_effect_p);
+                            : JsonNumber(r.augmented.aicc - r.baseline.aicc);
+  tests["reference_p"] = JsonNumber(r.reference_p);
+  tests["reference_effect_p"] = JsonNumber(r.reference_effect_p);
   if (r.trace_gap) {  // the trace-only effects (trace_gap.h)
     Json trace = Json::object();
     for (const analysis::TraceEffectTest& e : r.trace_gap->effects) {
-      trace[e.id] = {{"value", Number(e.value)},
-                     {"lr", Number(e.lr)},
-                     {"lr_p", Number(e.p)},
-                     {"lr_p_holm", Number(e.p_holm)},
-                     {"rmse_force_n", Number(e.rmse_force_n)},
-                     {"rmse_depth_mm", Number(e.rmse_depth_mm)}};
+      trace[e.id] = {{"value", JsonNumber(e.value)},
+                     {"lr", JsonNumber(e.lr)},
+                     {"lr_p", JsonNumber(e.p)},
+                     {"lr_p_holm", JsonNumber(e.p_holm)},
+                     {"rmse_force_n", JsonNumber(e.rmse_force_n)},
+                     {"rmse_depth_mm", JsonNumber(e.rmse_depth_mm)}};
     }
     tests["trace_effects"] = trace;
-    tests["trace_rmse_force_n"] = Number(r.trace_gap->rmse_force_n);
-    tests["trace_rmse_depth_mm"] = Number(r.trace_gap->rmse_depth_mm);
+    tests["trace_rmse_force_n"] = JsonNumber(r.trace_gap->rmse_force_n);
+    tests["trace_rmse_depth_mm"] = JsonNumber(r.trace_gap->rmse_depth_mm);
   }
   j["tests"] = tests;
   return j;
 }
 
-std::string P(double p) {
+std::string FormatP(double p) {
   return std::isfinite(p) ? fmt::format("{:.3g}", p) : std::string("n/a");
 }
 
@@ -176,7 +174,7 @@ std::string ReportMarkdown(const analysis::DiscoverReport& r,
     md += fmt::format("| {} | {:.4g} | {:.4g} | {} | {:.4g} | {} | {:.4g} |\n",
                       name, f.c_e_n_per_mm2, f.alpha_per_s,
                       params.empty() ? "—" : params, f.rmse_log_v,
-                      P(f.cv_rmse_log_v), f.aicc);
+                      FormatP(f.cv_rmse_log_v), f.aicc);
   };
   row("base", r.baseline);
   row("augmented", r.augmented);
@@ -186,10 +184,11 @@ std::string ReportMarkdown(const analysis::DiscoverReport& r,
       "(x², x³ of log F, projected) | {} | {} |\n| runs of residual signs by "
       "F | {} | {} |\n| library (best effect's max-T adjusted LR) | {} | — "
       "|\n| smallest Holm-adjusted p | {} | {} |\n",
-      P(r.gap_before.lack_of_fit_p), P(r.gap_after.lack_of_fit_p),
-      P(r.gap_before.curvature_p), P(r.gap_after.curvature_p),
-      P(r.gap_before.runs_p), P(r.gap_after.runs_p), P(r.gap_before.library_p),
-      P(r.gap_before.holm_min_p), P(r.gap_after.holm_min_p));
+      FormatP(r.gap_before.lack_of_fit_p), FormatP(r.gap_after.lack_of_fit_p),
+      FormatP(r.gap_before.curvature_p), FormatP(r.gap_after.curvature_p),
+      FormatP(r.gap_before.runs_p), FormatP(r.gap_after.runs_p),
+      FormatP(r.gap_before.library_p), FormatP(r.gap_before.holm_min_p),
+      FormatP(r.gap_after.holm_min_p));
   for (std::size_t round = 0; round < r.rounds.size(); ++round) {
     md += fmt::format(
         "\n## Attribution, step {}\n\n| effect | identifiability ι | score "
@@ -201,8 +200,8 @@ std::string ReportMarkdown(const analysis::DiscoverReport& r,
       md += fmt::format(
           "| {} | {:.3g}{} | {:.3g} | {} | {:.3g} | {} | {} | {} | {:.4g} |\n",
           e.id, e.identifiability, e.absorbed ? " (absorbed)" : "", e.score_z,
-          P(e.score_p), e.lr, P(e.lr_p), P(e.lr_p_adjusted), P(e.aicc),
-          e.value);
+          FormatP(e.score_p), e.lr, FormatP(e.lr_p), FormatP(e.lr_p_adjusted),
+          FormatP(e.aicc), e.value);
     }
   }
   if (r.trace_gap) {
@@ -217,8 +216,8 @@ std::string ReportMarkdown(const analysis::DiscoverReport& r,
       md += fmt::format(
           "| {} | {:.4g} {} | {:.3g} | {} | {} | {:.3g} | "
           "{:.3g} |\n",
-          e.id, e.value, sim::FindEffect(e.id)->unit, e.lr, P(e.p), P(e.p_holm),
-          e.rmse_force_n, e.rmse_depth_mm);
+          e.id, e.value, sim::FindEffect(e.id)->unit, e.lr, FormatP(e.p),
+          FormatP(e.p_holm), e.rmse_force_n, e.rmse_depth_mm);
     }
   }
   if (!r.outlier_lines.empty()) {
@@ -444,8 +443,8 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
       out << fmt::format(
           "gap       rmse log v {:.4g} -> {:.4g}, held-out {} -> {}\n",
           report->baseline.rmse_log_v, report->augmented.rmse_log_v,
-          P(report->baseline.cv_rmse_log_v),
-          P(report->augmented.cv_rmse_log_v));
+          FormatP(report->baseline.cv_rmse_log_v),
+          FormatP(report->augmented.cv_rmse_log_v));
       out << report->summary << '\n';
       out << fmt::format("report    {}\n", (dir / "report.md").string());
     }

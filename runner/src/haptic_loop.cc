@@ -13,14 +13,12 @@
 #include <ctime>
 #include <glm/geometric.hpp>
 
+#include "finite.h"
+
 namespace burrlab::runner {
 namespace {
 
 constexpr std::int64_t kNsPerS = 1'000'000'000;
-
-bool Finite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 }  // namespace
 
@@ -85,7 +83,7 @@ DeviceStatus HapticLoop::Tick(std::int64_t deadline_ns) noexcept {
 
   glm::dvec3 force_n = source_->Force(position_mm);
   const std::int64_t ready_ns = clock_->NowNs();
-  if (!Finite(force_n)) {
+  if (!IsFinite(force_n)) {
     ++counters_.non_finite;
     force_n = glm::dvec3(0.0);
     seh_.Reset();

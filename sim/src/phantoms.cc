@@ -17,20 +17,18 @@
 #include <string_view>
 
 #include "cube_cut.h"
+#include "finite.h"
 
 namespace burrlab::sim {
 namespace {
 
 using internal::CubeFractionBelow;
+using internal::IsFinite;
 
 constexpr double kHalfDiagonal = 0.8660254037844386;  // sqrt(3) / 2
 
 std::string FormatVec(const glm::dvec3& v) {
   return fmt::format("({}, {}, {})", v.x, v.y, v.z);
-}
-
-bool IsFinite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 // round(255 * fraction), with the fraction clamped to [0, 1] (NaN -> 0).

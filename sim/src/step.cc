@@ -10,16 +10,14 @@
 #include <numbers>
 
 #include "burrlab/sim/moments.h"
+#include "finite.h"
 #include "octree_walk.h"
 
 namespace burrlab::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using internal::IsFinite;
 
-bool IsFinite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 double Norm(const glm::dvec3& v) {
   return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
 }
@@ -66,7 +64,7 @@ struct ErosionVisitor {
     double overlap = 1.0;
     if (d_vox > radius_vox - eta_vox) {
       overlap = LensVolume(d_vox, radius_vox, eta_vox) /
-                (4.0 / 3.0 * kPi * eta_vox * eta_vox * eta_vox);
+                (4.0 / 3.0 * std::numbers::pi * eta_vox * eta_vox * eta_vox);
     }
     const double lambda = std::min(
         1.0, rate_per_step * volume->ErosionFactor(volume->labels()[index]) *
@@ -215,7 +213,7 @@ void ComputeForces(const Model& model, const Volume& volume,
           out->normal,
           omega_hat,
           std::sqrt(a2),
-          3.0 * Norm(out->elastic_n) / (2.0 * kPi * a2)};
+          3.0 * Norm(out->elastic_n) / (2.0 * std::numbers::pi * a2)};
       internal::WalkSphere(octree, volume, input.position_mm / v,
                            (radius + EqualVolumeSphereRadius(v)) / v, visitor);
       out->friction_n = mat.mu * visitor.force;

@@ -23,27 +23,17 @@
 
 #include "burrlab/analysis/discover_scenarios.h"
 #include "burrlab/analysis/measured_data.h"
+#include "discover_fixtures.h"
 
 namespace burrlab::analysis {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
+using testing::BoneDesign;
+using testing::kSanitized;
+using testing::Slow;
 
-bool Slow() { return std::getenv("BURRLAB_SLOW_TESTS") != nullptr; }
 int EffectSeeds() { return kSanitized ? 2 : Slow() ? 20 : 10; }
 int NullSeeds() { return kSanitized ? 2 : Slow() ? 100 : 30; }
-
-ScenarioDesign BoneDesign() {
-  ScenarioDesign d;
-  d.material.c_e_n_per_mm2 = 2.145;  // human temporal bone (§8.7)
-  d.material.alpha_per_s = 0.087;
-  d.full_rig = false;
-  return d;
-}
 
 DiscoverOptions Options(const ScenarioDesign& d) {
   DiscoverOptions o;

@@ -19,11 +19,11 @@ namespace {
 namespace fs = std::filesystem;
 namespace rs = results_schema;
 
-class KinematicsTest : public testing::Test {
+class KinematicsTest : public ::testing::Test {
  protected:
   void SetUp() override {
     std::string pattern =
-        (fs::path(testing::TempDir()) / "burrlab_kin_XXXXXX").string();
+        (fs::path(::testing::TempDir()) / "burrlab_kin_XXXXXX").string();
     dir_ = mkdtemp(pattern.data());
   }
   void TearDown() override { fs::remove_all(dir_); }

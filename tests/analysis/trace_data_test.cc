@@ -9,7 +9,7 @@
 namespace burrlab::analysis {
 namespace {
 
-std::string ErrorOf(std::string_view text) {
+std::string TraceErrorOf(std::string_view text) {
   Result<TraceData> data = ParseTraceData("t.csv", text);
   return data.ok() ? std::string("(parsed)") : data.error().message;
 }
@@ -35,67 +35,69 @@ TEST(ParseTraceData, ReadsRunsWithColumnsInAnyOrder) {
 }
 
 TEST(ParseTraceData, RefusesAnEmptyFileOrNoRows) {
-  EXPECT_EQ(ErrorOf("\n \n"),
+  EXPECT_EQ(TraceErrorOf("\n \n"),
             "t.csv: error: the file is empty; expected a header line with "
             "the columns run,t_s,force_n,depth_mm");
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n"),
             "t.csv: error: no data rows after the header");
 }
 
 TEST(ParseTraceData, NamesAMissingColumn) {
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth\n1,0,0,0\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth\n1,0,0,0\n"),
             "t.csv:1:1: error: the header has no depth_mm column; traces "
             "need the columns run,t_s,force_n,depth_mm (comma-separated)\n"
             "run,t_s,force_n,depth\n^");
-  EXPECT_EQ(ErrorOf("t_s,force_n,depth_mm\n0,0,0\n"),
+  EXPECT_EQ(TraceErrorOf("t_s,force_n,depth_mm\n0,0,0\n"),
             "t.csv:1:1: error: the header has no run column; traces need the "
             "columns run,t_s,force_n,depth_mm (comma-separated)\n"
             "t_s,force_n,depth_mm\n^");
 }
 
 TEST(ParseTraceData, RefusesADuplicateColumn) {
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm,t_s\n1,0,0,0,0\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm,t_s\n1,0,0,0,0\n"),
             "t.csv:1:26: error: the column t_s appears twice in the header\n"
             "run,t_s,force_n,depth_mm,t_s\n                         ^");
 }
 
 TEST(ParseTraceData, RefusesNonFiniteValues) {
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,0,nan,0\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n1,0,nan,0\n"),
             "t.csv:2:5: error: force_n 'nan' is not a finite number of N\n"
             "1,0,nan,0\n    ^");
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,0,0,inf\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n1,0,0,inf\n"),
             "t.csv:2:7: error: depth_mm 'inf' is not a finite number of mm\n"
             "1,0,0,inf\n      ^");
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,x,0,0\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n1,x,0,0\n"),
             "t.csv:2:3: error: t_s 'x' is not a finite number of s\n"
             "1,x,0,0\n  ^");
 }
 
 TEST(ParseTraceData, RefusesTimeThatDoesNotIncreaseWithinARun) {
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n1,0.01,0,0\n"
-                    "1,0.01,0,0\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n1,0.01,0,0\n"
+                         "1,0.01,0,0\n"),
             "t.csv:4:3: error: t_s 0.01 does not increase within run 1 (the "
             "previous sample is at 0.01 s)\n1,0.01,0,0\n  ^");
   // A new run starts its own clock.
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n1,1,0,0\n2,0,0,0\n"
-                    "2,1,0,0\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n1,1,0,0\n2,0,0,0\n"
+                         "2,1,0,0\n"),
             "(parsed)");
 }
 
 TEST(ParseTraceData, RefusesSplitRunsShortRunsEmptyRunsAndRaggedRows) {
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n1,1,0,0\n2,0,0,0\n"
-                    "2,1,0,0\n1,2,0,0\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n1,1,0,0\n2,0,0,0\n"
+                         "2,1,0,0\n1,2,0,0\n"),
             "t.csv:6:1: error: run 1 appears again after other runs (it "
             "started on line 2); keep each run's rows together\n1,2,0,0\n^");
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n2,0,0,0\n2,1,0,0\n"),
-            "t.csv:2:1: error: run 1 has only 1 sample; a trace needs at "
-            "least 2\n1,0,0,0\n^");
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n1,1,0,0\n2,0,0,0\n"),
-            "t.csv:4:1: error: run 2 has only 1 sample; a trace needs at "
-            "least 2\n2,0,0,0\n^");
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n ,0,0,0\n"),
+  EXPECT_EQ(
+      TraceErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n2,0,0,0\n2,1,0,0\n"),
+      "t.csv:2:1: error: run 1 has only 1 sample; a trace needs at "
+      "least 2\n1,0,0,0\n^");
+  EXPECT_EQ(
+      TraceErrorOf("run,t_s,force_n,depth_mm\n1,0,0,0\n1,1,0,0\n2,0,0,0\n"),
+      "t.csv:4:1: error: run 2 has only 1 sample; a trace needs at "
+      "least 2\n2,0,0,0\n^");
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n ,0,0,0\n"),
             "t.csv:2:2: error: the run cell is empty\n ,0,0,0\n ^");
-  EXPECT_EQ(ErrorOf("run,t_s,force_n,depth_mm\n1,0,0\n"),
+  EXPECT_EQ(TraceErrorOf("run,t_s,force_n,depth_mm\n1,0,0\n"),
             "t.csv:2:1: error: the row has 3 cells, the header 4\n1,0,0\n^");
 }
 

@@ -21,27 +21,16 @@
 #include "burrlab/analysis/discover.h"
 #include "burrlab/analysis/discover_scenarios.h"
 #include "burrlab/analysis/synthetic_measurement.h"
+#include "discover_fixtures.h"
 
 namespace burrlab::analysis {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
+using testing::BoneDesign;
+using testing::kSanitized;
+using testing::Slow;
 
-bool Slow() { return std::getenv("BURRLAB_SLOW_TESTS") != nullptr; }
 int Seeds() { return kSanitized ? 2 : Slow() ? 40 : 6; }
-
-ScenarioDesign BoneDesign() {
-  ScenarioDesign d;
-  d.material.c_e_n_per_mm2 = 2.145;  // human temporal bone (§8.7)
-  d.material.alpha_per_s = 0.087;
-
-  d.full_rig = false;
-  return d;
-}
 
 // What a user of `sim measure --traces` has for one seed: v(F) from the
 // surrogate truth with log-normal noise (trace-only effects do not change

@@ -18,7 +18,7 @@ double Phi(double z) {
   return boost::math::cdf(boost::math::normal_distribution<double>(), z);
 }
 
-TrialSpec TwoIntervalTrial(Method method, double level1, double level2) {
+TrialSpec TwoIntervalSpec(Method method, double level1, double level2) {
   TrialSpec t;
   t.method = method;
   t.task = Task::kProbe;
@@ -65,7 +65,7 @@ TEST(SimulatedObserver,
   SimulatedObserver observer(NoLapse(sigma));
   const int n = 20000;
   for (double ratio : {1.05, 1.2, 1.5}) {
-    const TrialSpec t = TwoIntervalTrial(Method::kTwoInterval, 1.0, ratio);
+    const TrialSpec t = TwoIntervalSpec(Method::kTwoInterval, 1.0, ratio);
     const double expected = Phi(std::log(ratio) / (sigma * std::sqrt(2.0)));
     const double se = std::sqrt(expected * (1 - expected) / n);
     EXPECT_NEAR(Rate(observer, t, {1.0, ratio}, "2", n, 7), expected,
@@ -85,7 +85,7 @@ TEST(SimulatedObserver, SameDifferentRatesFollowTheDifferencingRule) {
   params.criterion = 1.2;
   SimulatedObserver observer(params);
   const int n = 20000;
-  const TrialSpec t = TwoIntervalTrial(Method::kSameDifferent, 0.0, 0.0);
+  const TrialSpec t = TwoIntervalSpec(Method::kSameDifferent, 0.0, 0.0);
   // False alarms: F = 2 Phi(-k / (sigma sqrt 2)) with k = c sigma sqrt 2.
   const double f = 2.0 * Phi(-params.criterion);
   EXPECT_NEAR(Rate(observer, t, {1.0, 1.0}, "different", n, 3), f,
@@ -105,7 +105,7 @@ TEST(SimulatedObserver, LapsesAnswerAtRandom) {
   ObserverParams params = NoLapse(0.01);
   params.lapse = 0.2;
   SimulatedObserver observer(params);
-  const TrialSpec t = TwoIntervalTrial(Method::kTwoInterval, 1.0, 3.0);
+  const TrialSpec t = TwoIntervalSpec(Method::kTwoInterval, 1.0, 3.0);
   // Perfect discrimination except lapses, half of which land right.
   const double expected = 1.0 - params.lapse / 2;
   const int n = 20000;

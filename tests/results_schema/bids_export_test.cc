@@ -256,7 +256,7 @@ TEST_F(BidsExport, PhysioDecompressesToTheJournaledSamples) {
       ParseTsv(Gunzip(Beh("sub-01_task-practice_physio.tsv.gz")));
   std::vector<std::vector<double>> expected;
   for (int i = 0; i < 4; ++i) {
-    for (const TraceSamples& trace : MakeTraces(i)) {
+    for (const TraceSamples& trace : FixtureTraces(i)) {
       for (std::size_t r = 0; r < trace.rows.size(); ++r) {
         expected.push_back(
             {static_cast<double>(i), static_cast<double>(trace.interval_index),
@@ -295,9 +295,9 @@ TEST_F(BidsExport, ReExportIsByteIdenticalAndKeepsADatasetDescription) {
 
 TEST(BidsExportCases, DistinctBlocksGetDistinctTaskLabels) {
   TempDir dir;
-  auto journal = Journal::Create(dir.path(), MakeSession("02"));
+  auto journal = Journal::Create(dir.path(), FixtureSession("02"));
   ASSERT_TRUE(journal.ok()) << journal.error().message;
-  TrialRecord a = MakeTrial(4);
+  TrialRecord a = FixtureTrial(4);
   a.trial_index = 0;
   a.block = "a b";
   TrialRecord b = a;
@@ -317,12 +317,12 @@ TEST(BidsExportCases, DistinctBlocksGetDistinctTaskLabels) {
 
 TEST(BidsExportCases, TracesOfDifferentKindsGoToSeparateRecordings) {
   TempDir dir;
-  auto journal = Journal::Create(dir.path(), MakeSession("03"));
+  auto journal = Journal::Create(dir.path(), FixtureSession("03"));
   ASSERT_TRUE(journal.ok()) << journal.error().message;
-  std::vector<TraceSamples> traces = MakeTraces(0);
+  std::vector<TraceSamples> traces = FixtureTraces(0);
   traces[1].sampling_frequency_hz = 500.0;
   traces[1].rows[1][0] = NAN;
-  ASSERT_TRUE(journal->Append(MakeTrial(0), traces).ok());
+  ASSERT_TRUE(journal->Append(FixtureTrial(0), traces).ok());
   Status s = ExportBids(dir.path(), "03");
   ASSERT_TRUE(s.ok()) << s.error().message;
   const fs::path beh = dir.path() / "sub-03" / "beh";

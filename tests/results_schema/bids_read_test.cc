@@ -32,7 +32,7 @@ TEST(BidsRead, ExportedTrialsReadBackFieldForField) {
     EXPECT_EQ(f.subject, "07");
     EXPECT_EQ(f.table.seed, 1234567890123u);
     for (const TrialRecord& read : f.table.trials) {
-      TrialRecord expected = MakeTrial(next++);
+      TrialRecord expected = FixtureTrial(next++);
       EXPECT_EQ(nlohmann::json::parse(read.extra),
                 nlohmann::json::parse(expected.extra));
       expected.rng_state.clear();  // not exported
@@ -57,7 +57,7 @@ TEST(BidsRead, PhysioRowsStreamBackAsJournaled) {
                                       "force_n", "depth_mm"}));
   std::vector<std::vector<double>> expected;
   for (int i = 0; i < 4; ++i) {
-    for (const TraceSamples& t : MakeTraces(i)) {
+    for (const TraceSamples& t : FixtureTraces(i)) {
       for (std::size_t r = 0; r < t.rows.size(); ++r) {
         expected.push_back({double(i), double(t.interval_index),
                             t.start_time_s + double(r) / 1000.0, t.rows[r][0],

@@ -18,7 +18,7 @@ namespace burrlab::results_schema {
 
 namespace fs = std::filesystem;
 
-inline SessionInfo MakeSession(const std::string& label) {
+inline SessionInfo FixtureSession(const std::string& label) {
   SessionInfo s;
   s.study = "stiffness discrimination";
   s.protocol_path = "protocols/examples/staircase.toml";
@@ -31,7 +31,7 @@ inline SessionInfo MakeSession(const std::string& label) {
 }
 
 // Trials 0-3 in block "practice", 4-9 in "same-different main".
-inline TrialRecord MakeTrial(int i) {
+inline TrialRecord FixtureTrial(int i) {
   TrialRecord t;
   t.trial_index = i;
   t.block = i < 4 ? "practice" : "same-different main";
@@ -61,7 +61,7 @@ inline TrialRecord MakeTrial(int i) {
   return t;
 }
 
-inline std::vector<TraceSamples> MakeTraces(int i) {
+inline std::vector<TraceSamples> FixtureTraces(int i) {
   std::vector<TraceSamples> traces;
   for (int interval = 0; interval < 2; ++interval) {
     TraceSamples t;
@@ -80,10 +80,10 @@ inline std::vector<TraceSamples> MakeTraces(int i) {
 
 inline void WriteJournal(const fs::path& dir, const std::string& label,
                          int trials) {
-  auto journal = Journal::Create(dir, MakeSession(label));
+  auto journal = Journal::Create(dir, FixtureSession(label));
   ASSERT_TRUE(journal.ok()) << journal.error().message;
   for (int i = 0; i < trials; ++i) {
-    Status s = journal->Append(MakeTrial(i), MakeTraces(i));
+    Status s = journal->Append(FixtureTrial(i), FixtureTraces(i));
     ASSERT_TRUE(s.ok()) << s.error().message;
   }
 }

@@ -353,9 +353,9 @@ namespace {
 
 // A fresh folder under the system's temporary directory, removed with its
 // contents when the test ends.
-class TempDir {
+class CliTempDir {
  public:
-  explicit TempDir(const std::string& name)
+  explicit CliTempDir(const std::string& name)
       : path_(std::filesystem::temp_directory_path() /
               ("burrlab_cli_" + name + "_" +
                std::to_string(
@@ -363,9 +363,9 @@ class TempDir {
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  ~TempDir() {
+  CliTempDir(const CliTempDir&) = delete;
+  CliTempDir& operator=(const CliTempDir&) = delete;
+  ~CliTempDir() {
     std::error_code ignored;
     std::filesystem::remove_all(path_, ignored);
   }
@@ -406,7 +406,7 @@ source = "test"
 )";
 
 TEST(ForceCurveCommand, MaterialMayBeAFile) {
-  const TempDir temp("material");
+  const CliTempDir temp("material");
   const std::filesystem::path& dir = temp.path();
   WriteFile(dir / "soft.toml", kMaterialFile);
   const CliRun run = RunBurrlab({"sim", "force-curve", "--material",
@@ -421,7 +421,7 @@ TEST(ForceCurveCommand, MaterialMayBeAFile) {
 }
 
 TEST(ForceCurveCommand, MaterialFileWithAMissingKeyIsOneErrorLine) {
-  const TempDir temp("bad_material");
+  const CliTempDir temp("bad_material");
   const std::filesystem::path& dir = temp.path();
   std::string text = kMaterialFile;
   text.replace(text.find("[parameters.alpha]"),
@@ -435,7 +435,7 @@ TEST(ForceCurveCommand, MaterialFileWithAMissingKeyIsOneErrorLine) {
 }
 
 TEST(VolumeCommand, SummarisesAnNrrdVolume) {
-  const TempDir temp("volume");
+  const CliTempDir temp("volume");
   const std::filesystem::path& dir = temp.path();
   std::string data(4 * 4 * 2, '\0');
   for (std::size_t n = 0; n < 16; ++n)
@@ -455,7 +455,7 @@ TEST(VolumeCommand, SummarisesAnNrrdVolume) {
 }
 
 TEST(VolumeCommand, TruncatedNrrdIsOneErrorLine) {
-  const TempDir temp("truncated");
+  const CliTempDir temp("truncated");
   const std::filesystem::path& dir = temp.path();
   const std::string path = (dir / "cut.nrrd").string();
   WriteFile(
@@ -480,7 +480,7 @@ namespace burrlab::runner {
 namespace {
 
 TEST(SimMaterialsCommand, PrintsTheOrderCheckAndWritesThreeFigures) {
-  const TempDir temp("materials");
+  const CliTempDir temp("materials");
   const std::filesystem::path dir = temp.path() / "figures";
   const CliRun run = RunBurrlab({"sim", "materials", "--plots", dir.string()});
   ASSERT_EQ(run.code, 0) << run.err;

@@ -24,6 +24,7 @@
 #include "devices/falcon_kinematics.h"
 #include "devices/mouse_device.h"
 #include "devices/simulated_device.h"
+#include "half_space.h"
 #include "sim_force_source.h"
 #include "station/surface_snapshot.h"
 
@@ -107,13 +108,6 @@ SimulatedDevice MakeDevice(std::vector<glm::dvec3> positions,
   options.positions_mm = std::move(positions);
   options.record_capacity = record;
   return SimulatedDevice(std::move(options));
-}
-
-// A 19.2 mm cube of 0.3 mm voxels, solid below z = 9.6 mm.
-sim::Volume HalfSpace() {
-  sim::PhantomGrid grid;
-  grid.nx = grid.ny = grid.nz = 64;
-  return sim::MakeHalfSpace(grid, {9.6, 9.6, 9.6}, {0.0, 0.0, 1.0}).value();
 }
 
 TEST(HapticLoop, AllocatesNothingOverTenThousandTicks) {

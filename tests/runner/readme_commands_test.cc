@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "../results_schema/temp_dir.h"
+#include "read_file.h"
 
 #ifndef __SANITIZE_ADDRESS__
 namespace {
@@ -44,16 +45,11 @@ std::vector<std::string> ShellBlocks(const std::string& readme) {
   return blocks;
 }
 
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using burrlab::runner::ReadFile;
 
 TEST(ReadmeCommands, EveryShellBlockRunsAsWritten) {
   const std::string readme =
-      ReadAll(fs::path(BURRLAB_SOURCE_DIR) / "README.md");
+      ReadFile(fs::path(BURRLAB_SOURCE_DIR) / "README.md");
   const std::vector<std::string> blocks = ShellBlocks(readme);
   ASSERT_GE(blocks.size(), 4u) << "the README's tours have gone";
   burrlab::results_schema::TempDir dir;
@@ -72,7 +68,7 @@ TEST(ReadmeCommands, EveryShellBlockRunsAsWritten) {
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
         << "README block " << i + 1 << " failed:\n"
         << blocks[i] << "--- its output:\n"
-        << ReadAll(log);
+        << ReadFile(log);
   }
 }
 

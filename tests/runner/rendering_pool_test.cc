@@ -13,6 +13,7 @@
 
 #include "../results_schema/temp_dir.h"
 #include "burrlab/stimuli/materials.h"
+#include "read_file.h"
 #include "run_cli.h"
 
 namespace burrlab::runner {
@@ -94,13 +95,6 @@ TEST(RenderingPool, RenderingsDependOnTheStimulusNotOnWhoAskedFirst) {
   for (int t = 0; t < 8; ++t) EXPECT_EQ(seen[t], (*fa)[t % 2]) << t;
 }
 
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(StudyWithRenderings, IsTheSameForOneOrTwoJobsAndSaysSoInEachTrial) {
   TempDir dir;
   std::vector<std::string> outputs;
@@ -118,7 +112,7 @@ TEST(StudyWithRenderings, IsTheSameForOneOrTwoJobsAndSaysSoInEachTrial) {
            std::filesystem::directory_iterator(out / sub / "beh")) {
         if (e.path().extension() == ".tsv" ||
             e.path().string().ends_with(".tsv.gz")) {
-          all += e.path().filename().string() + ReadAll(e.path());
+          all += e.path().filename().string() + ReadFile(e.path());
         }
       }
     }

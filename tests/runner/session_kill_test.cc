@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "burrlab/results_schema/journal.h"
+#include "read_file.h"
 
 namespace {
 
@@ -107,12 +108,7 @@ int StoredTrials(const fs::path& out) {
   return next.ok() ? next.value() : -1;
 }
 
-std::string Read(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
+using burrlab::runner::ReadFile;
 
 TEST(SessionCrash, TwentyKillsAndResumesGiveTheUninterruptedResults) {
   const fs::path dir = fs::path(BURRLAB_BINARY_DIR) / "test_tmp" / "kill";
@@ -132,7 +128,7 @@ TEST(SessionCrash, TwentyKillsAndResumesGiveTheUninterruptedResults) {
   // The uninterrupted reference, timed to choose kill delays.
   const fs::path reference = dir / "reference";
   const auto t0 = std::chrono::steady_clock::now();
-  ASSERT_EQ(Wait(Start(args(reference, false), log)), 0) << Read(log);
+  ASSERT_EQ(Wait(Start(args(reference, false), log)), 0) << ReadFile(log);
   const double full_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
           .count();
@@ -156,7 +152,7 @@ TEST(SessionCrash, TwentyKillsAndResumesGiveTheUninterruptedResults) {
       ++kills;
       trials_at_kill.insert(StoredTrials(out));
     } else {
-      ASSERT_EQ(code, 0) << Read(log);  // finished before the kill
+      ASSERT_EQ(code, 0) << ReadFile(log);  // finished before the kill
       break;
     }
   }
@@ -170,10 +166,10 @@ TEST(SessionCrash, TwentyKillsAndResumesGiveTheUninterruptedResults) {
   // Resume to the end.
   if (StoredTrials(out) < 40) {
     ASSERT_EQ(Wait(Start(args(out, StoredTrials(out) >= 0), log)), 0)
-        << Read(log);
+        << ReadFile(log);
   } else {
     // Finished journal; the export may have been killed: resume re-exports.
-    ASSERT_EQ(Wait(Start(args(out, true), log)), 0) << Read(log);
+    ASSERT_EQ(Wait(Start(args(out, true), log)), 0) << ReadFile(log);
   }
 
   auto a = rs::Journal::Open(reference, "01");
@@ -191,8 +187,8 @@ TEST(SessionCrash, TwentyKillsAndResumesGiveTheUninterruptedResults) {
   for (const char* file :
        {"sub-01_task-sd_beh.tsv", "sub-01_task-stairs_beh.tsv",
         "sub-01_task-sd_physio.tsv.gz", "sub-01_task-stairs_physio.tsv.gz"}) {
-    EXPECT_EQ(Read(reference / "sub-01" / "beh" / file),
-              Read(out / "sub-01" / "beh" / file))
+    EXPECT_EQ(ReadFile(reference / "sub-01" / "beh" / file),
+              ReadFile(out / "sub-01" / "beh" / file))
         << file;
   }
 }

@@ -14,15 +14,11 @@
 
 #include "../results_schema/temp_dir.h"
 #include "burrlab/analysis/trace_data.h"
+#include "read_file.h"
 #include "run_cli.h"
 
 namespace burrlab::runner {
 namespace {
-
-std::string Read(const std::filesystem::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(file), {});
-}
 
 TEST(SimMeasure, TracesFlagWritesEveryRunsTrace) {
   results_schema::TempDir temp;
@@ -31,7 +27,7 @@ TEST(SimMeasure, TracesFlagWritesEveryRunsTrace) {
       RunBurrlab({"sim", "measure", "--material", "pvc_k70", "--forces", "0.6",
                   "--replicates", "2", "--seed", "3", "--traces", path});
   ASSERT_EQ(run.code, 0) << run.err;
-  const std::string text = Read(path);
+  const std::string text = ReadFile(path);
   ASSERT_TRUE(text.starts_with("run,t_s,force_n,depth_mm\n")) << text;
   const analysis::TraceData traces =
       analysis::ParseTraceData(path, text).value();

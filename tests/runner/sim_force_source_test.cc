@@ -10,16 +10,10 @@
 #include <glm/geometric.hpp>
 
 #include "burrlab/sim/phantoms.h"
+#include "half_space.h"
 
 namespace burrlab::runner {
 namespace {
-
-// Solid below z = 9.6 mm in a 19.2 mm cube of 0.3 mm voxels.
-sim::Volume HalfSpace() {
-  sim::PhantomGrid grid;
-  grid.nx = grid.ny = grid.nz = 64;
-  return sim::MakeHalfSpace(grid, {9.6, 9.6, 9.6}, {0.0, 0.0, 1.0}).value();
-}
 
 TEST(SimForceSource, ShiftsTheDevicePositionIntoTheVolume) {
   sim::Model model;

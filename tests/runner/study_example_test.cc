@@ -18,6 +18,7 @@
 #include "burrlab/results_schema/records.h"
 #include "burrlab/results_schema/schemas.h"
 #include "burrlab/runner/cli.h"
+#include "read_file.h"
 
 namespace {
 
@@ -32,12 +33,7 @@ constexpr int kSubjects = 2;
 constexpr int kSubjects = 20;
 #endif
 
-std::string Read(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
+using burrlab::runner::ReadFile;
 
 std::vector<std::vector<std::string>> ParseTsv(const std::string& text) {
   std::vector<std::vector<std::string>> rows;
@@ -69,7 +65,7 @@ TEST(StudyExample, TwentySimulatedSubjectsExportValidBalancedBlocks) {
       o, e);
   ASSERT_EQ(code, 0) << e.str();
   ASSERT_TRUE(rs::CheckJsonAgainst("dataset_description",
-                                   Read(out / "dataset_description.json"))
+                                   ReadFile(out / "dataset_description.json"))
                   .ok());
   int correct = 0;
   int answered = 0;
@@ -79,7 +75,7 @@ TEST(StudyExample, TwentySimulatedSubjectsExportValidBalancedBlocks) {
     const fs::path beh = out / ("sub-" + label) / "beh";
     for (const std::string task : {"probe", "drill"}) {
       const std::string stem = "sub-" + label + "_task-" + task;
-      const auto table = ParseTsv(Read(beh / (stem + "_beh.tsv")));
+      const auto table = ParseTsv(ReadFile(beh / (stem + "_beh.tsv")));
       ASSERT_EQ(table.size(), 13u) << stem;  // header + 12 trials
       ASSERT_EQ(table[0], rs::BehColumns());
       std::map<std::string, std::size_t> column;
@@ -101,14 +97,14 @@ TEST(StudyExample, TwentySimulatedSubjectsExportValidBalancedBlocks) {
       }
       EXPECT_EQ(pairs, (std::map<std::string, int>{
                            {"AA", 3}, {"AB", 3}, {"BA", 3}, {"BB", 3}}));
-      auto status =
-          rs::CheckJsonAgainst("beh_sidecar", Read(beh / (stem + "_beh.json")));
+      auto status = rs::CheckJsonAgainst("beh_sidecar",
+                                         ReadFile(beh / (stem + "_beh.json")));
       EXPECT_TRUE(status.ok()) << status.error().message;
       status = rs::CheckJsonAgainst("physio_sidecar",
-                                    Read(beh / (stem + "_physio.json")));
+                                    ReadFile(beh / (stem + "_physio.json")));
       EXPECT_TRUE(status.ok()) << status.error().message;
       const auto physio =
-          nlohmann::json::parse(Read(beh / (stem + "_physio.json")));
+          nlohmann::json::parse(ReadFile(beh / (stem + "_physio.json")));
       EXPECT_EQ(physio["SamplingFrequency"], 100);
       EXPECT_GT(fs::file_size(beh / (stem + "_physio.tsv.gz")), 1000u);
     }

@@ -14,8 +14,6 @@
 namespace burrlab::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // Material of a volume in mm^3 (sum of occupancy / 255 times voxel volume),
 // summed here rather than through Volume::MaterialMm3.
 double SumMaterialMm3(const Volume& volume) {
@@ -186,8 +184,9 @@ TEST(Phantom, HalfSpaceMomentsInABurrSphereMatchTheCapFormulas) {
   const double radius = 3.0;
   const double delta = 0.75;
   const double h = radius - delta;
-  const double cap_m0 = kPi * h * h * (radius - h / 3.0);
-  const double cap_m1 = kPi / 4.0 * (radius * radius - delta * delta) *
+  const double cap_m0 = std::numbers::pi * h * h * (radius - h / 3.0);
+  const double cap_m1 = std::numbers::pi / 4.0 *
+                        (radius * radius - delta * delta) *
                         (radius * radius - delta * delta);
   for (const glm::dvec3 normal :
        {glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 1), glm::dvec3(1, 2, 3)}) {
@@ -209,9 +208,9 @@ TEST(Phantom, SphereMaterialMatchesFourThirdsPiRCubed) {
     Result<Volume> volume =
         MakeSphere(kGrid, glm::dvec3(9.6, 9.57, 9.71), radius);
     ASSERT_TRUE(volume.ok()) << volume.error().message;
-    EXPECT_NEAR(
-        SumMaterialMm3(*volume) / (4.0 / 3.0 * kPi * std::pow(radius, 3)), 1.0,
-        0.001)
+    EXPECT_NEAR(SumMaterialMm3(*volume) /
+                    (4.0 / 3.0 * std::numbers::pi * std::pow(radius, 3)),
+                1.0, 0.001)
         << "radius " << radius;
   }
 }

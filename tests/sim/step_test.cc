@@ -42,8 +42,6 @@ void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
 namespace burrlab::sim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // Solid below z = surface_mm (on a voxel boundary), air above.
 Volume SolidBelow(int n, int nz, double voxel_mm, int surface_k) {
   Volume volume = Volume::Create(n, n, nz, voxel_mm).value();
@@ -262,7 +260,7 @@ TEST(Friction, SurfaceFrictionGrowsWithTheAngleBetweenNormalAndAxis) {
   const MomentOctree tree = MomentOctree::Build(volume);
   double previous = -1.0;
   for (double theta_deg : {0.0, 30.0, 60.0, 90.0}) {
-    const double theta = theta_deg * kPi / 180.0;
+    const double theta = theta_deg * std::numbers::pi / 180.0;
     Input input;
     input.position_mm = glm::dvec3(6.01, 5.98, 6.0 + 3.0 - 0.75);
     input.spindle_rad_s =

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "devices/falcon_kinematics.h"
+#include "finite.h"
 
 namespace burrlab::runner {
 namespace {
@@ -31,10 +32,6 @@ constexpr std::size_t kFirmwareChunkBytes = 62;
 
 std::string Reason(const DeviceStatus& status) {
   return fmt::format("{} ({})", status.reason, DeviceCodeName(status.code));
-}
-
-bool Finite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 }  // namespace
@@ -405,7 +402,7 @@ DeviceStatus FalconDevice::WriteForce(const glm::dvec3& force_n) noexcept {
   if (!homed_) return {DeviceCode::kNotReady, "Falcon not homed"};
   DeviceStatus result;
   glm::dvec3 force = force_n;
-  if (!Finite(force)) {
+  if (!IsFinite(force)) {
     force = glm::dvec3(0.0);
     result = {DeviceCode::kInvalidArgument,
               "non-finite force refused; zero force sent"};

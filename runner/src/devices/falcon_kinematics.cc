@@ -7,6 +7,8 @@
 #include <glm/geometric.hpp>
 #include <numbers>
 
+#include "finite.h"
+
 namespace burrlab::runner::falcon {
 namespace {
 
@@ -57,10 +59,6 @@ bool Solve(const std::array<glm::dvec3, 3>& rows, const glm::dvec3& y,
   if (!(std::abs(det) > 1e-300) || !std::isfinite(det)) return false;
   *x = (y.x * c0 + y.y * c1 + y.z * c2) / det;
   return true;
-}
-
-bool Finite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 }  // namespace
@@ -122,7 +120,7 @@ bool ForwardKinematics(const glm::dvec3& angles_rad, const glm::dvec3& guess_mm,
                        glm::dvec3* position_mm) noexcept {
   constexpr int kMaxIterations = 60;
   constexpr double kToleranceRad = 1e-14;
-  if (!Finite(angles_rad) || !Finite(guess_mm)) return false;
+  if (!IsFinite(angles_rad) || !IsFinite(guess_mm)) return false;
   glm::dvec3 p = guess_mm;
   glm::dvec3 theta;
   if (!InverseKinematics(p, &theta)) {
@@ -164,7 +162,7 @@ bool ForwardKinematics(const glm::dvec3& angles_rad, const glm::dvec3& guess_mm,
 bool ForceToTorques(const glm::dvec3& position_mm, const glm::dvec3& force_n,
                     glm::dvec3* torques_n_m) noexcept {
   std::array<glm::dvec3, 3> rows;
-  if (!Finite(force_n) || !AngleJacobian(position_mm, &rows)) return false;
+  if (!IsFinite(force_n) || !AngleJacobian(position_mm, &rows)) return false;
   // tau = J^-T F: solve J^T tau = F with the columns of J^T = rows of J.
   const glm::dvec3 c0 = glm::cross(rows[1], rows[2]);
   const glm::dvec3 c1 = glm::cross(rows[2], rows[0]);
@@ -180,7 +178,7 @@ bool ForceToTorques(const glm::dvec3& position_mm, const glm::dvec3& force_n,
 
 std::array<std::int16_t, 3> TorquesToMotorCommands(
     const glm::dvec3& torques_n_m) noexcept {
-  if (!Finite(torques_n_m)) return {};
+  if (!IsFinite(torques_n_m)) return {};
   glm::dvec3 counts = -kMotorCountsPerNewtonMetre * torques_n_m;
   const double largest =
       std::max({std::abs(counts.x), std::abs(counts.y), std::abs(counts.z)});

@@ -8,17 +8,13 @@
 #include <set>
 
 #include "burrlab/stimuli/toml_guard.h"
+#include "station/toml_location.h"
 
 namespace burrlab::runner {
 namespace {
 
 using protocols::Diagnostic;
 using protocols::SourceLocation;
-
-SourceLocation At(const toml::node& node) {
-  return {static_cast<int>(node.source().begin.line),
-          static_cast<int>(node.source().begin.column)};
-}
 
 class Parser {
  public:

@@ -8,28 +8,18 @@
 #include <set>
 
 #include "burrlab/stimuli/toml_guard.h"
+#include "station/toml_location.h"
 
 namespace burrlab::runner {
 namespace {
 
 using protocols::Diagnostic;
-using protocols::SourceLocation;
 
 constexpr std::size_t kMaxWaypoints = 100'000;
 constexpr std::size_t kMaxAnswers = 100'000;
 constexpr std::size_t kMaxUnplugs = 1'000;
 constexpr double kMaxTimeS = 3600.0;
 constexpr double kMaxCoordinateMm = 1000.0;
-
-SourceLocation At(const toml::node& node) {
-  return {static_cast<int>(node.source().begin.line),
-          static_cast<int>(node.source().begin.column)};
-}
-
-SourceLocation AtKey(const toml::key& key) {
-  return {static_cast<int>(key.source().begin.line),
-          static_cast<int>(key.source().begin.column)};
-}
 
 // Reports keys of `table` outside `known`.
 void OnlyKeys(const toml::table& table, std::string_view where,

@@ -26,40 +26,6 @@ constexpr double kLoopRateHz = 1000.0;
 constexpr int kSnapshotEveryTicks = 33;      // ~30 Hz for the window
 constexpr double kScriptResumeAfterS = 0.3;  // a scripted pause lasts this
 
-// One tick's device position and the force sent.
-struct TickSample {
-  glm::dvec3 position_mm{0.0};
-  glm::dvec3 force_n{0.0};
-};
-
-// The station's device as the loop sees it: every tick's position and the
-// force sent (after the loop's clamp) are kept while there is room.
-class RecordingDevice final : public HapticDevice {
- public:
-  RecordingDevice(HapticDevice* device, std::size_t capacity)
-      : device_(device) {
-    samples_.resize(capacity);
-  }
-  const DeviceSpec& spec() const noexcept override { return device_->spec(); }
-  DeviceStatus ReadPosition(glm::dvec3* position_mm) noexcept override {
-    const DeviceStatus s = device_->ReadPosition(position_mm);
-    if (s.usable()) position_mm_ = *position_mm;
-    return s;
-  }
-  DeviceStatus WriteForce(const glm::dvec3& force_n) noexcept override {
-    if (count_ < samples_.size()) samples_[count_++] = {position_mm_, force_n};
-    return device_->WriteForce(force_n);
-  }
-  std::size_t recorded() const { return count_; }
-  const TickSample& sample(std::size_t k) const { return samples_[k]; }
-
- private:
-  HapticDevice* device_;
-  glm::dvec3 position_mm_{0.0};
-  std::vector<TickSample> samples_;
-  std::size_t count_ = 0;
-};
-
 }  // namespace
 
 // The simulator, force source, recording and loop of one running interval.
@@ -67,6 +33,47 @@ class RecordingDevice final : public HapticDevice {
 // snapshots from the exchange.
 class StationSession::Interval final : public ForceSource {
  public:
+  // The recording types are nested here, not in the anonymous namespace: a
+  // member of a class with external linkage must not have an internal-linkage
+  // type (-Wsubobject-linkage, raised when this file is part of a unity
+  // source).
+
+  // One tick's device position and the force sent.
+  struct TickSample {
+    glm::dvec3 position_mm{0.0};
+    glm::dvec3 force_n{0.0};
+  };
+
+  // The station's device as the loop sees it: every tick's position and the
+  // force sent (after the loop's clamp) are kept while there is room.
+  class RecordingDevice final : public HapticDevice {
+   public:
+    RecordingDevice(HapticDevice* device, std::size_t capacity)
+        : device_(device) {
+      samples_.resize(capacity);
+    }
+    const DeviceSpec& spec() const noexcept override { return device_->spec(); }
+    DeviceStatus ReadPosition(glm::dvec3* position_mm) noexcept override {
+      const DeviceStatus s = device_->ReadPosition(position_mm);
+      if (s.usable()) position_mm_ = *position_mm;
+      return s;
+    }
+    DeviceStatus WriteForce(const glm::dvec3& force_n) noexcept override {
+      if (count_ < samples_.size()) {
+        samples_[count_++] = {position_mm_, force_n};
+      }
+      return device_->WriteForce(force_n);
+    }
+    std::size_t recorded() const { return count_; }
+    const TickSample& sample(std::size_t k) const { return samples_[k]; }
+
+   private:
+    HapticDevice* device_;
+    glm::dvec3 position_mm_{0.0};
+    std::vector<TickSample> samples_;
+    std::size_t count_ = 0;
+  };
+
   Interval(const StationSessionOptions& o, const sim::Model& model,
            sim::State state, const glm::dvec3& spindle_rad_s,
            std::size_t capacity)
@@ -211,7 +218,7 @@ void StationSession::StopInterval(LiveTrial* out, bool keep) {
                  "force_x_n",     "force_y_n",     "force_z_n"};
     const std::size_t per_row = static_cast<std::size_t>(
         std::max(1, static_cast<int>(kLoopRateHz) / options_.trace_hz));
-    const RecordingDevice& rec = iv.recorder();
+    const Interval::RecordingDevice& rec = iv.recorder();
     for (std::size_t k = 0; k < rec.recorded(); k += per_row) {
       const std::size_t end = std::min(rec.recorded(), k + per_row);
       glm::dvec3 p(0.0), f(0.0);

@@ -9,7 +9,7 @@
 namespace burrlab::runner {
 namespace {
 
-std::string Problems(const std::string& text) {
+std::string ScriptProblems(const std::string& text) {
   const StationScriptParseOutcome o = ParseStationScript("script.toml", text);
   EXPECT_FALSE(o.script.has_value());
   std::string all;
@@ -59,33 +59,33 @@ TEST(ParseStationScript, DefaultsToNoAnswersAndShortDelays) {
 }
 
 TEST(ParseStationScript, NamesEachProblemWithItsPlace) {
-  EXPECT_EQ(Problems("format = \"burrlab-station-script/1\"\n"),
+  EXPECT_EQ(ScriptProblems("format = \"burrlab-station-script/1\"\n"),
             "script.toml:1:1: error: missing key 'path' (the burr's "
             "waypoints in every interval, e.g. path = [[0.0, 0.0, 0.0, 3.0], "
             "[0.5, 0.0, 0.0, 1.0]])\n"
             "format = \"burrlab-station-script/1\"\n"
             "^\n");
-  EXPECT_EQ(Problems("format = \"burrlab-station-script/1\"\n"
-                     "path = [[0, 0, 0]]\n"),
+  EXPECT_EQ(ScriptProblems("format = \"burrlab-station-script/1\"\n"
+                           "path = [[0, 0, 0]]\n"),
             "script.toml:2:9: error: path[0] must be [t_s, x_mm, y_mm, "
             "z_mm]\n"
             "path = [[0, 0, 0]]\n"
             "        ^\n");
-  EXPECT_EQ(Problems("format = \"burrlab-station-script/1\"\n"
-                     "path = [[0, 0, 0, nan]]\n"),
+  EXPECT_EQ(ScriptProblems("format = \"burrlab-station-script/1\"\n"
+                           "path = [[0, 0, 0, nan]]\n"),
             "script.toml:2:19: error: path[0] z_mm must be a number of mm "
             "from -1000 to 1000\n"
             "path = [[0, 0, 0, nan]]\n"
             "                  ^\n");
-  EXPECT_EQ(Problems("format = \"burrlab-station-script/1\"\n"
-                     "path = [[0, 0, 0, 1]]\nanswers = [\"\"]\n"),
+  EXPECT_EQ(ScriptProblems("format = \"burrlab-station-script/1\"\n"
+                           "path = [[0, 0, 0, 1]]\nanswers = [\"\"]\n"),
             "script.toml:3:12: error: answers[0] must be a key or answer of "
             "1 to 64 characters\n"
             "answers = [\"\"]\n"
             "           ^\n");
-  EXPECT_EQ(Problems("format = \"burrlab-station-script/1\"\n"
-                     "path = [[0, 0, 0, 1]]\n[[unplug]]\ninterval = 0\n"
-                     "speed = 1\n"),
+  EXPECT_EQ(ScriptProblems("format = \"burrlab-station-script/1\"\n"
+                           "path = [[0, 0, 0, 1]]\n[[unplug]]\ninterval = 0\n"
+                           "speed = 1\n"),
             "script.toml:5:1: error: unknown key 'speed' in [[unplug]] "
             "(known: after_s, interval, presentation, resume)\n"
             "speed = 1\n"
@@ -97,12 +97,12 @@ TEST(ParseStationScript, NamesEachProblemWithItsPlace) {
             "1000000\n"
             "interval = 0\n"
             "           ^\n");
-  EXPECT_EQ(
-      Problems("format = \"burrlab-protocol/1\"\npath = [[0, 0, 0, 1]]\n"),
-      "script.toml:1:10: error: format must be "
-      "\"burrlab-station-script/1\"\n"
-      "format = \"burrlab-protocol/1\"\n"
-      "         ^\n");
+  EXPECT_EQ(ScriptProblems(
+                "format = \"burrlab-protocol/1\"\npath = [[0, 0, 0, 1]]\n"),
+            "script.toml:1:10: error: format must be "
+            "\"burrlab-station-script/1\"\n"
+            "format = \"burrlab-protocol/1\"\n"
+            "         ^\n");
 }
 
 }  // namespace

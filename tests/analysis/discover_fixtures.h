@@ -1,0 +1,31 @@
+// Shared by the discover and trace-gap tests: how many seeds to run (fewer
+// under the sanitizers, more with BURRLAB_SLOW_TESTS=1) and the bone design
+// their scenarios start from.
+#ifndef BURRLAB_TESTS_ANALYSIS_DISCOVER_FIXTURES_H_
+#define BURRLAB_TESTS_ANALYSIS_DISCOVER_FIXTURES_H_
+
+#include <cstdlib>
+
+#include "burrlab/analysis/discover_scenarios.h"
+
+namespace burrlab::analysis::testing {
+
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
+inline bool Slow() { return std::getenv("BURRLAB_SLOW_TESTS") != nullptr; }
+
+inline ScenarioDesign BoneDesign() {
+  ScenarioDesign d;
+  d.material.c_e_n_per_mm2 = 2.145;  // human temporal bone (§8.7)
+  d.material.alpha_per_s = 0.087;
+  d.full_rig = false;
+  return d;
+}
+
+}  // namespace burrlab::analysis::testing
+
+#endif  // BURRLAB_TESTS_ANALYSIS_DISCOVER_FIXTURES_H_

@@ -29,15 +29,23 @@ deps:
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
 	fi
 
+# Both builds are unity builds: CMake compiles each target's sources in batches of 8 per
+# translation unit, so the heavy shared headers (toml++, nlohmann/json, fmt, Boost, Eigen,
+# gtest) are compiled once per batch rather than once per source. Measured on the 2-core
+# machine, clean at -j2: release 727 -> 396 CPU-s (6.1 -> 3.3 min), sanitizer 1189 -> 715
+# CPU-s (10.0 -> 6.0 min), which brings `make test` under 30 minutes. A plain
+# `cmake -S . -B dir` stays a per-file build.
 $(BUILD_DIR)/release/build.ninja: | deps
-	cmake -S . -B $(BUILD_DIR)/release -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD_DIR)/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON \
+	  $(CMAKE_FLAGS)
 
 # The sanitizer build at -O1 with line tables only: half the compile time of -O2 -g on this
 # code base (the build, not the tests, is most of the sanitizer half of `make test`), and
 # ASan's reports still carry file:line.
 $(BUILD_DIR)/asan/build.ninja: | deps
 	cmake -S . -B $(BUILD_DIR)/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DBURRLAB_SANITIZE=ON $(CMAKE_FLAGS)
+	  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DBURRLAB_SANITIZE=ON \
+	  -DCMAKE_UNITY_BUILD=ON $(CMAKE_FLAGS)
 
 build: deps $(BUILD_DIR)/release/build.ninja
 	cmake --build $(BUILD_DIR)/release -j $(JOBS)

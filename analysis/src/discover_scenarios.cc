@@ -148,9 +148,12 @@ Result<sim::Effects> EffectAtSnr(const ScenarioDesign& d, const std::string& id,
 }
 
 Result<std::vector<double>> TruthVelocitiesMmS(const ScenarioDesign& d,
-                                               const sim::Effects& effects) {
+                                               const sim::Effects& effects,
+                                               int jobs) {
   if (!d.full_rig) return SurrogateVelocities(d, effects);
-  return RigVelocitiesMmS(GeneratorOptions(d, effects));
+  SyntheticMeasurementOptions o = GeneratorOptions(d, effects);
+  o.jobs = std::clamp(jobs, 1, 256);
+  return RigVelocitiesMmS(o);
 }
 
 std::string ScenarioCsv(const ScenarioDesign& d,

@@ -4,9 +4,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <boost/random/mersenne_twister.hpp>
 #include <boost/random/normal_distribution.hpp>
 #include <cmath>
+#include <mutex>
+#include <thread>
 
 #include "burrlab/analysis/descent_surrogate.h"
 #include "burrlab/sim/descent.h"
@@ -50,6 +53,9 @@ Status SyntheticMeasurementOptions::Validate() const {
   }
   if (!std::isfinite(dt_s) || dt_s <= 0.0 || dt_s > 0.01) {
     return Error{fmt::format("dt_s must lie in (0, 0.01] s, got {}", dt_s)};
+  }
+  if (jobs < 1 || jobs > 256) {
+    return Error{fmt::format("jobs must lie in [1, 256], got {}", jobs)};
   }
   return {};
 }
@@ -159,15 +165,34 @@ Result<std::vector<double>> RigVelocitiesMmS(
     const SyntheticMeasurementOptions& o,
     std::vector<std::vector<sim::DescentSample>>* traces) {
   if (Status s = o.Validate(); !s.ok()) return s.error();
+  const int levels = static_cast<int>(o.forces_n.size());
+  // One slot per level, filled by whichever worker takes it; the first
+  // failing level in the given order is the error, whatever `jobs` is.
+  std::vector<Result<double>> velocities(levels, 0.0);
+  if (traces) traces->assign(levels, {});
+  std::atomic<int> next{0};
+  std::mutex progress_mutex;
+  int done = 0;
+  const auto work = [&] {
+    for (int level = next++; level < levels; level = next++) {
+      velocities[level] =
+          RigSteadyVelocityMmS(o, o.forces_n[level], o.seed * 1000 + level,
+                               traces ? &(*traces)[level] : nullptr);
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      ++done;
+      if (o.progress) o.progress(done, levels);
+    }
+  };
+  std::vector<std::thread> workers;
+  for (int j = 1; j < std::min(o.jobs, levels); ++j) workers.emplace_back(work);
+  work();
+  for (std::thread& t : workers) t.join();
   std::vector<double> out;
-  if (traces) traces->assign(o.forces_n.size(), {});
-  for (std::size_t level = 0; level < o.forces_n.size(); ++level) {
-    const double force = o.forces_n[level];
-    Result<double> v = RigSteadyVelocityMmS(
-        o, force, o.seed * 1000 + level, traces ? &(*traces)[level] : nullptr);
+  for (int level = 0; level < levels; ++level) {
+    const Result<double>& v = velocities[level];
     if (!v.ok()) {
-      return Error{
-          fmt::format("the rig at {} N: {}", force, v.error().message)};
+      return Error{fmt::format("the rig at {} N: {}", o.forces_n[level],
+                               v.error().message)};
     }
     out.push_back(*v > 0.0 ? *v : 0.0);
   }

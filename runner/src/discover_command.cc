@@ -483,8 +483,9 @@ int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
                   "level) instead of the continuum surrogate",
                   &full_rig);
   flags.AddInteger("--jobs",
-                   "threads sharing each cell's seeds (default: the core "
-                   "count; the table is the same for any number)",
+                   "threads sharing each cell's seeds, and with --full-rig "
+                   "the rig's force levels (default: the core count; the "
+                   "table is the same for any number)",
                    1, 256, &jobs);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
@@ -528,7 +529,7 @@ int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
           const std::string& label) -> Result<analysis::ScenarioOutcome> {
     bar.Update(done++, label);
     Result<std::vector<double>> truth =
-        analysis::TruthVelocitiesMmS(design, fx);
+        analysis::TruthVelocitiesMmS(design, fx, jobs);
     if (!truth.ok()) return truth.error();
     return analysis::RunScenario(design, *truth, distortion, expected, 1, count,
                                  options, jobs);

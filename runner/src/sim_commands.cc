@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -619,6 +620,12 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
                   "(default {})",
                   options.trace_depth_noise_mm),
       "mm", &options.trace_depth_noise_mm);
+  options.jobs = static_cast<int>(
+      std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
+  flags.AddInteger("--jobs",
+                   "force levels run at once (default: the core count; the "
+                   "output does not depend on it)",
+                   1, 256, &options.jobs);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   options.replicates = replicates;
@@ -643,8 +650,17 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
       return Fail(err, TracesError(traces_path, errno));
     }
   }
-  Result<analysis::SyntheticMeasurement> m =
-      analysis::MeasureSynthetic(options);
+  Result<analysis::SyntheticMeasurement> m = [&] {
+    ProgressBar bar(err, static_cast<int>(options.forces_n.size()));
+    bar.Update(0, "descent rig, one run per force level");
+    options.progress = [&bar](int done, int) {
+      bar.Update(done, "descent rig, one run per force level");
+    };
+    Result<analysis::SyntheticMeasurement> result =
+        analysis::MeasureSynthetic(options);
+    options.progress = nullptr;
+    return result;
+  }();
   if (!m.ok()) {
     if (traces.is_open()) {
       traces.close();

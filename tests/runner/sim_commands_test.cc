@@ -1,11 +1,13 @@
 // `burrlab sim measure --traces FILE` as a user meets it: every run of the
 // CSV gets its trace in FILE (run,t_s,force_n,depth_mm, 100 Hz through the
 // transient), which the trace parser reads back and matches to the runs; a
-// path that cannot be written fails before the slow runs.
+// path that cannot be written fails before the slow runs; --jobs runs the
+// force levels at once without changing a byte.
 #include "sim_commands.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -87,6 +89,41 @@ TEST(SimMeasure, TracesPathThatCannotBeWrittenFailsFirst) {
   EXPECT_EQ(run.err,
             "burrlab: cannot write --traces file "
             "'/nonexistent-dir/traces.csv': No such file or directory\n");
+}
+
+// Each force level has its own seed, so running the levels on threads gives
+// the very bytes of a serial run, traces included.
+TEST(SimMeasure, JobsDoNotChangeTheOutput) {
+  results_schema::TempDir temp;
+  std::string out[2], traces[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string path =
+        (temp.path() / ("traces-" + std::to_string(k) + ".csv")).string();
+    const CliRun run =
+        RunBurrlab({"sim", "measure", "--material", "pvc_k70", "--forces",
+                    "0.6,0.8", "--replicates", "2", "--seed", "5", "--traces",
+                    path, "--jobs", k == 0 ? "1" : "2"});
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_EQ(run.err, "");  // no progress bar when stderr is not a terminal
+    out[k] = run.out;
+    traces[k] = ReadFile(path);
+  }
+  EXPECT_EQ(std::count(out[0].begin(), out[0].end(), '\n'), 5) << out[0];
+  EXPECT_NE(out[0].find("\n1,pvc_k70,1,2094,0.6,"), std::string::npos);
+  EXPECT_NE(out[0].find("\n4,pvc_k70,1,2094,0.8,"), std::string::npos);
+  EXPECT_EQ(out[1], out[0]);
+  EXPECT_GT(traces[0].size(), 1000u);
+  EXPECT_TRUE(traces[1] == traces[0]);  // not printed: megabytes
+}
+
+TEST(SimMeasure, JobsTakeAWholeNumberFromOne) {
+  const CliRun run =
+      RunBurrlab({"sim", "measure", "--material", "pvc_k70", "--forces", "0.3",
+                  "--replicates", "2", "--jobs", "0"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.out, "");
+  EXPECT_EQ(run.err,
+            "burrlab: --jobs must be a whole number from 1 to 256, got '0'\n");
 }
 
 }  // namespace

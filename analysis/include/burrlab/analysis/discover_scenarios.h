@@ -67,9 +67,11 @@ Result<double> ProjectedSnr(const ScenarioDesign& design,
 Result<sim::Effects> EffectAtSnr(const ScenarioDesign& design,
                                  const std::string& id, double target);
 
-// The noise-free truth per force level (the rig or the surrogate).
+// The noise-free truth per force level (the rig or the surrogate); the rig
+// runs `jobs` force levels at once (the result does not depend on it).
 Result<std::vector<double>> TruthVelocitiesMmS(const ScenarioDesign& design,
-                                               const sim::Effects& effects);
+                                               const sim::Effects& effects,
+                                               int jobs = 1);
 
 // The CSV a user would have for one seed.
 std::string ScenarioCsv(const ScenarioDesign& design,

@@ -9,6 +9,7 @@
 #define BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,12 @@ struct SyntheticMeasurementOptions {
   // noise-free load cell.
   double trace_force_noise_n = 0.005;
   double trace_depth_noise_mm = 0.001;
+  // Force levels run at once, each on its own thread. Each level has its own
+  // seed, so the output does not depend on this.
+  int jobs = 1;
+  // Called after each force level's rig run with the levels done and their
+  // total, one call at a time (from whichever thread finished the level).
+  std::function<void(int done, int total)> progress;
 
   // Names the first bad field.
   Status Validate() const;

@@ -60,7 +60,8 @@ Result<MeasuredData> ParseMeasuredData(std::string_view path,
   }
   const int run_at = find("run"), material_at = find("material"),
             radius_at = find("burr_radius_mm"),
-            spindle_at = find("spindle_rad_s");
+            spindle_at = find("spindle_rad_s"),
+            definition_at = find("velocity_definition");
   MeasuredData data;
   int radius_line = 0, spindle_line = 0;
   std::set<double> levels;
@@ -131,6 +132,29 @@ Result<MeasuredData> ParseMeasuredData(std::string_view path,
       data.spindle_rad_s = *w;
       spindle_line = line.number;
     }
+    if (definition_at >= 0) {
+      const Cell c = cell(definition_at);
+      const std::optional<sim::VelocityDefinition> d =
+          sim::ParseVelocityDefinition(c.text);
+      if (!d) {
+        return fail(line.number, c.column,
+                    fmt::format("velocity_definition '{}' is not one of "
+                                "initial, settled",
+                                c.text));
+      }
+      if (data.velocity_definition && *data.velocity_definition != *d) {
+        return fail(
+            line.number, c.column,
+            fmt::format("velocity_definition {} differs from {} on line {}; "
+                        "one file holds one kind of velocity",
+                        c.text,
+                        sim::VelocityDefinitionName(*data.velocity_definition),
+                        data.velocity_definition_line));
+      }
+      if (!data.velocity_definition)
+        data.velocity_definition_line = line.number;
+      data.velocity_definition = *d;
+    }
     levels.insert(run.force_n);
     data.runs.push_back(std::move(run));
   }
@@ -151,6 +175,21 @@ Result<MeasuredData> ParseMeasuredData(std::string_view path,
                             runs, data.runs.front().force_n));
   }
   return data;
+}
+
+Status CheckVelocityDefinition(std::string_view path, const MeasuredData& data,
+                               sim::VelocityDefinition model) {
+  if (!data.velocity_definition || *data.velocity_definition == model) {
+    return {};
+  }
+  return Error{fmt::format(
+      "{}:{}: error: the measured velocities are {} velocities "
+      "(velocity_definition column) but the model predicts {} velocities; "
+      "the two are different quantities (the initial one is taken "
+      "before the density in the burr has settled)",
+      path, data.velocity_definition_line,
+      sim::VelocityDefinitionName(*data.velocity_definition),
+      sim::VelocityDefinitionName(model))};
 }
 
 Result<MeasuredData> ReadMeasuredData(const std::string& path) {

@@ -11,7 +11,6 @@
 #include <mutex>
 #include <thread>
 
-#include "burrlab/analysis/descent_surrogate.h"
 #include "burrlab/sim/descent.h"
 
 namespace burrlab::analysis {
@@ -62,7 +61,8 @@ Status SyntheticMeasurementOptions::Validate() const {
 
 namespace {
 
-// The rig of one force level.
+// The rig of one force level: `burrlab sim descent`'s rig with the options'
+// definition, discretisation and seed.
 sim::DescentOptions RigAt(const SyntheticMeasurementOptions& o, double force_n,
                           std::uint64_t seed) {
   sim::DescentOptions rig;
@@ -74,33 +74,7 @@ sim::DescentOptions RigAt(const SyntheticMeasurementOptions& o, double force_n,
   rig.voxel_mm = o.radius_mm / o.voxels_per_radius;
   rig.dt_s = o.dt_s;
   rig.seed = seed;
-  // The erosion profile in the burr settles as the material inside is
-  // renewed: over a few residence times h / v (h the immersion) and a few
-  // 1/alpha. The rig takes the slope over the second half of its window, so
-  // the window is 6 residence times (predicted by the surrogate), at least
-  // 8/alpha and 10 s.
-  const double alpha = std::max(o.material.alpha_per_s, 1e-3);
-  double window_s = std::max(10.0, 8.0 / alpha);
-  SteadyDescentInput predict;
-  predict.force_n = force_n;
-  predict.c_e_n_per_mm2 = o.material.c_e_n_per_mm2;
-  predict.alpha_per_s = o.material.alpha_per_s;
-  predict.radius_mm = o.radius_mm;
-  predict.effects = o.effects;
-  const double load =
-      force_n / (o.material.c_e_n_per_mm2 * o.radius_mm * o.radius_mm);
-  const double v_predicted = SteadyVelocityMmS(predict);
-  if (v_predicted > 0.0 && std::isfinite(v_predicted)) {
-    const double immersion_mm = std::pow(load, 2.0 / 3.0) * o.radius_mm;
-    window_s = std::max(window_s, 6.0 * immersion_mm / v_predicted);
-  }
-  rig.steady_window_s = std::min(window_s, 3000.0);
-  // Deep enough that the burr does not reach the bottom within the window.
-  if (v_predicted > 0.0 && std::isfinite(v_predicted)) {
-    rig.sample_depth_mm = std::clamp(
-        3.0 * o.radius_mm + 2.0 + 1.3 * v_predicted * rig.steady_window_s,
-        3.0 * o.radius_mm + 2.0, 300.0 * rig.voxel_mm);
-  }
+  rig.definition = o.definition;
   // A viscous load (viscous_resistance, eq. 7.14) closes a loop from the
   // commanded velocity straight back into the measured force, with gain
   // k_p c_i R^2 (h/R) per step; above about 1 the force loop oscillates. The
@@ -116,8 +90,6 @@ sim::DescentOptions RigAt(const SyntheticMeasurementOptions& o, double force_n,
       rig.kp_mm_per_n_s = kp_max;
     }
   }
-  rig.duration_s = rig.steady_window_s + 200.0;
-  rig.trace_period_s = std::max(0.01, rig.steady_window_s / 2000.0);
   return rig;
 }
 
@@ -136,7 +108,7 @@ Result<std::vector<sim::DescentSample>> RigTransientTrace(
   sim::DescentOptions rig = RigAt(o, force_n, seed);
   rig.trace_period_s = 0.01;
   rig.duration_s = after_contact_s;
-  rig.steady_window_s = std::max(rig.steady_window_s, after_contact_s);
+  rig.run_on_s = after_contact_s;
   Result<sim::DescentResult> result = sim::RunDescent(rig);
   if (!result.ok()) return result.error();
   return std::move(result->trace);
@@ -144,9 +116,11 @@ Result<std::vector<sim::DescentSample>> RigTransientTrace(
 
 Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& o,
                                     double force_n, std::uint64_t seed,
-                                    std::vector<sim::DescentSample>* trace) {
+                                    std::vector<sim::DescentSample>* trace,
+                                    std::string* no_velocity_reason) {
   Result<sim::DescentResult> result = sim::RunDescent(RigAt(o, force_n, seed));
   if (!result.ok()) return result.error();
+  if (no_velocity_reason) *no_velocity_reason = result->no_velocity_reason;
   if (trace) {
     // 100 Hz through the transient, then the steady run's coarser samples.
     Result<std::vector<sim::DescentSample>> head =
@@ -158,26 +132,28 @@ Result<double> RigSteadyVelocityMmS(const SyntheticMeasurementOptions& o,
       if (s.t_s > t_end + 1e-9) trace->push_back(s);
     }
   }
-  return result->steady_reached ? result->steady_velocity_mm_s : 0.0;
+  return result->velocity_mm_s.value_or(0.0);
 }
 
 Result<std::vector<double>> RigVelocitiesMmS(
     const SyntheticMeasurementOptions& o,
-    std::vector<std::vector<sim::DescentSample>>* traces) {
+    std::vector<std::vector<sim::DescentSample>>* traces,
+    std::vector<std::string>* no_velocity_reasons) {
   if (Status s = o.Validate(); !s.ok()) return s.error();
   const int levels = static_cast<int>(o.forces_n.size());
   // One slot per level, filled by whichever worker takes it; the first
   // failing level in the given order is the error, whatever `jobs` is.
   std::vector<Result<double>> velocities(levels, 0.0);
   if (traces) traces->assign(levels, {});
+  std::vector<std::string> reasons(levels);
   std::atomic<int> next{0};
   std::mutex progress_mutex;
   int done = 0;
   const auto work = [&] {
     for (int level = next++; level < levels; level = next++) {
-      velocities[level] =
-          RigSteadyVelocityMmS(o, o.forces_n[level], o.seed * 1000 + level,
-                               traces ? &(*traces)[level] : nullptr);
+      velocities[level] = RigSteadyVelocityMmS(
+          o, o.forces_n[level], o.seed * 1000 + level,
+          traces ? &(*traces)[level] : nullptr, &reasons[level]);
       std::lock_guard<std::mutex> lock(progress_mutex);
       ++done;
       if (o.progress) o.progress(done, levels);
@@ -196,6 +172,7 @@ Result<std::vector<double>> RigVelocitiesMmS(
     }
     out.push_back(*v > 0.0 ? *v : 0.0);
   }
+  if (no_velocity_reasons) *no_velocity_reasons = std::move(reasons);
   return out;
 }
 
@@ -211,6 +188,7 @@ SyntheticMeasurement DrawReplicates(const SyntheticMeasurementOptions& o,
     const double v = level < rig_mm_s.size() ? rig_mm_s[level] : 0.0;
     if (!(v > 0.0)) {
       out.skipped_forces_n.push_back(force);
+      out.skipped_reasons.push_back("the rig measured none");
       continue;
     }
     for (int k = 0; k < o.replicates; ++k) {
@@ -224,10 +202,15 @@ SyntheticMeasurement DrawReplicates(const SyntheticMeasurementOptions& o,
 Result<SyntheticMeasurement> MeasureSynthetic(
     const SyntheticMeasurementOptions& o) {
   std::vector<std::vector<sim::DescentSample>> traces;
+  std::vector<std::string> reasons;
   Result<std::vector<double>> rig =
-      RigVelocitiesMmS(o, o.keep_traces ? &traces : nullptr);
+      RigVelocitiesMmS(o, o.keep_traces ? &traces : nullptr, &reasons);
   if (!rig.ok()) return rig.error();
   SyntheticMeasurement m = DrawReplicates(o, *rig);
+  m.skipped_reasons.clear();
+  for (std::size_t level = 0; level < rig->size(); ++level) {
+    if (!((*rig)[level] > 0.0)) m.skipped_reasons.push_back(reasons[level]);
+  }
   m.level_traces = std::move(traces);
   return m;
 }
@@ -258,11 +241,13 @@ std::string FormatMeasuredCsv(const SyntheticMeasurement& m,
                               const std::string& material_name,
                               const SyntheticMeasurementOptions& o) {
   std::string csv =
-      "run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s\n";
+      "run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s,"
+      "velocity_definition\n";
+  const std::string_view definition = sim::VelocityDefinitionName(o.definition);
   for (const SyntheticRun& r : m.runs) {
-    csv +=
-        fmt::format("{},{},{},{},{},{:.9g}\n", r.run, material_name,
-                    o.radius_mm, o.spindle_rad_s, r.force_n, r.velocity_mm_s);
+    csv += fmt::format("{},{},{},{},{},{:.9g},{}\n", r.run, material_name,
+                       o.radius_mm, o.spindle_rad_s, r.force_n, r.velocity_mm_s,
+                       definition);
   }
   return csv;
 }

@@ -34,6 +34,12 @@ Result<analysis::MeasuredData> ReadMeasuredWithRadius(const std::string& path,
   Result<analysis::MeasuredData> read = analysis::ReadMeasuredData(path);
   if (!read.ok()) return read.error();
   const analysis::MeasuredData& data = *read;
+  // The surrogate models the settled velocity (descent_surrogate.h).
+  if (Status s = analysis::CheckVelocityDefinition(
+          path, data, sim::VelocityDefinition::kSettled);
+      !s.ok()) {
+    return s.error();
+  }
   if (flag_given) {
     if (data.burr_radius_mm && *data.burr_radius_mm != *radius_mm) {
       return Error{

@@ -27,7 +27,7 @@ namespace {
 constexpr double kRadiusMm = 3.0;
 constexpr int kCurvePoints = 10;  // depths 0.1 R, 0.2 R, ..., R
 constexpr std::array<double, 3> kForcesN = {3.0, 4.0, 6.0};
-// Fastest first: the order the steady velocities should keep.
+// Fastest first: the order the initial velocities should keep.
 constexpr std::array<std::string_view, 3> kMaterials = {
     "pvc_k70", "pettigrew_temporal_bone", "human_temporal_bone"};
 
@@ -91,9 +91,9 @@ void PrintDescents(const std::vector<stimuli::MaterialSet>& sets,
                    const DescentTable& table,
                    const sim::DescentOptions& options, std::ostream& out) {
   out << fmt::format(
-      "\nConstant-force descents, R = {} mm, {} rad/s, voxel {} mm: steady "
-      "velocity, mm/s\n\n",
-      options.radius_mm, options.spindle_rad_s, options.voxel_mm);
+      "\nConstant-force descents, R = {} mm, {} rad/s, voxel {:.4g} mm: "
+      "initial velocity (§8.6), mm/s\n\n",
+      options.radius_mm, options.spindle_rad_s, options.VoxelMm());
   std::size_t width = std::string_view("material").size();
   for (const stimuli::MaterialSet& set : sets) {
     width = std::max(width, Label(set).size());
@@ -106,8 +106,8 @@ void PrintDescents(const std::vector<stimuli::MaterialSet>& sets,
   for (std::size_t m = 0; m < sets.size(); ++m) {
     std::string line = fmt::format("{:<{}}", Label(sets[m]), width);
     for (const sim::DescentResult& result : table[m]) {
-      line += result.steady_reached
-                  ? fmt::format("  {:>8.4f}", result.steady_velocity_mm_s)
+      line += result.velocity_mm_s
+                  ? fmt::format("  {:>8.4f}", *result.velocity_mm_s)
                   : fmt::format("  {:>8}", "n/a");
     }
     out << line << '\n';
@@ -115,14 +115,14 @@ void PrintDescents(const std::vector<stimuli::MaterialSet>& sets,
   bool any_missing = false;
   for (const auto& row : table) {
     for (const sim::DescentResult& result : row) {
-      any_missing = any_missing || !result.steady_reached;
+      any_missing = any_missing || !result.velocity_mm_s;
     }
   }
   if (any_missing) {
     out << fmt::format(
-        "n/a: the burr did not stay deeper than R/3 long enough within {} s "
-        "to measure a steady velocity\n",
-        options.duration_s);
+        "n/a: the burr did not cut R/3 after the impact transient within {} "
+        "s\n",
+        options.DurationS());
   }
   out << '\n';
   // sets are in table order (bone, Pettigrew, PVC): the order holds when each
@@ -132,20 +132,20 @@ void PrintDescents(const std::vector<stimuli::MaterialSet>& sets,
     bool holds = true;
     for (std::size_t m = sets.size(); m-- > 0;) {
       const sim::DescentResult& result = table[m][f];
-      if (!result.steady_reached) {
+      if (!result.velocity_mm_s) {
         missing += (missing.empty() ? "" : ", ") + Label(sets[m]);
       }
       values += fmt::format("{}{:.4f}", values.empty() ? "" : ", ",
-                            result.steady_velocity_mm_s);
+                            result.velocity_mm_s.value_or(0.0));
       if (m > 0) {
-        holds = holds && result.steady_velocity_mm_s >
-                             table[m - 1][f].steady_velocity_mm_s;
+        holds = holds && result.velocity_mm_s.value_or(0.0) >
+                             table[m - 1][f].velocity_mm_s.value_or(0.0);
       }
     }
     const std::string at = fmt::format("at {} N:", kForcesN[f]);
     if (!missing.empty()) {
       out << fmt::format(
-          "{:<8} cannot tell whether PVC > Pettigrew > bone: no steady "
+          "{:<8} cannot tell whether PVC > Pettigrew > bone: no initial "
           "descent for {}\n",
           at, missing);
     } else {
@@ -156,7 +156,7 @@ void PrintDescents(const std::vector<stimuli::MaterialSet>& sets,
 }
 
 // The demo's figures: force-depth curves with the closed form of eq. 7.3, the
-// depth-time traces of the descents at the middle force (fig. 8.6), and steady
+// depth-time traces of the descents at the middle force (fig. 8.6), and initial
 // velocity against force (figs. 8.7-8.9).
 Result<std::vector<std::string>> WritePlots(
     const std::vector<stimuli::MaterialSet>& sets,
@@ -222,16 +222,17 @@ Result<std::vector<std::string>> WritePlots(
 
   analysis::LinePlot velocity;
   velocity.title = fmt::format(
-      "Steady penetration velocity against force, R = {} mm", kRadiusMm);
+      "Initial penetration velocity (§8.6) against force, R = {} mm",
+      kRadiusMm);
   velocity.x_label = "force (N)";
-  velocity.y_label = "steady velocity (mm/s, log scale)";
+  velocity.y_label = "initial velocity (mm/s, log scale)";
   velocity.log_y = true;
   for (std::size_t m = 0; m < sets.size(); ++m) {
     analysis::Series series{Label(sets[m]), {}, {}, true, true};
     for (std::size_t f = 0; f < kForcesN.size(); ++f) {
-      if (!table[m][f].steady_reached) continue;
+      if (!table[m][f].velocity_mm_s) continue;
       series.x.push_back(kForcesN[f]);
-      series.y.push_back(table[m][f].steady_velocity_mm_s);
+      series.y.push_back(*table[m][f].velocity_mm_s);
     }
     velocity.series.push_back(std::move(series));
   }
@@ -248,7 +249,7 @@ int RunMaterialsDemoCommand(const Args& args, std::ostream& out,
   CLI::App app{
       "The burr simulator on the three built-in materials: force-depth "
       "curves at R = 3 mm, then constant-force descents at 3, 4 and 6 N and "
-      "whether their steady velocities keep the order PVC > Pettigrew > "
+      "whether their initial velocities keep the order PVC > Pettigrew > "
       "bone (dissertation §8.7).",
       "burrlab sim materials"};
   std::string plots_dir;
@@ -303,6 +304,7 @@ int RunMaterialsDemoCommand(const Args& args, std::ostream& out,
   // seeded stream), so they run in parallel; results are read in order.
   sim::DescentOptions descent_options;
   descent_options.radius_mm = kRadiusMm;
+  descent_options.definition = sim::VelocityDefinition::kInitial;
   std::vector<std::future<Result<sim::DescentResult>>> futures;
   for (const stimuli::MaterialSet& set : sets) {
     for (double force_n : kForcesN) {

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -187,15 +188,28 @@ std::string TraceError(std::string_view what, const std::string& path,
                            std::strerror(error_number));
 }
 
+// What to change when the rig measured no velocity: more time when the
+// window ran out of it, nothing a flag can fix otherwise.
+std::string NoVelocityAdvice(const sim::DescentResult& r) {
+  if (r.needed_duration_s <= 0.0) return "";
+  return fmt::format(
+      " (raise --duration-s to at least {:.0f}, or use a larger "
+      "--force-n)",
+      std::ceil(r.needed_duration_s));
+}
+
 int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Constant-force descent of a spinning burr into a flat sample, the "
-      "virtual calibration rig of dissertation ch. 8. Reports the steady "
-      "penetration velocity, measured once the burr is deeper than R/3 "
-      "(§8.6).",
+      "virtual calibration rig of dissertation ch. 8. Reports the penetration "
+      "velocity under --velocity-definition: the initial one of §8.6 (the "
+      "plateau after the impact transient, over the first R/3 cut) or the "
+      "settled one.",
       "burrlab sim descent"};
   sim::DescentOptions options;
   std::string material_name, trace_path;
+  int definition =
+      options.definition == sim::VelocityDefinition::kInitial ? 0 : 1;
   bool json = false;
   FlagSet flags(&app);
   flags.AddText("--material", MaterialFlagHelp(), &material_name)
@@ -214,18 +228,23 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
       .AddPositive("--radius-mm", "burr radius R, mm (at most 10)", "mm",
                    &options.radius_mm, kMaxRadiusMm)
       ->required();
+  flags.AddChoice("--velocity-definition",
+                  fmt::format("what the velocity is (default {}): {}",
+                              sim::VelocityDefinitionName(options.definition),
+                              sim::VelocityDefinitionHelp()),
+                  {"initial", "settled"}, &definition);
   flags.AddNonNegative(
       "--spindle-rad-s",
       fmt::format("burr spin, rad/s (default {})", options.spindle_rad_s),
       "rad/s", &options.spindle_rad_s);
   flags.AddPositive("--voxel-mm",
-                    fmt::format("voxel size of the sample, mm (default {})",
-                                options.voxel_mm),
+                    fmt::format("voxel size of the sample, mm (default R/{})",
+                                sim::kRigVoxelsPerRadius),
                     "mm", &options.voxel_mm);
   flags.AddPositive(
       "--duration-s",
-      fmt::format("longest simulated time after contact, s (default {})",
-                  options.duration_s),
+      "longest simulated time after contact, s (default 3600 for the "
+      "initial velocity, 36000 for the settled one)",
       "s", &options.duration_s);
   flags.AddUnsigned(
       "--seed", fmt::format("erosion random seed (default {})", options.seed),
@@ -241,7 +260,9 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
     return Fail(err, s.error().message);
   }
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
-  if (Status s = CheckVoxelFitsBurr(options.voxel_mm, options.radius_mm);
+  options.definition = definition == 0 ? sim::VelocityDefinition::kInitial
+                                       : sim::VelocityDefinition::kSettled;
+  if (Status s = CheckVoxelFitsBurr(options.VoxelMm(), options.radius_mm);
       !s.ok()) {
     return Fail(err, s.error().message);
   }
@@ -267,7 +288,20 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
       return Fail(err, TraceError("write", trace_path, errno));
     }
   }
-  Result<sim::DescentResult> result = sim::RunDescent(options);
+  Result<sim::DescentResult> result = [&] {
+    // The bar runs up to the longest duration; most runs stop earlier.
+    const int total_s = static_cast<int>(std::ceil(options.DurationS()));
+    ProgressBar bar(err, total_s);
+    options.progress = [&bar, total_s](double after_contact_s,
+                                       double depth_mm) {
+      bar.Update(
+          std::min(static_cast<int>(after_contact_s), total_s),
+          fmt::format("s after contact (at most), depth {:.3g} mm", depth_mm));
+    };
+    Result<sim::DescentResult> run = sim::RunDescent(options);
+    options.progress = nullptr;
+    return run;
+  }();
   if (!result.ok()) {
     if (trace.is_open()) {
       trace.close();
@@ -283,14 +317,14 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
     trace.close();
     if (trace.fail()) return Fail(err, TraceError("close", trace_path, errno));
   }
-  if (!result->steady_reached) {
-    err << fmt::format(
-        "burrlab: warning: no steady velocity: the burr did not stay deeper "
-        "than R/3 = {:.3g} mm long enough within --duration-s {} (try a "
-        "longer --duration-s or a larger --force-n)\n",
-        options.radius_mm / 3.0, options.duration_s);
-  }
   const sim::DescentResult& r = *result;
+  const std::string_view definition_name =
+      sim::VelocityDefinitionName(options.definition);
+  if (!r.velocity_mm_s) {
+    err << fmt::format("burrlab: warning: no {} velocity: {}{}\n",
+                       definition_name, r.no_velocity_reason,
+                       NoVelocityAdvice(r));
+  }
   if (json) {
     nlohmann::ordered_json j;
     j["material"] = by_name ? nlohmann::ordered_json(material_name)
@@ -300,13 +334,22 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
     j["force_n"] = options.force_n;
     j["radius_mm"] = options.radius_mm;
     j["spindle_rad_s"] = options.spindle_rad_s;
-    j["voxel_mm"] = options.voxel_mm;
-    j["duration_s"] = options.duration_s;
+    j["voxel_mm"] = options.VoxelMm();
+    j["duration_s"] = options.DurationS();
     j["seed"] = options.seed;
-    j["steady_reached"] = r.steady_reached;
-    j["steady_velocity_mm_s"] =
-        r.steady_reached ? nlohmann::ordered_json(r.steady_velocity_mm_s)
-                         : nlohmann::ordered_json(nullptr);
+    j["velocity_definition"] = definition_name;
+    j["velocity_mm_s"] = r.velocity_mm_s
+                             ? nlohmann::ordered_json(*r.velocity_mm_s)
+                             : nlohmann::ordered_json(nullptr);
+    j["no_velocity_reason"] =
+        r.velocity_mm_s ? nlohmann::ordered_json(nullptr)
+                        : nlohmann::ordered_json(r.no_velocity_reason);
+    j["contact_s"] = r.contact_s;
+    j["transient_end_s"] = r.transient_end_s;
+    j["window_start_s"] = r.window_start_s;
+    j["window_end_s"] = r.window_end_s;
+    j["window_start_depth_mm"] = r.window_start_depth_mm;
+    j["window_end_depth_mm"] = r.window_end_depth_mm;
     j["final_depth_mm"] = r.final_depth_mm;
     j["removed_mm3"] = r.removed_mm3;
     j["steps"] = r.steps;
@@ -328,13 +371,22 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
                 options.material.c_e_n_per_mm2, options.material.alpha_per_s);
   out << fmt::format("material         {}\n", material);
   out << fmt::format(
-      "rig              {} N on a {} mm burr at {} rad/s, voxel {} mm, seed "
-      "{}\n",
+      "rig              {} N on a {} mm burr at {} rad/s, voxel {:.4g} mm, "
+      "seed {}\n",
       options.force_n, options.radius_mm, options.spindle_rad_s,
-      options.voxel_mm, options.seed);
-  out << (r.steady_reached ? fmt::format("steady velocity  {:.4g} mm/s\n",
-                                         r.steady_velocity_mm_s)
-                           : std::string("steady velocity  not reached\n"));
+      options.VoxelMm(), options.seed);
+  out << (r.velocity_mm_s ? fmt::format("{} velocity {:.4g} mm/s\n",
+                                        fmt::format("{:<7}", definition_name),
+                                        *r.velocity_mm_s)
+                          : fmt::format("{} velocity not measured\n",
+                                        fmt::format("{:<7}", definition_name)));
+  if (r.velocity_mm_s) {
+    out << fmt::format(
+        "window           {:.4g} to {:.4g} s, depth {:.4g} to {:.4g} mm "
+        "(contact at {:.4g} s, force settled at {:.4g} s)\n",
+        r.window_start_s, r.window_end_s, r.window_start_depth_mm,
+        r.window_end_depth_mm, r.contact_s, r.transient_end_s);
+  }
   out << fmt::format("final depth      {:.4g} mm\n", r.final_depth_mm);
   out << fmt::format("removed          {:.4g} mm^3\n", r.removed_mm3);
   out << fmt::format("simulated        {:.4g} s ({} steps)\n",
@@ -566,15 +618,16 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
   effects_help.resize(effects_help.size() - 2);
   CLI::App app{
       "Synthetic measured data for `burrlab calibrate`: the constant-force "
-      "descent rig (dissertation ch. 8) run once per force level until "
-      "settled, at a discretisation the calibration does not use (voxel "
-      "R/12, 5 ms period; the fitter's surrogate is the continuum limit), "
-      "with hidden physical effects and log-normal run-to-run noise. Prints "
-      "CSV: run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s.",
+      "descent rig of `burrlab sim descent` (dissertation ch. 8) run once per "
+      "force level, with hidden physical effects and log-normal run-to-run "
+      "noise. Prints CSV: run,material,burr_radius_mm,spindle_rad_s,force_n,"
+      "velocity_mm_s,velocity_definition.",
       "burrlab sim measure"};
   analysis::SyntheticMeasurementOptions options;
   std::string material_name, forces_text, effects_text, traces_path;
   int replicates = options.replicates;
+  int definition =
+      options.definition == sim::VelocityDefinition::kInitial ? 0 : 1;
   FlagSet flags(&app);
   flags.AddText("--material", MaterialFlagHelp(), &material_name)
       ->type_name("NAME")
@@ -586,6 +639,11 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
       .AddInteger("--replicates", "runs per force level", 1, 10000, &replicates)
       ->required();
   flags.AddText("--effect", effects_help, &effects_text)->type_name("ID=VALUE");
+  flags.AddChoice("--velocity-definition",
+                  fmt::format("what the velocity is (default {}): {}",
+                              sim::VelocityDefinitionName(options.definition),
+                              sim::VelocityDefinitionHelp()),
+                  {"initial", "settled"}, &definition);
   flags.AddNonNegative(
       "--noise-cv",
       fmt::format("run-to-run coefficient of variation of the velocity "
@@ -629,6 +687,8 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   options.replicates = replicates;
+  options.definition = definition == 0 ? sim::VelocityDefinition::kInitial
+                                       : sim::VelocityDefinition::kSettled;
   options.keep_traces = !traces_path.empty();
   Result<std::vector<double>> forces = ParseForces(forces_text);
   if (!forces.ok()) return Fail(err, forces.error().message);
@@ -674,14 +734,18 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
     traces.close();
     if (traces.fail()) return Fail(err, TracesError(traces_path, errno));
   }
-  for (double f : m->skipped_forces_n) {
+  for (std::size_t k = 0; k < m->skipped_forces_n.size(); ++k) {
     err << fmt::format(
-        "burrlab: warning: no steady velocity at {} N (the burr did not cut "
-        "deeper than R/3); the level is left out\n",
-        f);
+        "burrlab: warning: no {} velocity at {} N ({}); the level is left "
+        "out\n",
+        sim::VelocityDefinitionName(options.definition), m->skipped_forces_n[k],
+        m->skipped_reasons[k]);
   }
   if (m->runs.empty()) {
-    return Fail(err, "sim measure: no force level gave a steady velocity");
+    return Fail(err,
+                fmt::format("sim measure: no force level gave a {} "
+                            "velocity",
+                            sim::VelocityDefinitionName(options.definition)));
   }
   out << analysis::FormatMeasuredCsv(*m, set->name, options);
   return 0;

@@ -255,6 +255,11 @@ Result<State> State::Create(const Model& model, Volume volume,
   return state;
 }
 
+void State::ShiftContentUp(int layers, std::uint8_t occupancy) {
+  volume_.ShiftContentUp(layers, occupancy);
+  octree_ = MomentOctree::Build(volume_);
+}
+
 Output EvaluateForce(const Model& model, const Volume& volume,
                      const MomentOctree& octree, const Input& input) noexcept {
   Output out;

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -38,6 +39,18 @@ Result<Volume> Volume::Create(int nx, int ny, int nz, double voxel_mm) {
   v.labels_.assign(count, 0);
   v.erosion_factor_.fill(1.0);
   return v;
+}
+
+void Volume::ShiftContentUp(int layers, std::uint8_t occupancy) {
+  if (layers <= 0 || layers >= nz_) return;
+  const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
+  const std::size_t moved = layer * static_cast<std::size_t>(nz_ - layers);
+  const std::size_t freed = layer * static_cast<std::size_t>(layers);
+  std::move_backward(occupancy_.begin(), occupancy_.begin() + moved,
+                     occupancy_.end());
+  std::move_backward(labels_.begin(), labels_.begin() + moved, labels_.end());
+  std::fill(occupancy_.begin(), occupancy_.begin() + freed, occupancy);
+  std::fill(labels_.begin(), labels_.begin() + freed, std::uint8_t{0});
 }
 
 double Volume::MaterialMm3() const {

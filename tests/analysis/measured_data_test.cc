@@ -116,6 +116,59 @@ TEST(ParseMeasuredData, RefusesMixedBurrs) {
             "at least 0 rad/s\n1,0.1,-1\n      ^");
 }
 
+TEST(ParseMeasuredData, ReadsTheVelocityDefinition) {
+  Result<MeasuredData> d = ParseMeasuredData(
+      "m.csv",
+      "force_n,velocity_mm_s,velocity_definition\r\n1,0.1,initial\r\n2,0.4,"
+      "initial\r\n3,0.9,initial\r\n");
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(d->velocity_definition, sim::VelocityDefinition::kInitial);
+  EXPECT_EQ(d->velocity_definition_line, 2);
+  Result<MeasuredData> bare = ParseMeasuredData(
+      "m.csv", "force_n,velocity_mm_s\n1,0.1\n2,0.4\n3,0.9\n");
+  ASSERT_TRUE(bare.ok());
+  EXPECT_FALSE(bare->velocity_definition);
+}
+
+TEST(ParseMeasuredData, RefusesAnUnknownOrMixedVelocityDefinition) {
+  EXPECT_EQ(ErrorOf("force_n,velocity_mm_s,velocity_definition\n1,0.1,"
+                    "steady\n"),
+            "m.csv:2:7: error: velocity_definition 'steady' is not one of "
+            "initial, settled\n1,0.1,steady\n      ^");
+  EXPECT_EQ(ErrorOf("force_n,velocity_mm_s,velocity_definition\n1,0.1,"
+                    "settled\n2,0.2,initial\n"),
+            "m.csv:3:7: error: velocity_definition initial differs from "
+            "settled on line 2; one file holds one kind of velocity\n"
+            "2,0.2,initial\n      ^");
+}
+
+// A file that says which velocity it holds is checked against the one the
+// model predicts; a file that does not say is taken at its word.
+TEST(CheckVelocityDefinition, RefusesAnotherDefinitionNamingBoth) {
+  const MeasuredData initial =
+      ParseMeasuredData("m.csv",
+                        "force_n,velocity_mm_s,velocity_definition\n1,0.1,"
+                        "initial\n2,0.4,initial\n3,0.9,initial\n")
+          .value();
+  const Status s = CheckVelocityDefinition("m.csv", initial,
+                                           sim::VelocityDefinition::kSettled);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            "m.csv:2: error: the measured velocities are initial velocities "
+            "(velocity_definition column) but the model predicts settled "
+            "velocities; the two are different quantities (the initial one "
+            "is taken before the density in the burr has settled)");
+  EXPECT_TRUE(CheckVelocityDefinition("m.csv", initial,
+                                      sim::VelocityDefinition::kInitial)
+                  .ok());
+  const MeasuredData bare =
+      ParseMeasuredData("m.csv", "force_n,velocity_mm_s\n1,0.1\n2,0.4\n3,0.9\n")
+          .value();
+  EXPECT_TRUE(
+      CheckVelocityDefinition("m.csv", bare, sim::VelocityDefinition::kSettled)
+          .ok());
+}
+
 TEST(ParseMeasuredData, RefusesASingleForceLevel) {
   EXPECT_EQ(ErrorOf("force_n,velocity_mm_s\n2,0.1\n2,0.2\n2,0.15\n"),
             "m.csv: error: all 3 runs are at one force level (2 N); v(F) "

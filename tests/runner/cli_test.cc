@@ -265,10 +265,27 @@ TEST(DescentCommand, JsonHasInputsAndResults) {
   const CliRun run = RunBurrlab(Descent({"--seed", "7", "--json"}));
   ASSERT_EQ(run.code, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
-  for (const char* key :
-       {"material", "c_e_n_per_mm2", "alpha_per_s", "force_n", "radius_mm",
-        "spindle_rad_s", "voxel_mm", "duration_s", "seed", "steady_reached",
-        "steady_velocity_mm_s", "final_depth_mm", "removed_mm3", "steps"}) {
+  for (const char* key : {"material",
+                          "c_e_n_per_mm2",
+                          "alpha_per_s",
+                          "force_n",
+                          "radius_mm",
+                          "spindle_rad_s",
+                          "voxel_mm",
+                          "duration_s",
+                          "seed",
+                          "velocity_definition",
+                          "velocity_mm_s",
+                          "no_velocity_reason",
+                          "contact_s",
+                          "transient_end_s",
+                          "window_start_s",
+                          "window_end_s",
+                          "window_start_depth_mm",
+                          "window_end_depth_mm",
+                          "final_depth_mm",
+                          "removed_mm3",
+                          "steps"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_TRUE(j["material"].is_null());
@@ -279,11 +296,18 @@ TEST(DescentCommand, JsonHasInputsAndResults) {
   EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 2.0);
   EXPECT_EQ(j["seed"].get<std::uint64_t>(), 7u);
   EXPECT_GT(j["steps"].get<std::int64_t>(), 0);
-  // Two seconds after contact are too short to stay deeper than R/3 for the
-  // measurement: no steady velocity, and a warning says why.
-  EXPECT_FALSE(j["steady_reached"].get<bool>());
-  EXPECT_TRUE(j["steady_velocity_mm_s"].is_null());
-  EXPECT_THAT(run.err, StartsWith("burrlab: warning: no steady velocity"));
+  EXPECT_DOUBLE_EQ(j["voxel_mm"].get<double>(), 3.0 / 12.0);
+  EXPECT_EQ(j["velocity_definition"], "settled");
+  // Two seconds after contact are far too short to measure anything on bone:
+  // no velocity, and a warning says why and how long it would take.
+  EXPECT_TRUE(j["velocity_mm_s"].is_null());
+  EXPECT_THAT(j["no_velocity_reason"].get<std::string>(),
+              ::testing::MatchesRegex(
+                  "the burr cut [-0-9.e]+ mm in the [0-9.]+ s after the impact "
+                  "transient, too short a time to measure \\(the erosion time "
+                  "1/alpha is 11.5 s\\)"));
+  EXPECT_THAT(run.err, ::testing::EndsWith("(raise --duration-s to at least "
+                                           "59, or use a larger --force-n)\n"));
   EXPECT_EQ(SplitLines(run.err).size(), 1u);
 }
 

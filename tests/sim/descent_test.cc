@@ -1,6 +1,7 @@
 // The virtual calibration rig (dissertation ch. 8).
 #include "burrlab/sim/descent.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,57 +18,150 @@ Material Mat(double c_e, double alpha) {
   return m;
 }
 
-double SteadyVelocity(const Material& material, double force_n) {
+// At R = 2 mm, where these loads F / (c_e R^2) cut R/3 within 100 s.
+double InitialVelocity(const Material& material, double force_n) {
   DescentOptions options;
+  options.definition = VelocityDefinition::kInitial;
+  options.radius_mm = 2.0;
   options.material = material;
   options.force_n = force_n;
   Result<DescentResult> result = RunDescent(options);
   EXPECT_TRUE(result.ok()) << result.error().message;
   if (!result.ok()) return 0.0;
-  EXPECT_TRUE(result->steady_reached);
+  EXPECT_TRUE(result->velocity_mm_s) << result->no_velocity_reason;
   EXPECT_GT(result->removed_mm3, 0.0);
   EXPECT_FALSE(result->trace.empty());
-  return result->steady_velocity_mm_s;
+  return result->velocity_mm_s.value_or(0.0);
 }
 
 // Built-in materials of §8.7.
 const Material kBone = Mat(2.145, 0.087), kPettigrew = Mat(1.504, 0.116),
                kPvc = Mat(0.462, 0.296);
 
-TEST(Descent, SteadyVelocityOrdersPvcAbovePettigrewAboveBone) {
-  const double bone = SteadyVelocity(kBone, 4.0),
-               pettigrew = SteadyVelocity(kPettigrew, 4.0),
-               pvc = SteadyVelocity(kPvc, 4.0);
+TEST(Descent, InitialVelocityOrdersPvcAbovePettigrewAboveBone) {
+  const double bone = InitialVelocity(kBone, 4.0),
+               pettigrew = InitialVelocity(kPettigrew, 4.0),
+               pvc = InitialVelocity(kPvc, 4.0);
   EXPECT_GT(bone, 0.0);
   EXPECT_GT(pettigrew, bone);
   EXPECT_GT(pvc, pettigrew);
 }
 
-TEST(Descent, SteadyVelocityRisesWithForce) {
+TEST(Descent, InitialVelocityRisesWithForce) {
   double previous = 0.0;
-  for (double force : {3.0, 4.0, 6.0}) {
-    const double velocity = SteadyVelocity(kPettigrew, force);
+  for (double force : {3.0, 4.5, 6.0}) {
+    const double velocity = InitialVelocity(kPettigrew, force);
     EXPECT_GT(velocity, previous) << force;
     previous = velocity;
   }
 }
 
-TEST(Descent, ControllerHoldsTheForceOnceInside) {
+// The initial velocity's window (§8.6): it opens when the force has settled
+// into its 5 % band, holds the force there throughout and closes once the burr
+// has cut R/3 past where it opened.
+TEST(Descent, InitialWindowHoldsTheForceOverTheFirstThirdOfTheRadius) {
   DescentOptions options;
+  options.definition = VelocityDefinition::kInitial;
   options.material = kPettigrew;
   options.force_n = 4.0;
   Result<DescentResult> result = RunDescent(options);
   ASSERT_TRUE(result.ok());
-  double sum = 0.0;
+  ASSERT_TRUE(result->velocity_mm_s) << result->no_velocity_reason;
+  EXPECT_EQ(result->definition, VelocityDefinition::kInitial);
+  EXPECT_GT(result->transient_end_s, result->contact_s);
+  EXPECT_EQ(result->window_start_s, result->transient_end_s);
+  const double cut_mm =
+      result->window_end_depth_mm - result->window_start_depth_mm;
+  EXPECT_GE(cut_mm, options.radius_mm / 3.0);
+  EXPECT_LT(cut_mm, options.radius_mm / 3.0 + 0.01);
+  // The slope is the window's mean velocity to within its curvature.
+  const double mean_mm_s =
+      cut_mm / (result->window_end_s - result->window_start_s);
+  EXPECT_NEAR(*result->velocity_mm_s / mean_mm_s, 1.0, 0.25);
   int n = 0;
   for (const DescentSample& s : result->trace) {
-    if (s.depth_mm > options.radius_mm / 3.0) {
-      sum += s.force_n;
-      ++n;
+    if (s.t_s < result->window_start_s || s.t_s > result->window_end_s) {
+      continue;
     }
+    EXPECT_NEAR(s.force_n, 4.0, 0.05 * 4.0) << s.t_s;
+    ++n;
   }
-  ASSERT_GT(n, 100);
-  EXPECT_NEAR(sum / n, 4.0, 0.1);
+  EXPECT_GT(n, 100);
+  // The rig stops when the window closes.
+  EXPECT_NEAR(result->trace.back().t_s, result->window_end_s, 0.02);
+}
+
+// The sample follows the burr: a fast cut goes far deeper than the sample's
+// initial 3R + 2 mm, the content shifts up under it several times, and the
+// held force and the velocity carry on through every shift.
+TEST(Descent, SampleFollowsTheBurrWithoutDisturbingTheForce) {
+  DescentOptions options;
+  options.definition = VelocityDefinition::kInitial;
+  options.material = kPvc;
+  options.radius_mm = 2.0;
+  options.force_n = 3.0;
+  options.run_on_s = 40.0;
+  const DescentResult r = RunDescent(options).value();
+  ASSERT_TRUE(r.velocity_mm_s) << r.no_velocity_reason;
+  EXPECT_GT(r.final_depth_mm, 3.0 * (3.0 * options.radius_mm + 2.0));
+  EXPECT_GE(r.sample_shifts, 3);
+  double lo = 1e9, hi = -1e9;
+  for (const DescentSample& s : r.trace) {
+    if (s.t_s < r.window_end_s) continue;
+    lo = std::min(lo, s.force_n);
+    hi = std::max(hi, s.force_n);
+  }
+  EXPECT_GT(lo, 0.97 * options.force_n);
+  EXPECT_LT(hi, 1.03 * options.force_n);
+  // Equal velocity over the run-on's two halves (the settled regime).
+  const auto slope = [&](double from_s, double to_s) {
+    double d0 = 0, d1 = 0, t0 = 0, t1 = 0;
+    for (const DescentSample& s : r.trace) {
+      if (s.t_s <= from_s) t0 = s.t_s, d0 = s.depth_mm;
+      if (s.t_s <= to_s) t1 = s.t_s, d1 = s.depth_mm;
+    }
+    return (d1 - d0) / (t1 - t0);
+  };
+  const double t = r.window_end_s;
+  EXPECT_NEAR(slope(t + 20.0, t + 30.0) / slope(t + 30.0, t + 40.0), 1.0, 0.03);
+}
+
+TEST(Descent, SaysHowLongTheWindowNeedsWhenTheDurationRunsOut) {
+  DescentOptions options;
+  options.definition = VelocityDefinition::kInitial;
+  options.material = kBone;
+  options.radius_mm = 2.0;
+  options.force_n = 1.0;
+  options.duration_s = 20.0;
+  const DescentResult r = RunDescent(options).value();
+  ASSERT_FALSE(r.velocity_mm_s);
+  EXPECT_THAT(r.no_velocity_reason,
+              ::testing::MatchesRegex(
+                  "the burr cut [0-9.e-]+ mm of the R/3 = 0.667 mm window in "
+                  "the 20 s after contact \\(about [0-9.e-]+ mm/s; the window "
+                  "needs about [0-9]+ s\\)"));
+  EXPECT_GT(r.needed_duration_s, 20.0);
+}
+
+TEST(Descent, SaysTheBurrDidNotCutBelowACuttingThreshold) {
+  DescentOptions options;
+  options.definition = VelocityDefinition::kInitial;
+  options.material = kPettigrew;
+  options.force_n = 2.0;
+  options.duration_s = 60.0;
+  options.effects.cutting_threshold_n = 3.0;
+  const DescentResult r = RunDescent(options).value();
+  ASSERT_FALSE(r.velocity_mm_s);
+  EXPECT_THAT(r.no_velocity_reason,
+              ::testing::StartsWith("the burr did not cut: it moved "));
+}
+
+TEST(Descent, NamesItsVelocityDefinitions) {
+  EXPECT_EQ(VelocityDefinitionName(VelocityDefinition::kInitial), "initial");
+  EXPECT_EQ(VelocityDefinitionName(VelocityDefinition::kSettled), "settled");
+  EXPECT_EQ(ParseVelocityDefinition("settled"), VelocityDefinition::kSettled);
+  EXPECT_EQ(ParseVelocityDefinition("initial"), VelocityDefinition::kInitial);
+  EXPECT_FALSE(ParseVelocityDefinition("steady"));
 }
 
 TEST(Descent, SameSeedReproducesTheTrace) {
@@ -75,6 +169,7 @@ TEST(Descent, SameSeedReproducesTheTrace) {
   options.material = kPvc;
   options.force_n = 2.0;
   options.duration_s = 3.0;
+  options.voxel_mm = 0.3;
   const DescentResult a = RunDescent(options).value(),
                       b = RunDescent(options).value();
   EXPECT_EQ(a.final_depth_mm, b.final_depth_mm);
@@ -111,11 +206,13 @@ TEST(LoadCell, StepResponseMatchesTwoFirstOrderStages) {
 
 DescentOptions TraceRig(const Effects& effects) {
   DescentOptions options;
+  options.definition = VelocityDefinition::kInitial;
   options.material = kPettigrew;
   options.force_n = 1.5;
   options.radius_mm = 1.0;
   options.voxel_mm = 0.1;
   options.dt_s = 2e-3;
+  options.run_on_s = 5.0;
   options.effects = effects;
   return options;
 }
@@ -141,7 +238,7 @@ TEST(Descent, ArmComplianceOffsetsTheRecordedDepthByForceTimesCompliance) {
   const DescentOptions options = TraceRig(effects);
   const DescentResult with = RunDescent(options).value();
   const DescentResult without = RunDescent(TraceRig(Effects{})).value();
-  ASSERT_TRUE(with.steady_reached && without.steady_reached);
+  ASSERT_TRUE(with.velocity_mm_s && without.velocity_mm_s);
   // The spring carries the held force: arm depth - burr depth = F C.
   const double offset_mm = SteadyMean(with, options.radius_mm, [](auto& s) {
     return s.depth_mm - s.burr_depth_mm;
@@ -152,8 +249,7 @@ TEST(Descent, ArmComplianceOffsetsTheRecordedDepthByForceTimesCompliance) {
                        [](auto& s) { return s.depth_mm - s.burr_depth_mm; }),
             0.0);
   // The steady velocity does not see the spring (voxel noise only).
-  EXPECT_NEAR(with.steady_velocity_mm_s / without.steady_velocity_mm_s, 1.0,
-              0.03);
+  EXPECT_NEAR(*with.velocity_mm_s / *without.velocity_mm_s, 1.0, 0.03);
   // Loading through the spring takes longer: the arm passes R/3 later.
   const auto time_to = [&](const DescentResult& r) {
     for (const DescentSample& s : r.trace) {
@@ -170,7 +266,7 @@ TEST(Descent, LoadCellLagRingsAfterContactButHoldsTheSameSteadyState) {
   const DescentOptions options = TraceRig(effects);
   const DescentResult with = RunDescent(options).value();
   const DescentResult without = RunDescent(TraceRig(Effects{})).value();
-  ASSERT_TRUE(with.steady_reached && without.steady_reached);
+  ASSERT_TRUE(with.velocity_mm_s && without.velocity_mm_s);
   const auto peak = [](const DescentResult& r) {
     double p = 0.0;
     for (const DescentSample& s : r.trace) p = std::max(p, s.force_n);
@@ -181,8 +277,7 @@ TEST(Descent, LoadCellLagRingsAfterContactButHoldsTheSameSteadyState) {
   EXPECT_NEAR(
       SteadyMean(with, options.radius_mm, [](auto& s) { return s.force_n; }),
       options.force_n, 0.05 * options.force_n);
-  EXPECT_NEAR(with.steady_velocity_mm_s / without.steady_velocity_mm_s, 1.0,
-              0.03);
+  EXPECT_NEAR(*with.velocity_mm_s / *without.velocity_mm_s, 1.0, 0.03);
 }
 
 TEST(Descent, RejectsBadOptionsNamingTheField) {

@@ -1,8 +1,8 @@
-// Measured burring data for calibration (issue 5, item 1): one steady
-// penetration velocity per run of the constant-force descent rig (dissertation
-// §8.6), read from a CSV whose header holds force_n and velocity_mm_s and
-// optionally run, material, burr_radius_mm and spindle_rad_s (other columns
-// are ignored). Replicate runs at a force level are expected. Parsers take
+// Measured burring data for calibration: one penetration velocity per run of
+// the constant-force descent rig (dissertation §8.6), read from a CSV whose
+// header holds force_n and velocity_mm_s and optionally run, material,
+// burr_radius_mm, spindle_rad_s and velocity_definition (other columns are
+// ignored). Replicate runs at a force level are expected. Parsers take
 // (path, text) so tests need no files; errors read
 // "path:line:col: error: message", then the source line and a caret.
 #ifndef BURRLAB_ANALYSIS_MEASURED_DATA_H_
@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/sim/descent.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
@@ -33,6 +34,11 @@ struct MeasuredData {
   // every run); the spindle speed likewise.
   std::optional<double> burr_radius_mm;
   std::optional<double> spindle_rad_s;
+  // What the velocities are (sim/descent.h) when the file has a
+  // velocity_definition column (one value for every run), and its first
+  // data line.
+  std::optional<sim::VelocityDefinition> velocity_definition;
+  int velocity_definition_line = 0;
 };
 
 // The parameters fitted from v(F): c_e and alpha. Data with fewer runs than
@@ -42,11 +48,18 @@ inline constexpr int kCalibrationParameters = 2;
 // Parses `text` (the whole file). Cells are trimmed; blank lines, CR line ends
 // and a UTF-8 byte-order mark are accepted. force_n and velocity_mm_s must be
 // positive finite numbers (log-velocity fits need v > 0), burr_radius_mm
-// positive and spindle_rad_s zero or positive, each the same on every row;
+// positive and spindle_rad_s zero or positive, velocity_definition "initial"
+// or "settled", each the same on every row;
 // the data need at least two force levels and more runs than parameters. The
 // error is a formatted diagnostic (up to three lines).
 Result<MeasuredData> ParseMeasuredData(std::string_view path,
                                        std::string_view text);
+
+// Refuses data whose velocity_definition column names another definition
+// than `model`, the one the fit predicts, naming both; data without the
+// column are taken to be `model`'s.
+Status CheckVelocityDefinition(std::string_view path, const MeasuredData& data,
+                               sim::VelocityDefinition model);
 
 // Reads and parses the file at `path`; "cannot read PATH: reason" when it
 // cannot be read.

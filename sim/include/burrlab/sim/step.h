@@ -64,6 +64,10 @@ class State {
   const StepCounters& counters() const { return counters_; }
   // Forgets the output filter's history (e.g. when the burr is teleported).
   void ResetFilter() noexcept { seh_.Reset(); }
+  // Volume::ShiftContentUp, then rebuilds the octree; the erosion stream and
+  // the counters go on. Allocates: for the descent rig between ticks, never
+  // inside the real-time loop.
+  void ShiftContentUp(int layers, std::uint8_t occupancy);
 
  private:
   friend void Step(const Model&, State&, const Input&, Output*) noexcept;

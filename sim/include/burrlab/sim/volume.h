@@ -74,6 +74,12 @@ class Volume {
     erosion_factor_[label] = factor;
   }
 
+  // Moves every voxel `layers` layers up (k -> k + layers), drops the top
+  // `layers` layers and fills the bottom ones with `occupancy`, label 0: a
+  // sample that follows a burr down indefinitely (the descent rig). 0 <=
+  // layers < nz.
+  void ShiftContentUp(int layers, std::uint8_t occupancy);
+
   // Centre of voxel index along one axis, in mm.
   double CentreMm(int index) const { return (index + 0.5) * voxel_mm_; }
   // Total solid-equivalent material in mm^3 (sum of occupancy / 255 times voxel

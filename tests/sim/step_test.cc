@@ -187,6 +187,33 @@ TEST(Step, SameSeedGivesIdenticalVolumeAfterTenThousandDrillingSteps) {
   EXPECT_NE(a, c);
 }
 
+// After the sample moves up under the burr, the state's octree is the one a
+// fresh build of its volume gives: the force at any burr position is the
+// same, and the surface has moved up by the shift.
+TEST(State, ShiftContentUpKeepsTheOctreeInStepWithTheVolume) {
+  const Model model = DrillModel(2.0, 2.0);
+  State state = State::Create(model, SolidBelow(32, 32, 0.3, 12), 7).value();
+  Input input;
+  input.position_mm = glm::dvec3(4.8, 4.8, 12 * 0.3 + 2.0 - 0.5);
+  const double before =
+      EvaluateForce(model, state.volume(), state.octree(), input).elastic_n.z;
+  state.ShiftContentUp(4, 255);
+  const MomentOctree fresh = MomentOctree::Build(state.volume());
+  for (const double z_mm : {3.0, 4.5, 5.3, 6.0}) {
+    input.position_mm.z = z_mm;
+    EXPECT_EQ(
+        EvaluateForce(model, state.volume(), state.octree(), input).elastic_n,
+        EvaluateForce(model, state.volume(), fresh, input).elastic_n)
+        << z_mm;
+  }
+  // The same indentation 4 voxels higher.
+  input.position_mm.z = 12 * 0.3 + 2.0 - 0.5 + 4 * 0.3;
+  EXPECT_DOUBLE_EQ(
+      EvaluateForce(model, state.volume(), state.octree(), input).elastic_n.z,
+      before);
+  EXPECT_GT(before, 0.0);
+}
+
 TEST(Step, AllocatesNothingOverTenThousandSteps) {
   for (MomentMethod method : {MomentMethod::kOctree, MomentMethod::kMono}) {
     for (FrictionModel friction :

@@ -107,5 +107,37 @@ TEST(Volume, LabelsAndErosionFactorsAreKeptPerVoxelAndPerLabel) {
   EXPECT_EQ(volume->ErosionFactor(6), 1.0);
 }
 
+// The descent rig's sample follows the burr down: every voxel moves up by the
+// shift, the top layers are dropped, the bottom ones are fresh and unlabelled.
+TEST(Volume, ShiftContentUpMovesEveryVoxelAndFillsTheBottom) {
+  Volume v = Volume::Create(3, 2, 5, 0.5).value();
+  for (int k = 0; k < 5; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 3; ++i) {
+        v.Set(i, j, k, static_cast<std::uint8_t>(100 + 10 * k + 3 * j + i));
+        v.SetLabel(i, j, k, static_cast<std::uint8_t>(k + 1));
+      }
+    }
+  }
+  v.ShiftContentUp(2, 255);
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < 2; ++k) {
+        EXPECT_EQ(v.At(i, j, k), 255);
+        EXPECT_EQ(v.Label(i, j, k), 0);
+      }
+      for (int k = 2; k < 5; ++k) {
+        EXPECT_EQ(v.At(i, j, k), 100 + 10 * (k - 2) + 3 * j + i);
+        EXPECT_EQ(v.Label(i, j, k), k - 1);
+      }
+    }
+  }
+  // Out of range: nothing moves.
+  const std::uint8_t before = v.At(1, 1, 4);
+  v.ShiftContentUp(5, 0);
+  v.ShiftContentUp(0, 0);
+  EXPECT_EQ(v.At(1, 1, 4), before);
+}
+
 }  // namespace
 }  // namespace burrlab::sim

@@ -17,12 +17,12 @@
 #include <thread>
 #include <utility>
 
-#include "burrlab/analysis/discover.h"
-#include "burrlab/analysis/discover_scenarios.h"
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/discover.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/trace_data.h"
+#include "burrlab/analysis/model_gap/trace_gap.h"
 #include "burrlab/analysis/plot.h"
-#include "burrlab/analysis/trace_data.h"
-#include "burrlab/analysis/trace_gap.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/stimuli/materials.h"
 #include "calibrate_command.h"

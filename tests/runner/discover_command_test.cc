@@ -21,9 +21,9 @@
 #include <vector>
 
 #include "../results_schema/temp_dir.h"
-#include "burrlab/analysis/discover_scenarios.h"
-#include "burrlab/analysis/measured_data.h"
-#include "burrlab/analysis/synthetic_measurement.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/synthetic_measurement.h"
 #include "run_cli.h"
 
 namespace burrlab::runner {

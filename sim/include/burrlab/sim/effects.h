@@ -79,8 +79,8 @@ struct EffectSpec {
   StrengthMap strength;        // the parameter as a strength >= 0
   std::string_view signature;  // the shape it gives steady v(F), for reports
   // Visible only in time traces (the measurement chain): steady-state code
-  // (the surrogate, the v(F) attribution) skips it; analysis/trace_gap.h
-  // tests it.
+  // (the surrogate, the v(F) attribution) skips it;
+  // analysis/model_gap/trace_gap.h tests it.
   bool trace_only = false;
 };
 

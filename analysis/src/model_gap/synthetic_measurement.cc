@@ -1,5 +1,5 @@
 // Synthetic measured data from the full descent rig plus log-normal noise.
-#include "burrlab/analysis/synthetic_measurement.h"
+#include "burrlab/analysis/model_gap/synthetic_measurement.h"
 
 #include <fmt/format.h>
 
@@ -11,7 +11,7 @@
 #include <mutex>
 #include <thread>
 
-#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/sim/descent.h"
 
 namespace burrlab::analysis {

@@ -5,8 +5,8 @@
 // continuum limit), run long enough to settle, with
 // physical effects hidden in the simulated model and log-normal run-to-run
 // noise. The calibration sees only the CSV it produces.
-#ifndef BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
-#define BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_SYNTHETIC_MEASUREMENT_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_SYNTHETIC_MEASUREMENT_H_
 
 #include <cstdint>
 #include <functional>
@@ -118,4 +118,4 @@ std::string FormatTraceCsv(const SyntheticMeasurement& measurement,
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_SYNTHETIC_MEASUREMENT_H_

@@ -1,6 +1,6 @@
 // The trace-gap test: a lumped transient model of the descent rig fitted to
 // its traces with and without each trace-only effect.
-#include "burrlab/analysis/trace_gap.h"
+#include "burrlab/analysis/model_gap/trace_gap.h"
 
 #include <fmt/format.h>
 #include <nlopt.h>
@@ -14,8 +14,8 @@
 #include <map>
 #include <memory>
 
-#include "burrlab/analysis/descent_surrogate.h"
-#include "burrlab/analysis/discover.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/discover.h"
 
 namespace burrlab::analysis {
 namespace {

@@ -1,6 +1,6 @@
 // The model-gap workflow: outlier screen, base fit, gap tests, attribution
 // over the effect library, augmented fits and their confirmation.
-#include "burrlab/analysis/discover.h"
+#include "burrlab/analysis/model_gap/discover.h"
 
 #include <fmt/format.h>
 #include <nlopt.h>
@@ -24,7 +24,7 @@
 #include <numeric>
 #include <optional>
 
-#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/sim/effects.h"
 #include "nlopt_ptr.h"
 #include "non_finite.h"

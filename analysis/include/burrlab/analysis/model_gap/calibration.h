@@ -8,8 +8,8 @@
 // g = log kappa of the surrogate, log alpha enters linearly: it is profiled in
 // closed form and the fit is a bounded one-dimensional search over log c_e
 // (a grid of starts, each local minimum refined by Brent's method).
-#ifndef BURRLAB_ANALYSIS_CALIBRATION_H_
-#define BURRLAB_ANALYSIS_CALIBRATION_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_CALIBRATION_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_CALIBRATION_H_
 
 #include <array>
 #include <cstdint>
@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
@@ -78,4 +78,4 @@ std::string CombinationName(double exponent);
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_CALIBRATION_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_CALIBRATION_H_

@@ -13,8 +13,8 @@
 // (descent_surrogate.h) with unweighted least squares on log v (log-normal
 // run-to-run scatter), so the Gaussian profile likelihood gives
 // LR = n log(RSS_0 / RSS_1).
-#ifndef BURRLAB_ANALYSIS_DISCOVER_H_
-#define BURRLAB_ANALYSIS_DISCOVER_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_H_
 
 #include <functional>
 #include <optional>
@@ -22,8 +22,8 @@
 #include <string_view>
 #include <vector>
 
-#include "burrlab/analysis/measured_data.h"
-#include "burrlab/analysis/trace_gap.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/trace_gap.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/sim/result.h"
 
@@ -165,4 +165,4 @@ double ModelLogVelocity(double force_n, double c_e_n_per_mm2,
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_DISCOVER_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_H_

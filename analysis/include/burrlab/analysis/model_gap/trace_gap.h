@@ -29,14 +29,14 @@
 // autocorrelation, and its residual variance carries a model-error floor.
 // Replicates at one force weigh as one trace together (they share the rig's
 // systematic transient).
-#ifndef BURRLAB_ANALYSIS_TRACE_GAP_H_
-#define BURRLAB_ANALYSIS_TRACE_GAP_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_TRACE_GAP_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_TRACE_GAP_H_
 
 #include <string>
 #include <vector>
 
-#include "burrlab/analysis/measured_data.h"
-#include "burrlab/analysis/trace_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/trace_data.h"
 #include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/result.h"
@@ -127,4 +127,4 @@ Status AddTraceGap(const MeasuredData& data, const DiscoverOptions& options,
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_TRACE_GAP_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_TRACE_GAP_H_

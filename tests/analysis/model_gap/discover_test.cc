@@ -9,7 +9,7 @@
 // and runs in `burrlab discover-matrix --full-rig` (analysis/README.md).
 // Seeds: 10 per effect and 30 null in CI; BURRLAB_SLOW_TESTS=1 runs 20 per
 // effect and 100 null; the sanitizer build runs 2 per scenario.
-#include "burrlab/analysis/discover.h"
+#include "burrlab/analysis/model_gap/discover.h"
 
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/analysis/discover_scenarios.h"
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 #include "discover_fixtures.h"
 
 namespace burrlab::analysis {

@@ -5,14 +5,14 @@
 // consecutive with increasing time. Parsers take (path, text); errors read
 // "path:line:col: error: message", then the source line and a caret, as in
 // measured_data.h.
-#ifndef BURRLAB_ANALYSIS_TRACE_DATA_H_
-#define BURRLAB_ANALYSIS_TRACE_DATA_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_TRACE_DATA_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_TRACE_DATA_H_
 
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
@@ -53,4 +53,4 @@ Status MatchTracesToRuns(const TraceData& traces, const MeasuredData& measured,
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_TRACE_DATA_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_TRACE_DATA_H_

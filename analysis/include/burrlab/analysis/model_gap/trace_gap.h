@@ -43,9 +43,6 @@
 
 namespace burrlab::analysis {
 
-struct DiscoverOptions;
-struct DiscoverReport;
-
 // One traced run and the force the rig held in it.
 struct TraceRun {
   RunTrace trace;
@@ -116,14 +113,6 @@ struct LumpedTrace {
 LumpedTrace SimulateLumpedRig(const RunTrace& trace, double force_n,
                               const TraceGapOptions& options,
                               const sim::Effects& effects, double until_s);
-
-// The trace step of Discover (discover.h): tests the trace-only effects on
-// options.traces with the report's base fit and records the result in
-// report->trace_gap. A significant effect is named when v(F) found nothing
-// (verdict none -> named) and added after the v(F) effects when it found
-// one; the summary says what the traces show either way.
-Status AddTraceGap(const MeasuredData& data, const DiscoverOptions& options,
-                   DiscoverReport* report);
 
 }  // namespace burrlab::analysis
 

@@ -1,7 +1,7 @@
 // The attribution of a gap to the effects of the library: each effect's
 // projected signature, identifiability index and projected score test, its
-// augmented fit and likelihood ratio, and the single-step max-T adjustment
-// over the effects.
+// augmented fit and likelihood ratio, the single-step max-T adjustment over
+// the effects, and the alias set of the effect a step adds.
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
@@ -13,6 +13,8 @@
 #include <boost/random/normal_distribution.hpp>
 #include <cmath>
 #include <cstddef>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "burrlab/analysis/model_gap/discover.h"
@@ -77,9 +79,8 @@ std::vector<double> MaxTAdjusted(const std::vector<double>& lr,
 
 }  // namespace
 
-std::vector<EffectAttribution> Workflow::Attribute(
-    const Model& current, std::vector<Model>* fits,
-    std::vector<Eigen::VectorXd>* sigs, int* progress_done) const {
+AttributionRound Workflow::Attribute(const Model& current,
+                                     int* progress_done) const {
   const int n = runs_.size();
   const std::vector<double> y0 = Predict(runs_, current.active, current.point);
   Eigen::VectorXd r(n);
@@ -102,9 +103,7 @@ std::vector<EffectAttribution> Workflow::Attribute(
     dof = std::max(1, n - p);
     sigma = std::sqrt(current.rss / dof);
   }
-  std::vector<EffectAttribution> out;
-  fits->clear();
-  sigs->clear();
+  AttributionRound round;
   const double c_e = std::exp(current.point.ln_c_e);
   const double alpha = std::exp(current.point.ln_alpha);
   for (const sim::EffectSpec& spec : sim::EffectLibrary()) {
@@ -137,7 +136,7 @@ std::vector<EffectAttribution> Workflow::Attribute(
     const double norm = s.norm();
     e.identifiability = norm > 0.0 ? s_perp.norm() / norm : 0.0;
     e.absorbed = e.identifiability < options_.absorbed_index;
-    sigs->push_back(s_perp);
+    round.signatures.push_back(s_perp);
     if (!e.absorbed && sigma > 0.0) {
       e.score_z = s_perp.dot(r) / (sigma * s_perp.norm());
       e.score_p = boost::math::cdf(boost::math::complement(
@@ -172,31 +171,136 @@ std::vector<EffectAttribution> Workflow::Attribute(
       e.aicc = kInf;
       e.value = spec.null_value;
     }
-    fits->push_back(fit);
-    out.push_back(e);
+    round.fits.push_back(fit);
+    round.effects.push_back(e);
   }
   // Family-wise: max-T over the testable effects, correlated through
   // their projected signatures.
   std::vector<std::size_t> testable;
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    if (!out[i].absorbed && (*sigs)[i].norm() > 0.0) testable.push_back(i);
+  for (std::size_t i = 0; i < round.effects.size(); ++i) {
+    if (!round.effects[i].absorbed && round.signatures[i].norm() > 0.0)
+      testable.push_back(i);
   }
   const int m = static_cast<int>(testable.size());
   Eigen::MatrixXd corr(m, m);
   std::vector<double> lr(m);
   for (int a = 0; a < m; ++a) {
-    const Eigen::VectorXd& sa = (*sigs)[testable[a]];
-    lr[a] = out[testable[a]].lr;
+    const Eigen::VectorXd& sa = round.signatures[testable[a]];
+    lr[a] = round.effects[testable[a]].lr;
     for (int b = 0; b < m; ++b) {
-      const Eigen::VectorXd& sb = (*sigs)[testable[b]];
+      const Eigen::VectorXd& sb = round.signatures[testable[b]];
       corr(a, b) = sa.dot(sb) / (sa.norm() * sb.norm());
     }
   }
   const std::vector<double> adjusted =
       MaxTAdjusted(lr, corr, pure_error ? dof : 0);
-  for (EffectAttribution& e : out) e.lr_p_adjusted = 1.0;
-  for (int a = 0; a < m; ++a) out[testable[a]].lr_p_adjusted = adjusted[a];
-  return out;
+  for (EffectAttribution& e : round.effects) e.lr_p_adjusted = 1.0;
+  for (int a = 0; a < m; ++a)
+    round.effects[testable[a]].lr_p_adjusted = adjusted[a];
+  return round;
+}
+
+std::vector<std::string> AliasSet(const Workflow& flow, const Model& current,
+                                  const AttributionRound& round,
+                                  std::size_t best,
+                                  const std::vector<std::size_t>& candidates) {
+  const Runs& runs = flow.runs();
+  const DiscoverOptions& options = flow.options();
+  const int n = runs.size();
+  const std::vector<Model>& fits = round.fits;
+  const std::vector<Eigen::VectorXd>& sigs = round.signatures;
+  // Their local signatures may be nearly parallel, or their fitted
+  // contributions (augmented minus current predictions, projected off the
+  // current Jacobian: for a capped effect such as the power limit the local
+  // signature sits at the top force only) are.
+  std::vector<std::string> alias = {round.effects[best].id};
+  const std::vector<double> y_now =
+      Predict(runs, current.active, current.point);
+  const Eigen::MatrixXd basis =
+      ColumnBasis(Jacobian(runs, current.active, current.point));
+  const auto contribution = [&](std::size_t k) {
+    const std::vector<double> y = Predict(runs, fits[k].active, fits[k].point);
+    Eigen::VectorXd d(n);
+    for (int i = 0; i < n; ++i) {
+      d(i) = std::isfinite(y[i]) ? y[i] - y_now[i] : 0.0;
+    }
+    return Eigen::VectorXd(Project(basis, d));
+  };
+  const Eigen::VectorXd c_best = contribution(best);
+  // Separation: what a test between the best and effect j could see. The
+  // other effect, fitted (with its own c_e and alpha, and the effects already
+  // added) to a model's noise-free predictions, leaves a remainder; over the
+  // noise variance it is the noncentrality of a test between the two on this
+  // design were the best the truth; below options.alias_separation the design
+  // would not tell them apart. (The reverse, the best fitted to j's model, was
+  // tried: it did not change the second set of the two-effect test's seed 6.)
+  double sigma2 = 0.0;
+  {
+    std::vector<double> residual(n);
+    for (int i = 0; i < n; ++i) residual[i] = runs.ln_v[i] - y_now[i];
+    double ss_pe = 0.0;
+    int dof_pe = 0;
+    PureError(runs, residual, &ss_pe, &dof_pe);
+    sigma2 = dof_pe >= 2 && ss_pe > 0.0 ? ss_pe / dof_pe
+                                        : fits[best].rss / std::max(1, n - 3);
+  }
+  // The current model (base plus the effects already added) refitted to
+  // `target`'s predictions, then with `spec` added: the remainder over
+  // sigma^2.
+  struct Pseudo {
+    Runs runs;
+    std::optional<Model> current;
+  };
+  const auto make_pseudo = [&](const Model& target) {
+    Pseudo ps{runs, std::nullopt};
+    ps.runs.ln_v = target.active.empty()
+                       ? y_now
+                       : Predict(runs, target.active, target.point);
+    const Workflow flow_t(ps.runs, options);
+    const Result<Point> b = flow_t.BaseFit({});
+    if (b.ok()) {
+      ps.current = current.active.empty()
+                       ? Model{{}, *b, Rss(ps.runs, {}, *b, {})}
+                       : flow_t.FitAugmented(current.active, *b, {});
+    }
+    return ps;
+  };
+  const auto remainder = [&](const Pseudo& ps, const sim::EffectSpec& spec) {
+    if (!ps.current || !(sigma2 > 0.0)) return kInf;
+    const Workflow flow_t(ps.runs, options);
+    std::vector<ActiveEffect> active = ps.current->active;
+    active.push_back(ScaleEffect(spec, ps.runs,
+                                 std::exp(ps.current->point.ln_c_e),
+                                 std::exp(ps.current->point.ln_alpha)));
+    const Model m = flow_t.FitAugmented(active, ps.current->point, {});
+    return std::min(m.rss, ps.current->rss) / sigma2;
+  };
+  const Pseudo as_best = make_pseudo(fits[best]);
+  const auto separation = [&](std::size_t j) {
+    return remainder(as_best, *fits[j].active.back().spec);
+  };
+  for (std::size_t j = 0; j < round.effects.size(); ++j) {
+    if (j == best || round.effects[j].absorbed) continue;
+    if (separation(j) < options.alias_separation) {
+      alias.push_back(round.effects[j].id);
+      continue;
+    }
+    if (std::find(candidates.begin(), candidates.end(), j) ==
+        candidates.end()) {
+      continue;
+    }
+    const double denom = sigs[best].norm() * sigs[j].norm();
+    const Eigen::VectorXd c_j = contribution(j);
+    const double fitted_denom = c_best.norm() * c_j.norm();
+    const double cosine = std::max(
+        denom > 0.0 ? std::abs(sigs[best].dot(sigs[j])) / denom : 0.0,
+        fitted_denom > 0.0 ? std::abs(c_best.dot(c_j)) / fitted_denom : 0.0);
+    if (cosine > options.alias_cosine ||
+        round.effects[j].aicc - round.effects[best].aicc < 2.0) {
+      alias.push_back(round.effects[j].id);
+    }
+  }
+  return alias;
 }
 
 }  // namespace burrlab::analysis::discover_internal

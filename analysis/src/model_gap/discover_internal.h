@@ -2,8 +2,9 @@
 // share. The runs a fit uses and the models fitted to them
 // (discover_model_fit.cc), the gap tests on a fit's residuals
 // (discover_gap_tests.cc), the attribution of a gap to the effects of the
-// library (discover_attribution.cc); discover.cc runs them as the stages of
-// Discover (discover.h).
+// library (discover_attribution.cc) and the report's text
+// (discover_summary.cc); discover.cc runs them as the stages of Discover
+// (discover.h).
 //
 // Every model is log v = ModelLogVelocity(F; c_e, alpha, R, effects) with
 // unweighted least squares on log v.
@@ -18,6 +19,7 @@
 
 #include "burrlab/analysis/model_gap/discover.h"
 #include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/trace_gap.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/result.h"
 
@@ -153,6 +155,14 @@ double DetectableRms(const Runs& runs, int parameters, double sigma,
 
 // ---- The fits, tests and attribution on one set of runs ---------------------
 
+// One attribution round: every v(F) effect of the library not in the model,
+// tested against it (library order).
+struct AttributionRound {
+  std::vector<EffectAttribution> effects;
+  std::vector<Model> fits;                  // the model with each effect added
+  std::vector<Eigen::VectorXd> signatures;  // each effect's P_perp s
+};
+
 // The workflow's view of one set of runs: it holds the runs and the options
 // (both must outlive it) and the progress count's total. Its methods are
 // defined with their parts: the fits in discover_model_fit.cc, Gap in
@@ -161,6 +171,9 @@ class Workflow {
  public:
   Workflow(const Runs& runs, const DiscoverOptions& options)
       : runs_(runs), options_(options) {}
+
+  const Runs& runs() const { return runs_; }
+  const DiscoverOptions& options() const { return options_; }
 
   // The base fit on the runs with use[i] (all if empty), as calibration.h
   // does it: log alpha profiled in closed form (it enters additively), a
@@ -183,11 +196,10 @@ class Workflow {
   // The omnibus gap tests on the residuals of `m`.
   GapTests Gap(const Model& m) const;
 
-  // Scores and augmented fits of every library effect not in `current`.
-  std::vector<EffectAttribution> Attribute(const Model& current,
-                                           std::vector<Model>* fits,
-                                           std::vector<Eigen::VectorXd>* sigs,
-                                           int* progress_done) const;
+  // Scores and augmented fits of every library effect not in `current`, the
+  // likelihood ratios adjusted over them by single-step max-T; counts one
+  // progress task per effect.
+  AttributionRound Attribute(const Model& current, int* progress_done) const;
 
   void set_total_tasks(int total) { total_tasks_ = total; }
 
@@ -196,6 +208,51 @@ class Workflow {
   const DiscoverOptions& options_;
   int total_tasks_ = 1;
 };
+
+// ---- Alias sets (discover_attribution.cc) -----------------------------------
+
+// The alias set of round.effects[best], the effect a step adds to `current`:
+// it and the effects the design cannot separate from it given the effects
+// already added (separation below options.alias_separation; or, among the
+// `candidates`, projected signatures or fitted contributions with |cos| above
+// options.alias_cosine, or AICc within 2).
+std::vector<std::string> AliasSet(const Workflow& flow, const Model& current,
+                                  const AttributionRound& round,
+                                  std::size_t best,
+                                  const std::vector<std::size_t>& candidates);
+
+// ---- The report's text (discover_summary.cc) --------------------------------
+
+// "a, b, c".
+std::string Join(const std::vector<std::string>& items);
+
+// " N run(s) far outside ... gross outliers." or "" without outliers.
+std::string OutliersSentence(const DiscoverReport& report);
+
+// Verdict absorbed: `effect` with the reference (report.reference_p and
+// reference_effect_p, the augmented fit's parameter set).
+std::string AbsorbedSummary(const DiscoverReport& report,
+                            const EffectAttribution& effect);
+
+// Verdict none: the gap p and what the design would have detected.
+std::string NoGapSummary(const DiscoverReport& report);
+
+// Verdict named or ambiguous (report.verdict set): the effects or alias sets
+// added and the confirming numbers.
+std::string ExplainedSummary(const DiscoverReport& report);
+
+// Verdict unexplained, before the report drops the effects tried: what was
+// tried and why it failed (`failure`, or the residual tests when it is "").
+std::string UnexplainedSummary(const DiscoverReport& report,
+                               const std::vector<std::string>& tried,
+                               const std::string& failure);
+
+// The trace stage found nothing: " The traces (N runs) show no ...".
+std::string TraceGapNoneSentence(const TraceGapResult& gap);
+
+// The trace stage named `named`: its parameter, test and trace RMSEs.
+std::string TraceGapFinding(const TraceGapResult& gap,
+                            const TraceEffectTest& named);
 
 }  // namespace burrlab::analysis::discover_internal
 

@@ -1,4 +1,5 @@
-# Checks DESIGN.md's layout rules on the source tree (run as a ctest with -P):
+# Checks the layout rules of README.md ("Layout") on the source tree (run as a ctest
+# with -P):
 #  - each library folder includes only public headers of the folders it may depend on;
 #  - inside analysis/, the psychophysics part does not include the model-gap layer
 #    (analysis/include/burrlab/analysis/model_gap/, analysis/src/model_gap/): the model

@@ -1,6 +1,6 @@
 // `burrlab discover` as a user meets it: a CSV with a hidden motor power
 // limit (synthetic generator, surrogate truth) -> report.json with the
-// issue's fields, report.md, the two plots; --json prints the same JSON; the
+// report's fields, report.md, the two plots; --json prints the same JSON; the
 // exact text and exit code of bad input; the README's worked example prints
 // what the README shows.
 #include "discover_command.h"

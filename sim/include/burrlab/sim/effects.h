@@ -1,8 +1,8 @@
 // Physical effects the base burr model (c_e, alpha) lacks, for the model-gap
-// workflow (shared/notes/haptics.md, effect table). Each effect has one
-// parameter and a null value at which it vanishes; the simulator applies every
-// effect whose parameter is not null, so a hidden effect changes the rig's
-// physics, not its output.
+// workflow: each below with the equation of the dissertation it changes (eqs.
+// 6.4, 7.3, 7.12, 7.14). Each effect has one parameter and a null value at
+// which it vanishes; the simulator applies every effect whose parameter is not
+// null, so a hidden effect changes the rig's physics, not its output.
 #ifndef BURRLAB_SIM_EFFECTS_H_
 #define BURRLAB_SIM_EFFECTS_H_
 

@@ -1,8 +1,8 @@
 // Calibration of the base burr model (c_e, alpha) against measured steady
-// penetration velocities (dissertation §8.6-8.7, issue 5): least squares on
-// log v through the steady-state surrogate (descent_surrogate.h), an
-// identifiability check (SVD of the Jacobian of log v with respect to
-// log c_e and log alpha, profile likelihood) and profile-likelihood intervals.
+// penetration velocities (dissertation §8.6-8.7): least squares on log v
+// through the steady-state surrogate (descent_surrogate.h), an identifiability
+// check (SVD of the Jacobian of log v with respect to log c_e and log alpha,
+// profile likelihood) and profile-likelihood intervals.
 //
 // With the model log v = log alpha + log R - g(log F - log c_e - 2 log R),
 // g = log kappa of the surrogate, log alpha enters linearly: it is profiled in

@@ -1,13 +1,13 @@
-// The model-gap workflow (shared/notes/model-gap.md, issue 5 item 3): given
-// measured steady velocities v(F), fit the base model (c_e, alpha), detect a
-// gap (lack of fit against the replicates' pure error, residual structure
-// against force), attribute it to an effect of the library (sim/effects.h) by
-// projected score tests, identifiability indices, alias sets and
-// likelihood-ratio tests with Holm's family-wise correction, augment the model
-// one effect at a time (at most two) and confirm (boundary-aware likelihood
-// ratio, AICc, leave-one-force-level-out cross-validation, residual tests
-// re-run), and say what was found: a named effect, an ambiguous set, a gap
-// outside the library, an effect absorbed by a base parameter, or none.
+// The model-gap workflow (analysis/README.md, "Finding what the model misses"):
+// given measured steady velocities v(F), fit the base model (c_e, alpha),
+// detect a gap (lack of fit against the replicates' pure error, residual
+// structure against force), attribute it to an effect of the library
+// (sim/effects.h) by projected score tests, identifiability indices, alias sets
+// and likelihood-ratio tests with Holm's family-wise correction, augment the
+// model one effect at a time (at most two) and confirm (boundary-aware
+// likelihood ratio, AICc, leave-one-force-level-out cross-validation, residual
+// tests re-run), and say what was found: a named effect, an ambiguous set, a
+// gap outside the library, an effect absorbed by a base parameter, or none.
 //
 // Every model is log v = log SteadyVelocityMmS(F; c_e, alpha, R, effects)
 // (descent_surrogate.h) with unweighted least squares on log v (log-normal

@@ -1,10 +1,10 @@
-// Measured burring data for calibration (issue 5, item 1): one steady
-// penetration velocity per run of the constant-force descent rig (dissertation
-// §8.6), read from a CSV whose header holds force_n and velocity_mm_s and
-// optionally run, material, burr_radius_mm and spindle_rad_s (other columns
-// are ignored). Replicate runs at a force level are expected. Parsers take
-// (path, text) so tests need no files; errors read
-// "path:line:col: error: message", then the source line and a caret.
+// Measured burring data for calibration: one steady penetration velocity per
+// run of the constant-force descent rig (dissertation §8.6), read from a CSV
+// whose header holds force_n and velocity_mm_s and optionally run, material,
+// burr_radius_mm and spindle_rad_s (other columns are ignored). Replicate runs
+// at a force level are expected. Parsers take (path, text) so tests need no
+// files; errors read "path:line:col: error: message", then the source line and
+// a caret.
 #ifndef BURRLAB_ANALYSIS_MODEL_GAP_MEASURED_DATA_H_
 #define BURRLAB_ANALYSIS_MODEL_GAP_MEASURED_DATA_H_
 

@@ -1,10 +1,10 @@
-// Synthetic "measured" burring data (issue 5, item 4): the full virtual
-// descent rig (sim/descent.h) run at another discretisation than the
-// calibration's (voxels of R/12, finer than the rig's default R/10 at R = 3 mm,
-// and a 5 ms control period instead of 1 ms; the fitter's surrogate is the
-// continuum limit), run long enough to settle, with
-// physical effects hidden in the simulated model and log-normal run-to-run
-// noise. The calibration sees only the CSV it produces.
+// Synthetic "measured" burring data: the full virtual descent rig
+// (sim/descent.h) run at another discretisation than the calibration's (voxels
+// of R/12, finer than the rig's default R/10 at R = 3 mm, and a 5 ms control
+// period instead of 1 ms; the fitter's surrogate is the continuum limit), run
+// long enough to settle, with physical effects hidden in the simulated model
+// and log-normal run-to-run noise. The calibration sees only the CSV it
+// produces.
 #ifndef BURRLAB_ANALYSIS_MODEL_GAP_SYNTHETIC_MEASUREMENT_H_
 #define BURRLAB_ANALYSIS_MODEL_GAP_SYNTHETIC_MEASUREMENT_H_
 

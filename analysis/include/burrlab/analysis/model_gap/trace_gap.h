@@ -1,6 +1,6 @@
 // The trace-only effects of the library (sim/effects.h: load_cell_lag,
-// arm_compliance) tested on the descent rig's time traces (issue 5): steady
-// v(F) cannot see them, the loading transient after contact can.
+// arm_compliance) tested on the descent rig's time traces: steady v(F) cannot
+// see them, the loading transient after contact can.
 //
 // A lumped transient model of the rig stands for the voxel simulator: the
 // arm moves under the rig's own PI law on the measured force (sim/descent.h);

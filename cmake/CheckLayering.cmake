@@ -1,5 +1,9 @@
-# Checks DESIGN.md's layout rules on the source tree (run as a ctest with -P):
+# Checks the layout rules of README.md ("Layout") on the source tree (run as a ctest
+# with -P):
 #  - each library folder includes only public headers of the folders it may depend on;
+#  - inside analysis/, the psychophysics part does not include the model-gap layer
+#    (analysis/include/burrlab/analysis/model_gap/, analysis/src/model_gap/): the model
+#    gap depends on analysis, not the reverse;
 #  - main() appears only in runner/.
 # Usage: cmake -DSOURCE_DIR=<repo> -P CheckLayering.cmake
 set(allowed_sim sim)
@@ -20,6 +24,15 @@ foreach(folder sim results_schema stimuli protocols analysis runner)
         list(APPEND failures "${file}: ${folder}/ may not include burrlab/${target}/")
       endif()
     endforeach()
+    file(RELATIVE_PATH relative "${SOURCE_DIR}" "${file}")
+    if(folder STREQUAL "analysis" AND
+       NOT relative MATCHES "^analysis/(src|include/burrlab/analysis)/model_gap/")
+      file(STRINGS "${file}" model_gap_includes
+           REGEX "^#include \"(burrlab/analysis/)?model_gap/")
+      if(model_gap_includes)
+        list(APPEND failures "${file}: analysis/ outside model_gap/ may not include model_gap/")
+      endif()
+    endif()
     if(NOT folder STREQUAL "runner")
       file(STRINGS "${file}" mains REGEX "^int main\\(")
       if(mains)

@@ -135,8 +135,8 @@ std::string TrialTypeDescription(const std::string& type) {
   return it != kKnown.end() ? it->second : fmt::format("trial type {}", type);
 }
 
-// The unit given by a snake_case column name's suffix (STYLE.md: names carry
-// units), longest suffix first; empty when none is recognised.
+// The unit given by a snake_case column name's suffix (burrlab's names carry
+// their units), longest suffix first; empty when none is recognised.
 std::string UnitsFromName(std::string_view column) {
   static constexpr std::pair<std::string_view, std::string_view> kSuffixes[] = {
       {"_n_per_mm2", "N/mm^2"},

@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "burrlab/analysis/calibration.h"
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/calibration.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 #include "flags.h"
 
 namespace burrlab::runner {

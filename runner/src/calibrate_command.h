@@ -1,5 +1,5 @@
 // `burrlab calibrate`: fits c_e and alpha to measured steady penetration
-// velocities (analysis/calibration.h) and reports identifiability and
+// velocities (analysis/model_gap/calibration.h) and reports identifiability and
 // profile-likelihood intervals.
 #ifndef BURRLAB_RUNNER_CALIBRATE_COMMAND_H_
 #define BURRLAB_RUNNER_CALIBRATE_COMMAND_H_
@@ -7,7 +7,7 @@
 #include <ostream>
 #include <string>
 
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/sim/result.h"
 #include "command_table.h"
 

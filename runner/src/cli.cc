@@ -22,7 +22,7 @@ namespace {
 
 int RunTopHelp(const Args& args, std::ostream& out, std::ostream& err);
 
-// Every command of `burrlab`; later issues add run, validate, analyze, ...
+// Every command of `burrlab`, as the usage list shows them.
 constexpr Command kCommands[] = {
     {"demo",
      "re-run the dissertation's chapter 13 study with simulated subjects: "

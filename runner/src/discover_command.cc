@@ -17,12 +17,12 @@
 #include <thread>
 #include <utility>
 
-#include "burrlab/analysis/discover.h"
-#include "burrlab/analysis/discover_scenarios.h"
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/discover.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/trace_data.h"
+#include "burrlab/analysis/model_gap/trace_gap.h"
 #include "burrlab/analysis/plot.h"
-#include "burrlab/analysis/trace_data.h"
-#include "burrlab/analysis/trace_gap.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/stimuli/materials.h"
 #include "calibrate_command.h"
@@ -315,14 +315,14 @@ Status WriteText(const std::filesystem::path& path, const std::string& text) {
 int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Finds what the base burr model (c_e, alpha) misses in measured steady "
-      "penetration velocities (shared/notes/model-gap.md): fits the base "
-      "model, tests for a gap (lack of fit against the replicates, residual "
-      "structure against force), attributes it to a library effect (projected "
-      "score tests, identifiability, alias sets, likelihood-ratio tests with "
-      "Holm's correction), adds at most two effects one at a time and "
-      "confirms them (boundary-aware likelihood ratio, AICc, "
-      "leave-one-force-level-out cross-validation, residual tests). Writes "
-      "DIR/report.json, DIR/report.md, DIR/fit.png and DIR/residuals.png.",
+      "penetration velocities: fits the base model, tests for a gap (lack of "
+      "fit against the replicates, residual structure against force), "
+      "attributes it to a library effect (projected score tests, "
+      "identifiability, alias sets, likelihood-ratio tests with Holm's "
+      "correction), adds at most two effects one at a time and confirms them "
+      "(boundary-aware likelihood ratio, AICc, leave-one-force-level-out "
+      "cross-validation, residual tests). Writes DIR/report.json, "
+      "DIR/report.md, DIR/fit.png and DIR/residuals.png.",
       "burrlab discover"};
   std::string measured_path, out_dir, reference_name, traces_path;
   analysis::DiscoverOptions options;
@@ -455,11 +455,10 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
 int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
                              std::ostream& err) {
   CLI::App app{
-      "The scenario matrix of the model-gap workflow "
-      "(shared/notes/model-gap.md): each library effect hidden at graded "
-      "projected SNRs, a null control, porosity, a mid-force bump and 5 % "
-      "gross outliers, on a material at loads 0.5-1.5 (6 levels x 4 "
-      "replicates, CV 10 %, R = 1 mm). Prints a Markdown table of hit rates "
+      "The scenario matrix of the model-gap workflow: each library effect "
+      "hidden at graded projected SNRs, a null control, porosity, a mid-force "
+      "bump and 5 % gross outliers, on a material at loads 0.5-1.5 (6 levels x "
+      "4 replicates, CV 10 %, R = 1 mm). Prints a Markdown table of hit rates "
       "(right id or an alias set holding it) and the null's false-discovery "
       "rate.",
       "burrlab discover-matrix"};

@@ -1,6 +1,6 @@
-// `burrlab discover`: the model-gap workflow (analysis/discover.h) on measured
-// steady penetration velocities, with a report for machines (report.json), one
-// for people (report.md) and plots (PNG).
+// `burrlab discover`: the model-gap workflow (analysis/model_gap/discover.h) on
+// measured steady penetration velocities, with a report for machines
+// (report.json), one for people (report.md) and plots (PNG).
 #ifndef BURRLAB_RUNNER_DISCOVER_COMMAND_H_
 #define BURRLAB_RUNNER_DISCOVER_COMMAND_H_
 

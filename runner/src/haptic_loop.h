@@ -1,11 +1,12 @@
-// The real-time haptic loop (DESIGN.md "Real time"; dissertation ch. 11): its
-// own thread at 1 kHz, SCHED_FIFO and mlockall when permitted, sleep-then-spin
-// pacing. Each tick samples the device position, asks a ForceSource for the
-// force, passes it through sample-estimate-hold (§6.4.3) and the device's
-// force clamp, and sends it. A watchdog sends zero force instead when the
-// force is not finite or is ready later than the tick's budget, and counts it.
-// A tick allocates nothing, takes no lock, does no I/O beyond the device and
-// throws nothing; counters and statistics are read after Stop or Wait.
+// The real-time haptic loop (README.md, "Haptic devices and the 1 kHz loop";
+// dissertation ch. 11): its own thread at 1 kHz, SCHED_FIFO and mlockall when
+// permitted, sleep-then-spin pacing. Each tick samples the device position,
+// asks a ForceSource for the force, passes it through sample-estimate-hold
+// (§6.4.3) and the device's force clamp, and sends it. A watchdog sends zero
+// force instead when the force is not finite or is ready later than the tick's
+// budget, and counts it. A tick allocates nothing, takes no lock, does no I/O
+// beyond the device and throws nothing; counters and statistics are read after
+// Stop or Wait.
 #ifndef BURRLAB_RUNNER_HAPTIC_LOOP_H_
 #define BURRLAB_RUNNER_HAPTIC_LOOP_H_
 

@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "burrlab/analysis/synthetic_measurement.h"
+#include "burrlab/analysis/model_gap/synthetic_measurement.h"
 #include "burrlab/sim/bench.h"
 #include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"

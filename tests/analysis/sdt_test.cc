@@ -1,5 +1,6 @@
-// d' against R psyphy 0.2.3 (fixtures/r/make_r_fixtures.R) and the
-// Palamedes help-text vectors of shared/notes/psychophysics.md.
+// d' against R psyphy 0.2.3 (fixtures/r/make_r_fixtures.R) and the test
+// vectors of the Palamedes toolbox's help text (same-different, differencing
+// and independent-observation models).
 #include "burrlab/analysis/sdt.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,9 @@
-// The simulated observer against the closed forms of
-// ../shared/notes/haptics.md, and transformed staircases run by it converging
-// on Levitt's (1971) targets.
+// The simulated observer against the closed forms of its model (2AFC:
+// P(correct) = Phi(|ln(S2/S1)| / (sigma sqrt 2)); same-different by the
+// differencing rule: F = 2 Phi(-k / (sigma sqrt 2)),
+// H = Phi((d' - k) / sqrt 2) + Phi((-d' - k) / sqrt 2), d' = |ln(S2/S1)| /
+// sigma), and transformed staircases run by it converging on Levitt's (1971)
+// targets.
 #include "burrlab/protocols/observer.h"
 
 #include <gtest/gtest.h>

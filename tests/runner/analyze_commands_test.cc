@@ -1,6 +1,6 @@
 // `burrlab analyze fit` and `burrlab analyze dprime` as a user meets them:
 // JSON keys, the _beh.tsv path, the plot, and the exact text and exit code
-// of every bad input the issue lists.
+// of every bad input.
 #include "analyze_commands.h"
 
 #include <gmock/gmock.h>

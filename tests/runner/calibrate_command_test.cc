@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "../results_schema/temp_dir.h"
-#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "run_cli.h"
 
 namespace burrlab::runner {

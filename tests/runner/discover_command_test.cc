@@ -1,6 +1,6 @@
 // `burrlab discover` as a user meets it: a CSV with a hidden motor power
 // limit (synthetic generator, surrogate truth) -> report.json with the
-// issue's fields, report.md, the two plots; --json prints the same JSON; the
+// report's fields, report.md, the two plots; --json prints the same JSON; the
 // exact text and exit code of bad input; the README's worked example prints
 // what the README shows.
 #include "discover_command.h"
@@ -21,9 +21,9 @@
 #include <vector>
 
 #include "../results_schema/temp_dir.h"
-#include "burrlab/analysis/discover_scenarios.h"
-#include "burrlab/analysis/measured_data.h"
-#include "burrlab/analysis/synthetic_measurement.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/synthetic_measurement.h"
 #include "run_cli.h"
 
 namespace burrlab::runner {

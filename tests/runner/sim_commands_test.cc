@@ -18,7 +18,7 @@
 #include <string>
 
 #include "../results_schema/temp_dir.h"
-#include "burrlab/analysis/trace_data.h"
+#include "burrlab/analysis/model_gap/trace_data.h"
 #include "read_file.h"
 #include "run_cli.h"
 

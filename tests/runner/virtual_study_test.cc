@@ -1,9 +1,8 @@
-// Tests of virtual studies against closed forms: probing renders the same
-// cue for every erosion seed, so a 2AFC subject is correct with probability
-// pc = (1 - lapse) Phi(|ln(c2/c1)| / (sigma sqrt 2)) + lapse / 2 on every
-// trial (../shared/notes/haptics.md), the pooled answers of a study are
-// Binomial(n, pc), and the power of the exact binomial test is a binomial
-// tail. The Monte-Carlo power must agree with it.
+// Tests of virtual studies against closed forms: probing renders the same cue
+// for every erosion seed, so a 2AFC subject is correct with probability pc = (1
+// - lapse) Phi(|ln(c2/c1)| / (sigma sqrt 2)) + lapse / 2 on every trial, the
+// pooled answers of a study are Binomial(n, pc), and the power of the exact
+// binomial test is a binomial tail. The Monte-Carlo power must agree with it.
 #include "virtual_study.h"
 
 #include <gtest/gtest.h>

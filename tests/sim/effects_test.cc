@@ -1,6 +1,6 @@
 // The effect library: ids, validation, and each effect's change to the
 // simulator step (the steady-state numbers are checked against the
-// surrogate in tests/analysis/descent_surrogate_test.cc).
+// surrogate in tests/analysis/model_gap/descent_surrogate_test.cc).
 #include "burrlab/sim/effects.h"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,10 @@
 // What the subject window shows of the simulator, and how it gets there
-// without blocking the haptic loop (DESIGN.md "Real time"; dissertation ch.
-// 11): the loop side keeps a height map of the material block up to date around
-// the burr and publishes it with the burr position and force into a
-// triple buffer; the window takes the newest one at its own rate. Publish
-// and the height-map update allocate nothing, take no lock and throw nothing.
+// without blocking the haptic loop (README.md, "Haptic devices and the 1 kHz
+// loop"; dissertation ch. 11): the loop side keeps a height map of the material
+// block up to date around the burr and publishes it with the burr position and
+// force into a triple buffer; the window takes the newest one at its own rate.
+// Publish and the height-map update allocate nothing, take no lock and throw
+// nothing.
 #ifndef BURRLAB_RUNNER_STATION_SURFACE_SNAPSHOT_H_
 #define BURRLAB_RUNNER_STATION_SURFACE_SNAPSHOT_H_
 

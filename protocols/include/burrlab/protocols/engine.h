@@ -6,11 +6,11 @@
 // subject index, master seed and responses give the same trials, so a session
 // is resumed by replaying its journaled responses.
 //
-// Randomness (DESIGN.md): one Boost.Random stream per purpose, each seeded
-// from the master seed and the purpose (StreamFor), so drawing more for one
-// purpose never shifts another: trial order (block plans, interval order,
-// interleaving), level jitter (limits and adjustment starts), erosion (one
-// seed per interval) and simulated-observer noise (one stream per trial).
+// Randomness: one Boost.Random stream per purpose, each seeded from the master
+// seed and the purpose (StreamFor), so drawing more for one purpose never
+// shifts another: trial order (block plans, interval order, interleaving),
+// level jitter (limits and adjustment starts), erosion (one seed per interval)
+// and simulated-observer noise (one stream per trial).
 #ifndef BURRLAB_PROTOCOLS_ENGINE_H_
 #define BURRLAB_PROTOCOLS_ENGINE_H_
 

@@ -1,12 +1,11 @@
-// A simulated subject's decisions (../shared/notes/haptics.md, "Simulated
-// observer"): each interval's percept is the log of the cue the simulated hand
-// felt in that interval's force/position trace plus Gaussian noise,
-// psi = ln(cue) + eps, eps ~ N(0, sigma^2), with sigma the Weber fraction of
-// the task's cue (stiffness for probing, penetration rate for drilling). The
-// observer decides by a rule suited to the method, lapses (answers at
-// random) at a set rate and takes a log-normal response time. It never sees
-// the materials' parameters: only the cues and the levels the question is
-// about.
+// A simulated subject's decisions: each interval's percept is the log of the
+// cue the simulated hand felt in that interval's force/position trace plus
+// Gaussian noise, psi = ln(cue) + eps, eps ~ N(0, sigma^2), with sigma the
+// Weber fraction of the task's cue (stiffness for probing, penetration rate for
+// drilling). The observer decides by a rule suited to the method, lapses
+// (answers at random) at a set rate and takes a log-normal response time. It
+// never sees the materials' parameters: only the cues and the levels the
+// question is about.
 #ifndef BURRLAB_PROTOCOLS_OBSERVER_H_
 #define BURRLAB_PROTOCOLS_OBSERVER_H_
 

@@ -1,8 +1,9 @@
 // Result<T> and Status for burrlab::results_schema: a value or a one-line
 // error message, returned across the library boundary instead of throwing
-// (STYLE.md). results_schema is a root of the dependency graph, so it has its
-// own copy of the small type sim uses; the shape (ok(), value(), error()
-// .message) is the same so callers handle both alike.
+// (no exception crosses a library boundary). results_schema is a root of the
+// dependency graph, so it has its own copy of the small type sim uses; the
+// shape (ok(), value(), error() .message) is the same so callers handle both
+// alike.
 #ifndef BURRLAB_RESULTS_SCHEMA_STATUS_H_
 #define BURRLAB_RESULTS_SCHEMA_STATUS_H_
 

@@ -1,8 +1,8 @@
 // Physical effects the base burr model (c_e, alpha) lacks, for the model-gap
-// workflow (shared/notes/haptics.md, effect table). Each effect has one
-// parameter and a null value at which it vanishes; the simulator applies every
-// effect whose parameter is not null, so a hidden effect changes the rig's
-// physics, not its output.
+// workflow: each below with the equation of the dissertation it changes (eqs.
+// 6.4, 7.3, 7.12, 7.14). Each effect has one parameter and a null value at
+// which it vanishes; the simulator applies every effect whose parameter is not
+// null, so a hidden effect changes the rig's physics, not its output.
 #ifndef BURRLAB_SIM_EFFECTS_H_
 #define BURRLAB_SIM_EFFECTS_H_
 
@@ -79,8 +79,8 @@ struct EffectSpec {
   StrengthMap strength;        // the parameter as a strength >= 0
   std::string_view signature;  // the shape it gives steady v(F), for reports
   // Visible only in time traces (the measurement chain): steady-state code
-  // (the surrogate, the v(F) attribution) skips it; analysis/trace_gap.h
-  // tests it.
+  // (the surrogate, the v(F) attribution) skips it;
+  // analysis/model_gap/trace_gap.h tests it.
   bool trace_only = false;
 };
 

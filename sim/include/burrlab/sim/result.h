@@ -1,6 +1,5 @@
 // Result<T>: a value or a one-line error message, returned across library
-// boundaries instead of throwing (STYLE.md: no exception crosses a library
-// boundary).
+// boundaries instead of throwing (no exception crosses a library boundary).
 #ifndef BURRLAB_SIM_RESULT_H_
 #define BURRLAB_SIM_RESULT_H_
 

@@ -1,5 +1,5 @@
 // Synthetic measured data from the full descent rig plus log-normal noise.
-#include "burrlab/analysis/synthetic_measurement.h"
+#include "burrlab/analysis/model_gap/synthetic_measurement.h"
 
 #include <fmt/format.h>
 

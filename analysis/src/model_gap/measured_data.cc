@@ -1,6 +1,6 @@
 // The measured-data CSV of the calibration workflow, with a diagnostic naming
 // the line and column of the first problem.
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 
 #include <fmt/format.h>
 

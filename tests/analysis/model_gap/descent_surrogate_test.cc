@@ -1,6 +1,6 @@
 // The steady-state surrogate against closed forms and against the full
 // descent rig (sim/descent.h) at a finer discretisation than the default.
-#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "burrlab/analysis/synthetic_measurement.h"
+#include "burrlab/analysis/model_gap/synthetic_measurement.h"
 
 namespace burrlab::analysis {
 namespace {

@@ -1,20 +1,20 @@
-// The model-gap workflow (shared/notes/model-gap.md, issue 5 item 3): given
-// measured steady velocities v(F), fit the base model (c_e, alpha), detect a
-// gap (lack of fit against the replicates' pure error, residual structure
-// against force), attribute it to an effect of the library (sim/effects.h) by
-// projected score tests, identifiability indices, alias sets and
-// likelihood-ratio tests with Holm's family-wise correction, augment the model
-// one effect at a time (at most two) and confirm (boundary-aware likelihood
-// ratio, AICc, leave-one-force-level-out cross-validation, residual tests
-// re-run), and say what was found: a named effect, an ambiguous set, a gap
-// outside the library, an effect absorbed by a base parameter, or none.
+// The model-gap workflow (analysis/README.md, "Finding what the model misses"):
+// given measured steady velocities v(F), fit the base model (c_e, alpha),
+// detect a gap (lack of fit against the replicates' pure error, residual
+// structure against force), attribute it to an effect of the library
+// (sim/effects.h) by projected score tests, identifiability indices, alias sets
+// and likelihood-ratio tests with Holm's family-wise correction, augment the
+// model one effect at a time (at most two) and confirm (boundary-aware
+// likelihood ratio, AICc, leave-one-force-level-out cross-validation, residual
+// tests re-run), and say what was found: a named effect, an ambiguous set, a
+// gap outside the library, an effect absorbed by a base parameter, or none.
 //
 // Every model is log v = log SteadyVelocityMmS(F; c_e, alpha, R, effects)
 // (descent_surrogate.h) with unweighted least squares on log v (log-normal
 // run-to-run scatter), so the Gaussian profile likelihood gives
 // LR = n log(RSS_0 / RSS_1).
-#ifndef BURRLAB_ANALYSIS_DISCOVER_H_
-#define BURRLAB_ANALYSIS_DISCOVER_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_H_
 
 #include <functional>
 #include <optional>
@@ -22,8 +22,8 @@
 #include <string_view>
 #include <vector>
 
-#include "burrlab/analysis/measured_data.h"
-#include "burrlab/analysis/trace_gap.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/trace_gap.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/sim/result.h"
 
@@ -165,4 +165,4 @@ double ModelLogVelocity(double force_n, double c_e_n_per_mm2,
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_DISCOVER_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_H_

@@ -1,6 +1,6 @@
 // The trace CSV of the model-gap workflow, with a diagnostic naming the line
 // and column of the first problem.
-#include "burrlab/analysis/trace_data.h"
+#include "burrlab/analysis/model_gap/trace_data.h"
 
 #include <fmt/format.h>
 

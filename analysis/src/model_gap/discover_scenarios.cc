@@ -1,5 +1,5 @@
 // Hidden-effect scenarios: truth, noise, distortions, CSV, Discover.
-#include "burrlab/analysis/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
 
 #include <fmt/format.h>
 
@@ -12,10 +12,10 @@
 #include <optional>
 #include <thread>
 
-#include "burrlab/analysis/calibration.h"
-#include "burrlab/analysis/descent_surrogate.h"
-#include "burrlab/analysis/measured_data.h"
-#include "burrlab/analysis/synthetic_measurement.h"
+#include "burrlab/analysis/model_gap/calibration.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/synthetic_measurement.h"
 
 namespace burrlab::analysis {
 namespace {

@@ -1,6 +1,6 @@
 // The trace CSV of discover --traces: what it accepts and the exact
 // diagnostics for what it refuses.
-#include "burrlab/analysis/trace_data.h"
+#include "burrlab/analysis/model_gap/trace_data.h"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
 // Shared by the discover and trace-gap tests: how many seeds to run (fewer
 // under the sanitizers, more with BURRLAB_SLOW_TESTS=1) and the bone design
 // their scenarios start from.
-#ifndef BURRLAB_TESTS_ANALYSIS_DISCOVER_FIXTURES_H_
-#define BURRLAB_TESTS_ANALYSIS_DISCOVER_FIXTURES_H_
+#ifndef BURRLAB_TESTS_ANALYSIS_MODEL_GAP_DISCOVER_FIXTURES_H_
+#define BURRLAB_TESTS_ANALYSIS_MODEL_GAP_DISCOVER_FIXTURES_H_
 
 #include <cstdlib>
 
-#include "burrlab/analysis/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
 
 namespace burrlab::analysis::testing {
 
@@ -28,4 +28,4 @@ inline ScenarioDesign BoneDesign() {
 
 }  // namespace burrlab::analysis::testing
 
-#endif  // BURRLAB_TESTS_ANALYSIS_DISCOVER_FIXTURES_H_
+#endif  // BURRLAB_TESTS_ANALYSIS_MODEL_GAP_DISCOVER_FIXTURES_H_

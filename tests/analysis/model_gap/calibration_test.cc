@@ -3,7 +3,7 @@
 // intervals on data drawn from the surrogate with log-normal noise. The
 // recovery of the built-in materials from the full rig's data is in
 // tests/runner/calibrate_command_test.cc.
-#include "burrlab/analysis/calibration.h"
+#include "burrlab/analysis/model_gap/calibration.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 
 namespace burrlab::analysis {
 namespace {

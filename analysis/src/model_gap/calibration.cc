@@ -1,7 +1,7 @@
 // Calibration of c_e and alpha through the steady-state surrogate: variable
 // projection of log alpha, bounded multi-start search over log c_e,
 // identifiability by SVD and profile likelihood, profile intervals.
-#include "burrlab/analysis/calibration.h"
+#include "burrlab/analysis/model_gap/calibration.h"
 
 #include <fmt/format.h>
 
@@ -15,7 +15,7 @@
 #include <functional>
 #include <limits>
 
-#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "non_finite.h"
 
 namespace burrlab::analysis {

@@ -6,7 +6,7 @@
 //
 // Seeds: 6 per scenario in CI, BURRLAB_SLOW_TESTS=1 runs 40, the sanitizer
 // build 2.
-#include "burrlab/analysis/trace_gap.h"
+#include "burrlab/analysis/model_gap/trace_gap.h"
 
 #include <gtest/gtest.h>
 
@@ -16,11 +16,11 @@
 #include <cstdlib>
 #include <string>
 
-#include "burrlab/analysis/calibration.h"
-#include "burrlab/analysis/descent_surrogate.h"
-#include "burrlab/analysis/discover.h"
-#include "burrlab/analysis/discover_scenarios.h"
-#include "burrlab/analysis/synthetic_measurement.h"
+#include "burrlab/analysis/model_gap/calibration.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/discover.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/synthetic_measurement.h"
 #include "discover_fixtures.h"
 
 namespace burrlab::analysis {

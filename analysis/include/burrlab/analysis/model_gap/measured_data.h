@@ -5,8 +5,8 @@
 // ignored). Replicate runs at a force level are expected. Parsers take
 // (path, text) so tests need no files; errors read
 // "path:line:col: error: message", then the source line and a caret.
-#ifndef BURRLAB_ANALYSIS_MEASURED_DATA_H_
-#define BURRLAB_ANALYSIS_MEASURED_DATA_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_MEASURED_DATA_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_MEASURED_DATA_H_
 
 #include <optional>
 #include <string>
@@ -67,4 +67,4 @@ Result<MeasuredData> ReadMeasuredData(const std::string& path);
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_MEASURED_DATA_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_MEASURED_DATA_H_

@@ -1,6 +1,6 @@
 // The steady-state surrogate of the descent rig: quadrature of the continuum
 // profile, a table of y(kappa) and its monotone inverse.
-#include "burrlab/analysis/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 
 #include <algorithm>
 #include <array>

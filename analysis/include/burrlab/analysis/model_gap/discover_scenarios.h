@@ -1,20 +1,19 @@
-// Hidden-effect scenarios for testing the model-gap workflow honestly
-// (shared/notes/model-gap.md, "Testing it honestly"): "measured" data from
-// the synthetic measurement generator (the full rig, or the surrogate for a
-// fast tier) with an effect hidden at a chosen projected signal-to-noise
-// ratio, optional distortions outside the library (a smooth bump in log v,
-// gross outliers), written as CSV and parsed back, so Discover sees only what
-// a user's file would give it. Used by tests/analysis/discover_test.cc and by
-// `burrlab discover-matrix`.
-#ifndef BURRLAB_ANALYSIS_DISCOVER_SCENARIOS_H_
-#define BURRLAB_ANALYSIS_DISCOVER_SCENARIOS_H_
+// Hidden-effect scenarios for testing the model-gap workflow honestly, on data
+// it did not fit: "measured" data from the synthetic measurement generator (the
+// full rig, or the surrogate for a fast tier) with an effect hidden at a chosen
+// projected signal-to-noise ratio, optional distortions outside the library (a
+// smooth bump in log v, gross outliers), written as CSV and parsed back, so
+// Discover sees only what a user's file would give it. Used by
+// tests/analysis/model_gap/discover_test.cc and by `burrlab discover-matrix`.
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_SCENARIOS_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_SCENARIOS_H_
 
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
-#include "burrlab/analysis/discover.h"
+#include "burrlab/analysis/model_gap/discover.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/sim/result.h"
@@ -117,4 +116,4 @@ std::vector<std::uint64_t> NamedBeyond(const ScenarioOutcome& scenario,
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_DISCOVER_SCENARIOS_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_SCENARIOS_H_

@@ -1,15 +1,15 @@
 // Calibration of the base burr model (c_e, alpha) against measured steady
-// penetration velocities (dissertation §8.6-8.7, issue 5): least squares on
-// log v through the steady-state surrogate (descent_surrogate.h), an
-// identifiability check (SVD of the Jacobian of log v with respect to
-// log c_e and log alpha, profile likelihood) and profile-likelihood intervals.
+// penetration velocities (dissertation §8.6-8.7): least squares on log v
+// through the steady-state surrogate (descent_surrogate.h), an identifiability
+// check (SVD of the Jacobian of log v with respect to log c_e and log alpha,
+// profile likelihood) and profile-likelihood intervals.
 //
 // With the model log v = log alpha + log R - g(log F - log c_e - 2 log R),
 // g = log kappa of the surrogate, log alpha enters linearly: it is profiled in
 // closed form and the fit is a bounded one-dimensional search over log c_e
 // (a grid of starts, each local minimum refined by Brent's method).
-#ifndef BURRLAB_ANALYSIS_CALIBRATION_H_
-#define BURRLAB_ANALYSIS_CALIBRATION_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_CALIBRATION_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_CALIBRATION_H_
 
 #include <array>
 #include <cstdint>
@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
@@ -78,4 +78,4 @@ std::string CombinationName(double exponent);
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_CALIBRATION_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_CALIBRATION_H_

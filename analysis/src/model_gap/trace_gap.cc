@@ -1,6 +1,6 @@
 // The trace-gap test: a lumped transient model of the descent rig fitted to
 // its traces with and without each trace-only effect.
-#include "burrlab/analysis/trace_gap.h"
+#include "burrlab/analysis/model_gap/trace_gap.h"
 
 #include <fmt/format.h>
 #include <nlopt.h>
@@ -14,8 +14,7 @@
 #include <map>
 #include <memory>
 
-#include "burrlab/analysis/descent_surrogate.h"
-#include "burrlab/analysis/discover.h"
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 
 namespace burrlab::analysis {
 namespace {
@@ -452,71 +451,6 @@ Result<TraceGapResult> TestTraceEffects(const std::vector<TraceRun>& runs,
     }
   }
   return result;
-}
-
-Status AddTraceGap(const MeasuredData& data, const DiscoverOptions& options,
-                   DiscoverReport* report) {
-  if (!options.traces) return {};
-  const std::vector<TraceRun> runs = PairTraces(*options.traces, data);
-  if (runs.empty()) {
-    return Error{"none of the traces belongs to a run of the measured data"};
-  }
-  TraceGapOptions o;
-  o.c_e_n_per_mm2 = report->baseline.c_e_n_per_mm2;
-  o.alpha_per_s = report->baseline.alpha_per_s;
-  o.radius_mm = options.radius_mm;
-  o.test_level = options.test_level;
-  Result<TraceGapResult> gap = TestTraceEffects(runs, o);
-  if (!gap.ok()) return Error{"traces: " + gap.error().message};
-  report->trace_gap = *gap;
-  if (gap->named.empty()) {
-    double min_p = 1.0;
-    for (const TraceEffectTest& e : gap->effects) {
-      min_p = std::min(min_p, e.p_holm);
-    }
-    report->summary += fmt::format(
-        " The traces ({} runs) show no trace-only effect (smallest "
-        "Holm-adjusted p = {:.3g}).",
-        gap->runs, min_p);
-    return {};
-  }
-  const TraceEffectTest* named = nullptr;
-  for (const TraceEffectTest& e : gap->effects) {
-    if (e.id == gap->named) named = &e;
-  }
-  const sim::EffectSpec* spec = sim::FindEffect(named->id);
-  const std::string finding = fmt::format(
-      "The traces ({} runs) show {} ({}): {} = {:.4g} {}, likelihood ratio "
-      "{:.3g}, Holm-adjusted p = {:.3g} (boundary-corrected), trace RMSE "
-      "{:.3g} -> {:.3g} N and {:.3g} -> {:.3g} mm. Steady v(F) cannot see "
-      "it.",
-      gap->runs, named->id, spec->signature, spec->parameter, named->value,
-      spec->unit, named->lr, named->p_holm, gap->rmse_force_n,
-      named->rmse_force_n, gap->rmse_depth_mm, named->rmse_depth_mm);
-  // The v(F) model is unchanged by a trace-only effect: the augmented fit
-  // keeps its numbers and gains the parameter.
-  const auto add = [&](ModelFit* fit) {
-    fit->effects.push_back(named->id);
-    fit->effect_values.push_back(named->value);
-    fit->strengths.push_back(sim::StrengthOfParameter(*spec, named->value));
-    ++fit->parameters;
-  };
-  if (report->verdict == "none") {
-    report->verdict = "named";
-    report->effects = {named->id};
-    report->alias_set = {named->id};
-    report->alias_sets = {report->alias_set};
-    add(&report->augmented);
-    report->summary = finding + " " + report->summary;
-  } else if (report->verdict == "named" || report->verdict == "ambiguous") {
-    report->effects.push_back(named->id);
-    report->alias_sets.push_back({named->id});
-    add(&report->augmented);
-    report->summary += " " + finding;
-  } else {
-    report->summary += " " + finding;
-  }
-  return {};
 }
 
 }  // namespace burrlab::analysis

@@ -12,8 +12,8 @@
 // that scale the erosion rate of eq. 7.12 scale v, the contact exponent and
 // porosity change eq. 7.3, and viscous resistance (eq. 7.14) takes its share
 // of the held force.
-#ifndef BURRLAB_ANALYSIS_DESCENT_SURROGATE_H_
-#define BURRLAB_ANALYSIS_DESCENT_SURROGATE_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_DESCENT_SURROGATE_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_DESCENT_SURROGATE_H_
 
 #include "burrlab/sim/effects.h"
 
@@ -48,4 +48,4 @@ double SteadyVelocityMmS(const SteadyDescentInput& input);
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_DESCENT_SURROGATE_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_DESCENT_SURROGATE_H_

@@ -1,18 +1,17 @@
-// Time traces of the descent rig (issue 5, item 1): for each run of the
-// measured data, the recorded force and depth against time, read from one CSV
-// with the header run,t_s,force_n,depth_mm (any order; other columns are
-// ignored). The run column names the measured CSV's run; a run's rows are
-// consecutive with increasing time. Parsers take (path, text); errors read
-// "path:line:col: error: message", then the source line and a caret, as in
-// measured_data.h.
-#ifndef BURRLAB_ANALYSIS_TRACE_DATA_H_
-#define BURRLAB_ANALYSIS_TRACE_DATA_H_
+// Time traces of the descent rig: for each run of the measured data, the
+// recorded force and depth against time, read from one CSV with the header
+// run,t_s,force_n,depth_mm (any order; other columns are ignored). The run
+// column names the measured CSV's run; a run's rows are consecutive with
+// increasing time. Parsers take (path, text); errors read "path:line:col:
+// error: message", then the source line and a caret, as in measured_data.h.
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_TRACE_DATA_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_TRACE_DATA_H_
 
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
@@ -53,4 +52,4 @@ Status MatchTracesToRuns(const TraceData& traces, const MeasuredData& measured,
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_TRACE_DATA_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_TRACE_DATA_H_

@@ -4,8 +4,8 @@
 // noise; the velocity is the rig's under the named definition. The
 // calibration sees only the CSV it produces (and fits the continuum
 // surrogate, not the voxel rig).
-#ifndef BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
-#define BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_SYNTHETIC_MEASUREMENT_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_SYNTHETIC_MEASUREMENT_H_
 
 #include <cstdint>
 #include <functional>
@@ -125,4 +125,4 @@ std::string FormatTraceCsv(const SyntheticMeasurement& measurement,
 
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_SYNTHETIC_MEASUREMENT_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_SYNTHETIC_MEASUREMENT_H_

@@ -1,6 +1,6 @@
 // The measured-data CSV of calibrate: what it accepts and the exact
 // diagnostics for what it refuses.
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 
 #include <gtest/gtest.h>
 

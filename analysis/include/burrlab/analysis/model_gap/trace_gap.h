@@ -1,6 +1,6 @@
 // The trace-only effects of the library (sim/effects.h: load_cell_lag,
-// arm_compliance) tested on the descent rig's time traces (issue 5): steady
-// v(F) cannot see them, the loading transient after contact can.
+// arm_compliance) tested on the descent rig's time traces: steady v(F) cannot
+// see them, the loading transient after contact can.
 //
 // A lumped transient model of the rig stands for the voxel simulator: the
 // arm moves under the rig's own PI law on the measured force (sim/descent.h);
@@ -29,22 +29,19 @@
 // autocorrelation, and its residual variance carries a model-error floor.
 // Replicates at one force weigh as one trace together (they share the rig's
 // systematic transient).
-#ifndef BURRLAB_ANALYSIS_TRACE_GAP_H_
-#define BURRLAB_ANALYSIS_TRACE_GAP_H_
+#ifndef BURRLAB_ANALYSIS_MODEL_GAP_TRACE_GAP_H_
+#define BURRLAB_ANALYSIS_MODEL_GAP_TRACE_GAP_H_
 
 #include <string>
 #include <vector>
 
-#include "burrlab/analysis/measured_data.h"
-#include "burrlab/analysis/trace_data.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/analysis/model_gap/trace_data.h"
 #include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
-
-struct DiscoverOptions;
-struct DiscoverReport;
 
 // One traced run and the force the rig held in it.
 struct TraceRun {
@@ -117,14 +114,6 @@ LumpedTrace SimulateLumpedRig(const RunTrace& trace, double force_n,
                               const TraceGapOptions& options,
                               const sim::Effects& effects, double until_s);
 
-// The trace step of Discover (discover.h): tests the trace-only effects on
-// options.traces with the report's base fit and records the result in
-// report->trace_gap. A significant effect is named when v(F) found nothing
-// (verdict none -> named) and added after the v(F) effects when it found
-// one; the summary says what the traces show either way.
-Status AddTraceGap(const MeasuredData& data, const DiscoverOptions& options,
-                   DiscoverReport* report);
-
 }  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_TRACE_GAP_H_
+#endif  // BURRLAB_ANALYSIS_MODEL_GAP_TRACE_GAP_H_

@@ -4,12 +4,12 @@
 // rates per effect at a projected SNR of 4, the null control, the absorbed
 // effect, a distortion outside the library, gross outliers, bad options.
 //
-// The truth here is the continuum surrogate (the fast tier of
-// shared/notes/model-gap.md); a full-rig truth costs 5-60 s per force level
-// and runs in `burrlab discover-matrix --full-rig` (analysis/README.md).
-// Seeds: 10 per effect and 30 null in CI; BURRLAB_SLOW_TESTS=1 runs 20 per
-// effect and 100 null; the sanitizer build runs 2 per scenario.
-#include "burrlab/analysis/discover.h"
+// The truth here is the continuum surrogate (the fast tier); a full-rig truth
+// costs 5-60 s per force level and runs in `burrlab discover-matrix --full-rig`
+// (analysis/README.md). Seeds: 10 per effect and 30 null in CI;
+// BURRLAB_SLOW_TESTS=1 runs 20 per effect and 100 null; the sanitizer build
+// runs 2 per scenario.
+#include "burrlab/analysis/model_gap/discover.h"
 
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/analysis/discover_scenarios.h"
-#include "burrlab/analysis/measured_data.h"
+#include "burrlab/analysis/model_gap/discover_scenarios.h"
+#include "burrlab/analysis/model_gap/measured_data.h"
 #include "discover_fixtures.h"
 
 namespace burrlab::analysis {

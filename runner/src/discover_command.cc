@@ -99,7 +99,11 @@ Json ReportJson(const analysis::DiscoverReport& r) {
       scores[e.id] = {{"score_p", JsonNumber(e.score_p)},
                       {"lr_p", JsonNumber(e.lr_p)},
                       {"lr_p_adjusted", JsonNumber(e.lr_p_adjusted)},
-                      {"identifiability", JsonNumber(e.identifiability)}};
+                      {"identifiability", JsonNumber(e.identifiability)},
+                      {"variant", e.variant},
+                      {"shape", e.shape},
+                      {"shape_determined", e.shape_determined},
+                      {"alike_shapes", e.alike_shapes}};
     }
   }
   tests["effects"] = scores;
@@ -198,8 +202,14 @@ std::string ReportMarkdown(const analysis::DiscoverReport& r,
         round + 1);
     for (const analysis::EffectAttribution& e : r.rounds[round]) {
       md += fmt::format(
-          "| {} | {:.3g}{} | {:.3g} | {} | {:.3g} | {} | {} | {} | {:.4g} |\n",
-          e.id, e.identifiability, e.absorbed ? " (absorbed)" : "", e.score_z,
+          "| {}{} | {:.3g}{} | {:.3g} | {} | {:.3g} | {} | {} | {} | {:.4g} "
+          "|\n",
+          e.id,
+          e.shape.empty()
+              ? std::string()
+              : fmt::format(" ({}{})", e.shape,
+                            e.shape_determined ? "" : "; shape undetermined"),
+          e.identifiability, e.absorbed ? " (absorbed)" : "", e.score_z,
           FormatP(e.score_p), e.lr, FormatP(e.lr_p), FormatP(e.lr_p_adjusted),
           FormatP(e.aicc), e.value);
     }

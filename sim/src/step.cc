@@ -219,9 +219,21 @@ void ComputeForces(const Model& model, const Volume& volume,
       out->friction_n = mat.mu * visitor.force;
     }
   }
-  out->impact_n = -(mat.c_i_n_s_per_mm3 + effects.impact_c_i_n_s_per_mm3) *
-                  radius * radius * depth_ratio *
-                  input.velocity_mm_s;  // eq. 7.14 (+ viscous_resistance)
+  // eq. 7.14, and viscous_resistance in its shape: c_i R^2 (h/R) v_ref
+  // (|v| / v_ref)^m along v, v_ref = 1 mm/s.
+  out->impact_n = -mat.c_i_n_s_per_mm3 * radius * radius * depth_ratio *
+                  input.velocity_mm_s;
+  if (effects.impact_c_i_n_s_per_mm3 > 0.0) {
+    const double speed = Norm(input.velocity_mm_s);
+    if (speed > 0.0) {
+      const double scale =
+          effects.viscous_exponent == 1.0
+              ? 1.0
+              : std::pow(speed, effects.viscous_exponent - 1.0);
+      out->impact_n -= effects.impact_c_i_n_s_per_mm3 * radius * radius *
+                       depth_ratio * scale * input.velocity_mm_s;
+    }
+  }
   out->model_force_n = out->elastic_n + out->friction_n + out->impact_n;
 }
 
@@ -294,26 +306,13 @@ void Step(const Model& model, State& state, const Input& input,
   // removal). Each scales the rate of eq. 7.12.
   const Effects& effects = model.effects;
   const double elastic_n = Norm(out->elastic_n);
-  double engaged = 1.0;
-  if (effects.cutting_threshold_n > 0.0) {
-    engaged = elastic_n > effects.cutting_threshold_n
-                  ? 1.0 - effects.cutting_threshold_n / elastic_n
-                  : 0.0;
-  }
-  if (std::isfinite(effects.stall_force_n)) {
-    engaged *= std::max(0.0, 1.0 - elastic_n / effects.stall_force_n);
-  }
-  if (effects.friction_erosion_per_n_s > 0.0 && alpha > 0.0) {
-    engaged *= 1.0 + effects.friction_erosion_per_n_s * elastic_n / alpha;
-  }
+  const double engaged = ErosionRateScale(effects, elastic_n, alpha);
   double power_scale = 1.0;
   const bool power_limited = std::isfinite(effects.max_removal_mm3_per_s);
   if (power_limited) {
     const double demand =
         engaged * state.unlimited_removal_mm3_per_s_;  // what the blades ask
-    if (demand > effects.max_removal_mm3_per_s) {
-      power_scale = effects.max_removal_mm3_per_s / demand;
-    }
+    power_scale = PowerLimitScale(effects, demand);
   }
   const double scale = engaged * power_scale;
   if (Norm(input.spindle_rad_s) > 0.0 && alpha > 0.0 && scale > 0.0 &&

@@ -166,9 +166,12 @@ TEST_F(CalibrateCommand, SimMeasureRefusesUnknownEffects) {
   EXPECT_EQ(run.code, 1);
   EXPECT_EQ(run.err,
             "burrlab: --effect: unknown effect 'motor_limit'; known effects: "
-            "motor_power_limit, spindle_slowdown, cutting_threshold, "
-            "viscous_resistance, friction_erosion, contact_exponent, "
-            "porosity, load_cell_lag, arm_compliance\n");
+            "motor_power_limit, motor_power_limit_droop, spindle_slowdown, "
+            "spindle_slowdown_exponential, cutting_threshold, "
+            "cutting_threshold_soft, viscous_resistance, "
+            "viscous_resistance_sqrt, friction_erosion, "
+            "friction_erosion_quadratic, contact_exponent, porosity, "
+            "load_cell_lag, arm_compliance\n");
   const CliRun bad = RunBurrlab({"sim", "measure", "--material", "pvc_k70",
                                  "--forces", "0.2,0.4", "--replicates", "2",
                                  "--effect", "cutting_threshold=-1"});

@@ -25,13 +25,58 @@ TEST(Effects, DefaultIsNullAndSetEffectChangesOneParameter) {
   EXPECT_TRUE(effects.IsNull());
 }
 
+// The shapes of sim/effects.h against their closed forms.
+TEST(Effects, ShapesFollowTheirClosedForms) {
+  Effects fx;
+  EXPECT_EQ(ErosionRateScale(fx, 3.0, 0.1), 1.0);
+  // Hard threshold: 1 - F0 / F above F0, nothing below.
+  fx.cutting_threshold_n = 1.0;
+  EXPECT_DOUBLE_EQ(ErosionRateScale(fx, 4.0, 0.1), 0.75);
+  EXPECT_EQ(ErosionRateScale(fx, 0.9, 0.1), 0.0);
+  // Soft: w ln(1 + exp((F - F0) / w)) / F with w = 0.5 F0; at F = F0 that is
+  // 0.5 ln 2, and far above F0 it approaches the hard threshold.
+  ASSERT_TRUE(SetEffect("cutting_threshold_soft", 1.0, &fx).ok());
+  EXPECT_NEAR(ErosionRateScale(fx, 1.0, 0.1), 0.5 * std::log(2.0), 1e-12);
+  EXPECT_NEAR(ErosionRateScale(fx, 20.0, 0.1), 0.95, 1e-6);
+  EXPECT_GT(ErosionRateScale(fx, 0.5, 0.1), 0.0);
+  // Spindle: linear 1 - F / F_s, exponential exp(-F / F_s).
+  Effects spindle;
+  ASSERT_TRUE(SetEffect("spindle_slowdown", 4.0, &spindle).ok());
+  EXPECT_DOUBLE_EQ(ErosionRateScale(spindle, 1.0, 0.1), 0.75);
+  ASSERT_TRUE(SetEffect("spindle_slowdown_exponential", 4.0, &spindle).ok());
+  EXPECT_DOUBLE_EQ(ErosionRateScale(spindle, 1.0, 0.1), std::exp(-0.25));
+  // Friction wear: 1 + k F^p / alpha.
+  Effects wear;
+  ASSERT_TRUE(SetEffect("friction_erosion", 0.2, &wear).ok());
+  EXPECT_DOUBLE_EQ(ErosionRateScale(wear, 3.0, 0.1), 1.0 + 0.2 * 3.0 / 0.1);
+  ASSERT_TRUE(SetEffect("friction_erosion_quadratic", 0.2, &wear).ok());
+  EXPECT_DOUBLE_EQ(ErosionRateScale(wear, 3.0, 0.1), 1.0 + 0.2 * 9.0 / 0.1);
+  // Power limit: the hard cap min(1, Q_max / Q); the droop with k = 1.5,
+  // (1 + (Q / Q_max)^1.5)^(-1/1.5): 2^(-2/3) at Q = Q_max, below 1 well under
+  // the limit, and towards the cap far above it.
+  Effects power;
+  ASSERT_TRUE(SetEffect("motor_power_limit", 2.0, &power).ok());
+  EXPECT_EQ(PowerLimitScale(power, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(PowerLimitScale(power, 8.0), 0.25);
+  ASSERT_TRUE(SetEffect("motor_power_limit_droop", 2.0, &power).ok());
+  EXPECT_NEAR(PowerLimitScale(power, 2.0), std::pow(2.0, -2.0 / 3.0), 1e-12);
+  EXPECT_LT(PowerLimitScale(power, 1.0), 0.95);
+  EXPECT_NEAR(PowerLimitScale(power, 200.0) * 200.0 / 2.0, 1.0, 1e-3);
+  // Setting the first shape again restores it.
+  ASSERT_TRUE(SetEffect("motor_power_limit", 2.0, &power).ok());
+  EXPECT_EQ(PowerLimitScale(power, 1.0), 1.0);
+}
+
 TEST(Effects, NamesUnknownIdsAndBadValues) {
   Effects effects;
   EXPECT_EQ(SetEffect("porosty", 0.1, &effects).error().message,
             "unknown effect 'porosty'; known effects: motor_power_limit, "
-            "spindle_slowdown, cutting_threshold, viscous_resistance, "
-            "friction_erosion, contact_exponent, porosity, load_cell_lag, "
-            "arm_compliance");
+            "motor_power_limit_droop, spindle_slowdown, "
+            "spindle_slowdown_exponential, cutting_threshold, "
+            "cutting_threshold_soft, viscous_resistance, "
+            "viscous_resistance_sqrt, friction_erosion, "
+            "friction_erosion_quadratic, contact_exponent, porosity, "
+            "load_cell_lag, arm_compliance");
   EXPECT_EQ(SetEffect("motor_power_limit", 0.0, &effects).error().message,
             "motor_power_limit must be a positive removal rate in mm^3/s (inf "
             "for none), got 0");

@@ -222,41 +222,33 @@ namespace {
 
 // The velocity at elastic force F_e = c_e' R^2 y_e (c_e' the effective
 // elastic constant), every erosion effect applied; 0 when the blades do not
-// cut, +inf beyond full immersion. `depth_ratio` receives h / R.
+// cut, +inf beyond full immersion. `depth_ratio`, when given, receives h / R.
 double VelocityAtElasticLoad(const SteadyDescentInput& in, double c_e,
                              double elastic_load, double* depth_ratio) {
   const double r = in.radius_mm;
   const sim::Effects& fx = in.effects;
   // h / R from F_e = c_e R^2 (h/R)^n (eq. 7.3 with the contact exponent);
-  // the table is in the Hertz load (h/R)^{3/2}.
-  const double x = fx.contact_exponent == 1.5
-                       ? std::cbrt(elastic_load * elastic_load)
-                       : std::pow(elastic_load, 1.0 / fx.contact_exponent);
-  *depth_ratio = x;
-  const double load =
-      fx.contact_exponent == 1.5 ? elastic_load : x * std::sqrt(x);
+  // the table is in the Hertz load (h/R)^{3/2}. (The fits call this millions
+  // of times: h / R only when asked for or needed.)
+  const bool hertz = fx.contact_exponent == 1.5;
+  double load = elastic_load;
+  if (!hertz || depth_ratio != nullptr) {
+    const double x = hertz ? std::cbrt(elastic_load * elastic_load)
+                           : std::pow(elastic_load, 1.0 / fx.contact_exponent);
+    if (depth_ratio != nullptr) *depth_ratio = x;
+    if (!hertz) load = x * std::sqrt(x);
+  }
   if (load >= MaxSteadyLoad()) return std::numeric_limits<double>::infinity();
   const double elastic_n = c_e * r * r * elastic_load;
   // The erosion profile depends on kappa_eff = scale alpha R / v only, and the
   // load fixes kappa_eff: every effect that scales the rate of eq. 7.12
-  // scales v.
-  double scale = 1.0;
-  if (fx.cutting_threshold_n > 0.0) {
-    if (elastic_n <= fx.cutting_threshold_n) return 0.0;
-    scale = 1.0 - fx.cutting_threshold_n / elastic_n;
-  }
-  if (std::isfinite(fx.stall_force_n)) {
-    scale *= std::max(0.0, 1.0 - elastic_n / fx.stall_force_n);
-    if (scale <= 0.0) return 0.0;
-  }
-  const double rate = in.alpha_per_s + fx.friction_erosion_per_n_s * elastic_n;
+  // scales v (sim::ErosionRateScale, as the simulator applies it).
+  const double scale = sim::ErosionRateScale(fx, elastic_n, in.alpha_per_s);
+  if (!(scale > 0.0)) return 0.0;
   const double kappa = KappaAtLoad(load);
-  double v = scale * rate * r / kappa;
+  double v = scale * in.alpha_per_s * r / kappa;
   if (std::isfinite(fx.max_removal_mm3_per_s)) {
-    const double removal = v * r * r * TabulatedRemovalArea(kappa);
-    if (removal > fx.max_removal_mm3_per_s) {
-      v *= fx.max_removal_mm3_per_s / removal;
-    }
+    v *= sim::PowerLimitScale(fx, v * r * r * TabulatedRemovalArea(kappa));
   }
   return v;
 }
@@ -273,9 +265,7 @@ double SteadyVelocityMmS(const SteadyDescentInput& in) {
   const double solid = 1.0 - fx.porosity;
   const double c_e = in.c_e_n_per_mm2 * solid * solid;
   const double total_load = in.force_n / (c_e * r * r);
-  double depth_ratio = 0.0;
-  const double v_free =
-      VelocityAtElasticLoad(in, c_e, total_load, &depth_ratio);
+  const double v_free = VelocityAtElasticLoad(in, c_e, total_load, nullptr);
   const double c_i = fx.impact_c_i_n_s_per_mm3;
   if (c_i <= 0.0 || !(v_free > 0.0)) return v_free;
   // F = c_e R^2 y_e + c_i R^2 (h/R) v(y_e): bisection on the elastic share
@@ -285,14 +275,17 @@ double SteadyVelocityMmS(const SteadyDescentInput& in) {
     double x = 0.0;
     const double v = VelocityAtElasticLoad(in, c_e, y_e, &x);
     if (!std::isfinite(v)) return std::numeric_limits<double>::infinity();
-    return c_e * r * r * y_e + c_i * r * r * x * v - in.force_n;
+    // c_i R^2 (h/R) v_ref (v / v_ref)^m, v_ref = 1 mm/s.
+    const double resistance =
+        fx.viscous_exponent == 1.0 ? v : std::pow(v, fx.viscous_exponent);
+    return c_e * r * r * y_e + c_i * r * r * x * resistance - in.force_n;
   };
   double lo = 0.0, hi = total_load;
   for (int it = 0; it < 48; ++it) {
     const double mid = 0.5 * (lo + hi);
     (residual(mid) < 0.0 ? lo : hi) = mid;
   }
-  return VelocityAtElasticLoad(in, c_e, 0.5 * (lo + hi), &depth_ratio);
+  return VelocityAtElasticLoad(in, c_e, 0.5 * (lo + hi), nullptr);
 }
 
 }  // namespace burrlab::analysis

@@ -56,12 +56,14 @@ Runs LeaveOutGrossOutliers(const MeasuredData& data,
   return Subset(all, keep);
 }
 
-// The progress count's total: the base fit and every v(F) effect of the
-// library in each attribution round.
+// The progress count's total: the base fit and every v(F) effect family of
+// the library in each attribution round.
 int ProgressTasks(const DiscoverOptions& options) {
   const int library = static_cast<int>(
       std::count_if(sim::EffectLibrary().begin(), sim::EffectLibrary().end(),
-                    [](const sim::EffectSpec& e) { return !e.trace_only; }));
+                    [](const sim::EffectSpec& e) {
+                      return !e.trace_only && e.Family() == e.id;
+                    }));
   return 2 + library * std::max(1, options.max_effects);
 }
 
@@ -223,7 +225,8 @@ bool DiscoverStages::AbsorbedByReference() {
   const EffectAttribution* best = nullptr;
   for (const EffectAttribution& e : report_.rounds[0]) {
     if (!e.absorbed) continue;
-    const sim::EffectSpec* spec = sim::FindEffect(e.id);
+    const sim::EffectSpec* spec =
+        sim::FindEffect(e.variant.empty() ? e.id : e.variant);
     std::vector<ActiveEffect> active = {
         ScaleEffect(*spec, runs_, options_.reference->c_e_n_per_mm2,
                     options_.reference->alpha_per_s)};

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,10 @@ std::vector<double> MaxTAdjusted(const std::vector<double>& lr,
   return adjusted;
 }
 
+// The other shapes of a family are fitted when its first shape's likelihood
+// ratio has p below this.
+constexpr double kShapeGate = 0.1;
+
 }  // namespace
 
 AttributionRound Workflow::Attribute(const Model& current,
@@ -106,97 +111,149 @@ AttributionRound Workflow::Attribute(const Model& current,
   AttributionRound round;
   const double c_e = std::exp(current.point.ln_c_e);
   const double alpha = std::exp(current.point.ln_alpha);
-  for (const sim::EffectSpec& spec : sim::EffectLibrary()) {
-    if (spec.trace_only) continue;  // v(F) cannot see it (trace_gap.h)
+  // One candidate per family: each of its variants (shapes) is scored and
+  // fitted, and the best fit speaks for the family.
+  const std::span<const sim::EffectSpec> library = sim::EffectLibrary();
+  // Each family's test is its first shape's: whether there is a gap, and
+  // which families explain it, is decided on the library's first shapes
+  // alone (a search over shapes would raise the null's false names); the
+  // other shapes then compete to describe the gap the family explains.
+  struct Tested {
+    double lr = 0.0;
+    Eigen::VectorXd signature;
+    bool testable = false;
+  };
+  std::vector<Tested> tested;
+  for (const sim::EffectSpec& head : library) {
+    if (head.trace_only) continue;           // v(F) cannot see it (trace_gap.h)
+    if (head.Family() != head.id) continue;  // a variant: with its family
     bool used = false;
-    for (const ActiveEffect& a : current.active) used |= a.spec == &spec;
+    for (const ActiveEffect& a : current.active) {
+      used |= a.spec->Family() == head.id;
+    }
     if (used) continue;
     if (options_.progress) {
       options_.progress((*progress_done)++, total_tasks_,
-                        fmt::format("attributing: {}", spec.id));
+                        fmt::format("attributing: {}", head.id));
     }
-    EffectAttribution e;
-    e.id = spec.id;
-    std::vector<ActiveEffect> active = current.active;
-    active.push_back(ScaleEffect(spec, runs_, c_e, alpha));
-    const std::size_t k = active.size() - 1;
-    Point at = current.point;
-    at.u.push_back(0.0);
-    // Signature: the change of the fit per unit u at a small strength
-    // (2 % at most), a secant for effects with a kink such as the cap.
-    const double u_small = UForChange(runs_, active, at, k, 0.02);
-    Point moved = at;
-    moved.u[k] = u_small;
-    const std::vector<double> y1 = Predict(runs_, active, moved);
-    Eigen::VectorXd s(n);
-    for (int i = 0; i < n; ++i) {
-      s(i) = std::isfinite(y1[i]) ? (y1[i] - y0[i]) / u_small : 0.0;
-    }
-    const Eigen::VectorXd s_perp = Project(basis, s);
-    const double norm = s.norm();
-    e.identifiability = norm > 0.0 ? s_perp.norm() / norm : 0.0;
-    e.absorbed = e.identifiability < options_.absorbed_index;
-    round.signatures.push_back(s_perp);
-    if (!e.absorbed && sigma > 0.0) {
-      e.score_z = s_perp.dot(r) / (sigma * s_perp.norm());
-      e.score_p = boost::math::cdf(boost::math::complement(
-          boost::math::students_t_distribution<>(dof), e.score_z));
-    }
-    Model fit;
-    if (!e.absorbed) {
-      fit = FitAugmented(active, current.point, {});
-      if (fit.rss > current.rss) {  // never worse than the nested model
+    struct Variant {
+      EffectAttribution e;
+      Model fit;
+      Eigen::VectorXd signature;
+    };
+    std::vector<Variant> variants;
+    for (const sim::EffectSpec& spec : library) {
+      if (spec.Family() != head.id) continue;
+      // The other shapes only where the first shows something (likelihood
+      // ratio p < kShapeGate): a family that explains nothing in its first
+      // shape is not searched further, which keeps the null's false names
+      // and the cost where they were.
+      if (&spec != &head && !(variants.front().e.lr_p < kShapeGate)) break;
+      Variant var;
+      EffectAttribution& e = var.e;
+      e.id = head.id;
+      e.variant = spec.id;
+      e.shape = spec.shape;
+      std::vector<ActiveEffect> active = current.active;
+      active.push_back(ScaleEffect(spec, runs_, c_e, alpha));
+      const std::size_t k = active.size() - 1;
+      Point at = current.point;
+      at.u.push_back(0.0);
+      // Signature: the change of the fit per unit u at a small strength
+      // (2 % at most), a secant for effects with a kink such as the cap.
+      const double u_small = UForChange(runs_, active, at, k, 0.02);
+      Point moved = at;
+      moved.u[k] = u_small;
+      const std::vector<double> y1 = Predict(runs_, active, moved);
+      Eigen::VectorXd sig(n);
+      for (int i = 0; i < n; ++i) {
+        sig(i) = std::isfinite(y1[i]) ? (y1[i] - y0[i]) / u_small : 0.0;
+      }
+      const Eigen::VectorXd s_perp = Project(basis, sig);
+      const double norm = sig.norm();
+      e.identifiability = norm > 0.0 ? s_perp.norm() / norm : 0.0;
+      e.absorbed = e.identifiability < options_.absorbed_index;
+      var.signature = s_perp;
+      if (!e.absorbed && sigma > 0.0) {
+        e.score_z = s_perp.dot(r) / (sigma * s_perp.norm());
+        e.score_p = boost::math::cdf(boost::math::complement(
+            boost::math::students_t_distribution<>(dof), e.score_z));
+      }
+      Model& fit = var.fit;
+      if (!e.absorbed) {
+        fit = FitAugmented(active, current.point, {});
+        if (fit.rss > current.rss) {  // never worse than the nested model
+          fit.point = at;
+          fit.rss = current.rss;
+        }
+        if (pure_error) {
+          // The likelihood ratio with the variance held at the replicates'
+          // pure-error estimate, which no model touches: the drop in RSS
+          // over sigma^2, F(1, dof) on the boundary's 50:50 mixture. (With
+          // the variance profiled out, n ln(RSS_0 / RSS_1) gives away about
+          // a fifth of the signal at these sizes.)
+          e.lr = std::max(current.rss - fit.rss, 0.0) / (sigma * sigma);
+          e.lr_p = e.lr > 0.0 ? 0.5 * FUpper(e.lr, 1.0, dof) : 1.0;
+        } else {
+          e.lr = n * std::log(current.rss / std::max(fit.rss, 1e-300));
+          e.lr_p = ChiBarP(e.lr);
+        }
+        e.aicc = Aicc(fit.rss, n, 2 + static_cast<int>(active.size()));
+        e.value =
+            sim::ParameterAtStrength(spec, Strength(active[k], fit.point, k));
+      } else {
+        fit.active = active;
         fit.point = at;
         fit.rss = current.rss;
+        e.aicc = kInf;
+        e.value = spec.null_value;
       }
-      if (pure_error) {
-        // The likelihood ratio with the variance held at the replicates'
-        // pure-error estimate, which no model touches: the drop in RSS
-        // over sigma^2, F(1, dof) on the boundary's 50:50 mixture. (With
-        // the variance profiled out, n ln(RSS_0 / RSS_1) gives away about
-        // a fifth of the signal at these sizes.)
-        e.lr = std::max(current.rss - fit.rss, 0.0) / (sigma * sigma);
-        e.lr_p = e.lr > 0.0 ? 0.5 * FUpper(e.lr, 1.0, dof) : 1.0;
-      } else {
-        e.lr = n * std::log(current.rss / std::max(fit.rss, 1e-300));
-        e.lr_p = ChiBarP(e.lr);
-      }
-      e.aicc = Aicc(fit.rss, n, 2 + static_cast<int>(active.size()));
-      e.value =
-          sim::ParameterAtStrength(spec, Strength(active[k], fit.point, k));
-    } else {
-      fit.active = active;
-      fit.point = at;
-      fit.rss = current.rss;
-      e.aicc = kInf;
-      e.value = spec.null_value;
+      variants.push_back(std::move(var));
     }
-    round.fits.push_back(fit);
-    round.effects.push_back(e);
+    // The best-fitting shape speaks for the family (the first on ties and
+    // when all are absorbed); the others that fit alike leave it open.
+    std::size_t best = 0;
+    for (std::size_t v = 1; v < variants.size(); ++v) {
+      if (variants[v].fit.rss < variants[best].fit.rss) best = v;
+    }
+    const Variant& first = variants.front();
+    tested.push_back({first.e.lr, first.signature,
+                      !first.e.absorbed && first.signature.norm() > 0.0});
+    Variant chosen = variants[best];
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+      if (v == best || chosen.e.absorbed) continue;
+      if (variants[v].e.aicc - chosen.e.aicc < 2.0) {
+        chosen.e.shape_determined = false;
+        chosen.e.alike_shapes.push_back(std::string(variants[v].e.shape));
+      }
+    }
+    round.signatures.push_back(chosen.signature);
+    round.fits.push_back(std::move(chosen.fit));
+    round.effects.push_back(std::move(chosen.e));
   }
-  // Family-wise: max-T over the testable effects, correlated through
-  // their projected signatures.
+  // Family-wise: max-T over the testable families, correlated through
+  // their first shapes' projected signatures.
   std::vector<std::size_t> testable;
-  for (std::size_t i = 0; i < round.effects.size(); ++i) {
-    if (!round.effects[i].absorbed && round.signatures[i].norm() > 0.0)
-      testable.push_back(i);
+  for (std::size_t i = 0; i < tested.size(); ++i) {
+    if (tested[i].testable) testable.push_back(i);
   }
   const int m = static_cast<int>(testable.size());
   Eigen::MatrixXd corr(m, m);
   std::vector<double> lr(m);
   for (int a = 0; a < m; ++a) {
-    const Eigen::VectorXd& sa = round.signatures[testable[a]];
-    lr[a] = round.effects[testable[a]].lr;
+    const Eigen::VectorXd& sa = tested[testable[a]].signature;
+    lr[a] = tested[testable[a]].lr;
     for (int b = 0; b < m; ++b) {
-      const Eigen::VectorXd& sb = round.signatures[testable[b]];
+      const Eigen::VectorXd& sb = tested[testable[b]].signature;
       corr(a, b) = sa.dot(sb) / (sa.norm() * sb.norm());
     }
   }
   const std::vector<double> adjusted =
       MaxTAdjusted(lr, corr, pure_error ? dof : 0);
   for (EffectAttribution& e : round.effects) e.lr_p_adjusted = 1.0;
-  for (int a = 0; a < m; ++a)
+  for (int a = 0; a < m; ++a) {
     round.effects[testable[a]].lr_p_adjusted = adjusted[a];
+  }
   return round;
 }
 

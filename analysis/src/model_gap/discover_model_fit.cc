@@ -40,8 +40,10 @@ sim::Effects MakeEffects(const std::vector<ActiveEffect>& active,
                          const Point& p) {
   sim::Effects effects;
   for (std::size_t k = 0; k < active.size(); ++k) {
-    effects.*(active[k].spec->field) =
-        sim::ParameterAtStrength(*active[k].spec, Strength(active[k], p, k));
+    sim::ApplyEffect(
+        *active[k].spec,
+        sim::ParameterAtStrength(*active[k].spec, Strength(active[k], p, k)),
+        &effects);
   }
   return effects;
 }
@@ -309,7 +311,8 @@ ActiveEffect ScaleEffect(const sim::EffectSpec& spec, const Runs& runs,
   top.radius_mm = r;
   double v_top = SteadyVelocityMmS(top);
   if (!(v_top > 0.0 && std::isfinite(v_top))) v_top = alpha * r;
-  const std::string_view id = spec.id;
+  // Scaled by the family; the shapes within one share its scale.
+  const std::string_view id = spec.Family();
   if (id == "motor_power_limit") {
     // 1/Q_max in units of 1/Q_top, Q the free removal rate at the top force:
     // the cap binds from u = 1 on.
@@ -324,15 +327,23 @@ ActiveEffect ScaleEffect(const sim::EffectSpec& spec, const Runs& runs,
     e.unit = f_min;  // the threshold below the smallest force
     e.upper = 0.98;
   } else if (id == "viscous_resistance") {
-    // c_i R^2 (h/R) v comparable with the top force at u = 1.
-    e.unit = f_max / (r * r * v_top);
+    // c_i R^2 (h/R) v_ref (v / v_ref)^m comparable with the top force at
+    // u = 1 (v_ref = 1 mm/s).
+    const double m = spec.shape_field == &sim::Effects::viscous_exponent
+                         ? spec.shape_value
+                         : 1.0;
+    e.unit = f_max / (r * r * std::pow(v_top, m));
     e.upper = 5.0;
   } else if (id == "friction_erosion") {
     // The rate alpha + k |F_e| = alpha (1 + u |F_e| / F_max): k relative to
     // the point's own alpha, so that log alpha still enters additively and
     // a strength means one shape whatever the base fit's alpha (which may
     // sit at the end of its box, where k would need many decades less).
-    e.unit = 1.0 / f_max;
+    const double p =
+        spec.shape_field == &sim::Effects::friction_erosion_exponent
+            ? spec.shape_value
+            : 1.0;
+    e.unit = 1.0 / std::pow(f_max, p);
     e.per_alpha = true;
     e.upper = 50.0;
   } else if (id == "contact_exponent") {

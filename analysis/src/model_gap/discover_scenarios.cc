@@ -58,16 +58,21 @@ double MaxStrength(const ScenarioDesign& d, const sim::EffectSpec& spec) {
   const double f_max = *std::max_element(forces.begin(), forces.end());
   const std::vector<double> v = SurrogateVelocities(d, {});
   const double v_top = v.back() > 0.0 ? v.back() : 1.0;
-  const std::string_view id = spec.id;
+  const std::string_view id = spec.Family();
   const double r = d.radius_mm;
+  const double shape = spec.shape_value;
   if (id == "motor_power_limit") {
     const double load = f_max / (d.material.c_e_n_per_mm2 * r * r);
     return 20.0 / (v_top * r * r * RemovalAreaAtKappa(KappaAtLoad(load)));
   }
   if (id == "spindle_slowdown") return 0.97 / f_max;
   if (id == "cutting_threshold") return 0.9 * f_min;
-  if (id == "viscous_resistance") return 3.0 * f_max / (r * r * v_top);
-  if (id == "friction_erosion") return 20.0 * d.material.alpha_per_s / f_max;
+  if (id == "viscous_resistance") {
+    return 3.0 * f_max / (r * r * std::pow(v_top, shape));
+  }
+  if (id == "friction_erosion") {
+    return 20.0 * d.material.alpha_per_s / std::pow(f_max, shape);
+  }
   if (id == "contact_exponent") return 0.5;
   if (id == "porosity") return 0.5;
   return 1.0;
@@ -128,7 +133,7 @@ Result<sim::Effects> EffectAtSnr(const ScenarioDesign& d, const std::string& id,
   if (spec == nullptr) return Error{fmt::format("unknown effect '{}'", id)};
   const auto at = [&](double strength) {
     sim::Effects fx;
-    fx.*(spec->field) = sim::ParameterAtStrength(*spec, strength);
+    sim::ApplyEffect(*spec, sim::ParameterAtStrength(*spec, strength), &fx);
     return fx;
   };
   double lo = 0.0, hi = MaxStrength(d, *spec);
@@ -198,6 +203,11 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
     double cv_before = 0.0, cv_after = 0.0;
   };
   std::vector<Slot> slots(std::max(seeds, 0));
+  // A variant (a shape) counts as its family, which is what reports name.
+  std::string expected = expected_id;
+  if (const sim::EffectSpec* spec = sim::FindEffect(expected_id)) {
+    expected = std::string(spec->Family());
+  }
   std::atomic<int> next{0};
   const auto work = [&] {
     for (int k = next++; k < seeds; k = next++) {
@@ -228,12 +238,12 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
       }
       const bool in_set =
           std::find(report->alias_set.begin(), report->alias_set.end(),
-                    expected_id) != report->alias_set.end();
+                    expected) != report->alias_set.end();
       const bool first =
-          !report->effects.empty() && report->effects[0] == expected_id;
+          !report->effects.empty() && report->effects[0] == expected;
       slot.hit =
-          !expected_id.empty() && ((slot.physical && (first || in_set)) ||
-                                   (report->verdict == "absorbed" && first));
+          !expected.empty() && ((slot.physical && (first || in_set)) ||
+                                (report->verdict == "absorbed" && first));
       slot.cv_before = report->baseline.cv_rmse_log_v;
       slot.cv_after = report->augmented.cv_rmse_log_v;
     }

@@ -61,6 +61,21 @@ std::string NoGapSummary(const DiscoverReport& report) {
       OutliersSentence(report));
 }
 
+// What the data say of the shape of step k's effect: "" for a family of one,
+// " in its shape 'smooth droop'" when the data fix it, or " (shape
+// undetermined: smooth droop, hard cap fit alike)".
+std::string ShapeClause(const DiscoverReport& report, std::size_t k) {
+  if (k >= report.rounds.size()) return "";
+  for (const EffectAttribution& e : report.rounds[k]) {
+    if (e.id != report.effects[k] || e.shape.empty()) continue;
+    if (e.shape_determined) return fmt::format(" in its shape '{}'", e.shape);
+    std::vector<std::string> shapes = {e.shape};
+    shapes.insert(shapes.end(), e.alike_shapes.begin(), e.alike_shapes.end());
+    return fmt::format(" (shape undetermined: {} fit alike)", Join(shapes));
+  }
+  return "";
+}
+
 std::string ExplainedSummary(const DiscoverReport& report) {
   std::string params;
   for (std::size_t k = 0; k < report.augmented.effects.size(); ++k) {
@@ -77,9 +92,11 @@ std::string ExplainedSummary(const DiscoverReport& report) {
                ? fmt::format(
                      "an effect of the set {{{}}}, which this design cannot "
                      "tell apart (projected signatures nearly parallel, "
-                     "fitted contributions alike or AICc within 2)",
-                     Join(set))
-               : fmt::format("{} ({})", report.effects[k],
+                     "fitted contributions alike or AICc within 2); the "
+                     "best, {}{}",
+                     Join(set), report.effects[k], ShapeClause(report, k))
+               : fmt::format("{}{} ({})", report.effects[k],
+                             ShapeClause(report, k),
                              sim::FindEffect(report.effects[k])->signature);
   };
   // A second effect, when one was needed after the first.

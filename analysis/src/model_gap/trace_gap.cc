@@ -361,7 +361,7 @@ Result<TraceGapResult> TestTraceEffects(const std::vector<TraceRun>& runs,
     if (!spec.trace_only) continue;
     const auto with = [&](double value) {
       sim::Effects effects;
-      effects.*spec.field = value;
+      sim::ApplyEffect(spec, value, &effects);
       return effects;
     };
     // The effect's parameter on a geometric grid from 1e-3 of its bound,

@@ -183,6 +183,39 @@ TEST(DescentSurrogate, FollowsTheFrictionErosionOfTheRig) {
   EXPECT_NEAR(RigOverSurrogate(pvc, pvc.c_e_n_per_mm2, fx), 1.0, 0.03);
 }
 
+// The other shapes of each family (sim/effects.h), each where it changes v
+// by 30-60 % at load 1 on PVC: the simulator applies the shape in its own
+// code path (the power limit on its running removal estimate, the viscous
+// term in the contact force), the surrogate in closed form.
+TEST(DescentSurrogate, FollowsTheOtherShapesOfTheRig) {
+  const RigCase& pvc = kMaterials[2];
+  const double f = pvc.c_e_n_per_mm2;
+  SteadyDescentInput in;
+  in.force_n = f;
+  in.c_e_n_per_mm2 = pvc.c_e_n_per_mm2;
+  in.alpha_per_s = pvc.alpha_per_s;
+  in.radius_mm = 1.0;
+  const double v_free = SteadyVelocityMmS(in);
+  struct Shape {
+    const char* id;
+    double value;
+  };
+  const Shape shapes[] = {
+      {"motor_power_limit_droop", 0.1},  // Q at 1.5-norm with the free rate
+      {"spindle_slowdown_exponential", 0.6},  // exp(-0.462 / 0.6) = 0.46
+      {"cutting_threshold_soft", 0.25},
+      {"viscous_resistance_sqrt", 0.3 * f / std::sqrt(v_free)},
+      {"friction_erosion_quadratic", pvc.alpha_per_s / (f * f)}};
+  for (const Shape& shape : shapes) {
+    sim::Effects fx;
+    ASSERT_TRUE(sim::SetEffect(shape.id, shape.value, &fx).ok()) << shape.id;
+    in.effects = fx;
+    const double v = SteadyVelocityMmS(in);
+    EXPECT_GT(std::abs(std::log(v / v_free)), std::log(1.25)) << shape.id;
+    EXPECT_NEAR(RigOverSurrogate(pvc, f, fx), 1.0, 0.03) << shape.id;
+  }
+}
+
 TEST(DescentSurrogate, FollowsTheContactExponentOfTheRig) {
   const RigCase& pvc = kMaterials[2];
   sim::Effects fx;

@@ -47,6 +47,12 @@ void Print(const std::string& name, const ScenarioOutcome& out) {
   for (const auto& [verdict, count] : out.verdicts) {
     verdicts += verdict + " " + std::to_string(count) + ", ";
   }
+  for (const SeedOutcome& s : out.per_seed) {
+    if (s.named.empty()) continue;
+    verdicts += "seed " + std::to_string(s.seed) + ":";
+    for (const std::string& id : s.named) verdicts += " " + id;
+    verdicts += "; ";
+  }
   std::printf(
       "%-20s %2d/%2d hits (%s) held-out RMSE log v %.4f -> %.4f, shrank in "
       "%d\n",
@@ -103,6 +109,15 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values("motor_power_limit", "spindle_slowdown",
                       "cutting_threshold", "viscous_resistance",
                       "friction_erosion", "contact_exponent"));
+
+// Each family's other shapes: the family is named (or in the alias set)
+// whichever shape the truth has.
+INSTANTIATE_TEST_SUITE_P(Shapes, NamesTheHiddenEffect,
+                         ::testing::Values("motor_power_limit_droop",
+                                           "spindle_slowdown_exponential",
+                                           "cutting_threshold_soft",
+                                           "viscous_resistance_sqrt",
+                                           "friction_erosion_quadratic"));
 
 TEST(Discover, SaysNoneWithoutAHiddenEffect) {
   const ScenarioDesign d = BoneDesign();

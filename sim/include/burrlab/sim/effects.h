@@ -44,6 +44,34 @@ struct Effects {
   // eq. 7.3 runs at c_e (1 - phi)^2; the relative erosion rate of eq. 7.12 is
   // unchanged. v(F) cannot tell it from a lower c_e.
   double porosity = 0.0;
+  // Shapes: each effect's mechanism in its physically plausible variants.
+  // The library (EffectLibrary) names each variant; the defaults are the
+  // first variant of each family.
+  //
+  // motor_power_limit: the sharpness k of the saturation of the removal rate
+  // Q_u the blades ask for: Q = Q_u / (1 + (Q_u / Q_max)^k)^(1/k). inf = a
+  // hard cap min(Q_u, Q_max); small k = a motor that droops smoothly long
+  // before its limit.
+  double power_limit_sharpness = std::numeric_limits<double>::infinity();
+  // cutting_threshold: the width of the blades' engagement as a fraction of
+  // F0. 0 = hard (erosion at alpha (1 - F0/|F_e|) above F0, none below);
+  // w > 0 = soft: the engaged force w F0 ln(1 + exp((|F_e| - F0) / (w F0)))
+  // replaces |F_e| - F0, so some cutting starts below F0.
+  double threshold_softness = 0.0;
+  // viscous_resistance: the exponent m of the resistance in speed,
+  // c_i R^2 (h/R) v_ref (v / v_ref)^m with v_ref = 1 mm/s: 1 = Newtonian
+  // (eq. 7.14), below 1 shear-thinning (a paste of debris).
+  double viscous_exponent = 1.0;
+  // spindle_slowdown: 0 = the linear torque line omega / omega_0 =
+  // 1 - |F_e| / F_stall; 1 = a motor whose speed droops exponentially,
+  // exp(-|F_e| / F_stall) (F_stall then the force of a 1/e drop).
+  double slowdown_exponential = 0.0;
+  // friction_erosion: the exponent p of the wear rate in the force,
+  // alpha + k F_ref (|F_e| / F_ref)^p with F_ref = 1 N: 1 = Archard's
+  // linear wear, 2 = wear that grows with friction power at a speed that
+  // itself rises with the load.
+  double friction_erosion_exponent = 1.0;
+
   // load_cell_lag (trace only): an extra first-order lag of the load cell
   // with this time constant, in series with the rig's own filter; the
   // controller acts on the lagged force and the rig records it. Changes the
@@ -82,7 +110,31 @@ struct EffectSpec {
   // (the surrogate, the v(F) attribution) skips it;
   // analysis/model_gap/trace_gap.h tests it.
   bool trace_only = false;
+  // The mechanism this entry is a variant of (the id of the family's first
+  // entry; the same as `id` for that one), the variant's name within it, and
+  // the shape parameter it sets (none for a family of one).
+  std::string_view family = {};
+  std::string_view shape = {};
+  double Effects::*shape_field = nullptr;
+  double shape_value = 0.0;
+
+  // `family`, or `id` when it is empty.
+  std::string_view Family() const { return family.empty() ? id : family; }
 };
+
+// The factor on the erosion rate of eq. 7.12 from the effects that scale it
+// with the elastic force |F_e| (cutting threshold, spindle slowdown,
+// friction erosion, each in its shape); 1 when none is set.
+double ErosionRateScale(const Effects& effects, double elastic_n,
+                        double alpha_per_s);
+
+// The factor the power limit puts on a removal rate of `demand_mm3_per_s`
+// (the rate the blades ask for): 1 without a limit.
+double PowerLimitScale(const Effects& effects, double demand_mm3_per_s);
+
+// Sets the effect of `spec` to `value` in `effects`, and its shape (not
+// validated).
+void ApplyEffect(const EffectSpec& spec, double value, Effects* effects);
 
 // The parameter of `spec` at strength s >= 0, and back.
 double ParameterAtStrength(const EffectSpec& spec, double strength);

@@ -102,7 +102,15 @@ struct GapTests {
 
 // One effect of the library against the current model.
 struct EffectAttribution {
-  std::string id;
+  std::string id;  // the effect family (the id of its first library entry)
+  // The family's variant that fits best (sim/effects.h: each family lists
+  // its shapes), its shape's name (empty for a family of one), and whether
+  // the data fix the shape: every other variant's AICc is at least 2 worse.
+  // `undetermined_shapes` names the variants that fit alike.
+  std::string variant;
+  std::string shape;
+  bool shape_determined = true;
+  std::vector<std::string> alike_shapes;
   double identifiability = 0.0;  // ||P_perp s|| / ||s||
   double score_z = 0.0;          // projected score, allowed side positive
   double score_p = 1.0;          // one-sided

@@ -170,7 +170,8 @@ TEST_F(CalibrateCommand, SimMeasureRefusesUnknownEffects) {
             "spindle_slowdown_exponential, cutting_threshold, "
             "cutting_threshold_soft, viscous_resistance, "
             "viscous_resistance_sqrt, friction_erosion, "
-            "friction_erosion_quadratic, contact_exponent, porosity, "
+            "friction_erosion_quadratic, contact_exponent, "
+            "contact_exponent_stiff, porosity, "
             "load_cell_lag, arm_compliance\n");
   const CliRun bad = RunBurrlab({"sim", "measure", "--material", "pvc_k70",
                                  "--forces", "0.2,0.4", "--replicates", "2",

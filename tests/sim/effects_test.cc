@@ -75,7 +75,8 @@ TEST(Effects, NamesUnknownIdsAndBadValues) {
             "spindle_slowdown_exponential, cutting_threshold, "
             "cutting_threshold_soft, viscous_resistance, "
             "viscous_resistance_sqrt, friction_erosion, "
-            "friction_erosion_quadratic, contact_exponent, porosity, "
+            "friction_erosion_quadratic, contact_exponent, "
+            "contact_exponent_stiff, porosity, "
             "load_cell_lag, arm_compliance");
   EXPECT_EQ(SetEffect("motor_power_limit", 0.0, &effects).error().message,
             "motor_power_limit must be a positive removal rate in mm^3/s (inf "

@@ -114,14 +114,16 @@ AttributionRound Workflow::Attribute(const Model& current,
   // One candidate per family: each of its variants (shapes) is scored and
   // fitted, and the best fit speaks for the family.
   const std::span<const sim::EffectSpec> library = sim::EffectLibrary();
-  // Each family's test is its first shape's: whether there is a gap, and
-  // which families explain it, is decided on the library's first shapes
-  // alone (a search over shapes would raise the null's false names); the
-  // other shapes then compete to describe the gap the family explains.
+  // Each family's test is its first shape's (and that of a shape on the
+  // other side of its null, which the first cannot stand in for): whether
+  // there is a gap, and which families explain it, is decided on these alone
+  // (a search over shapes would raise the null's false names); the other
+  // shapes then compete to describe the gap the family explains.
   struct Tested {
     double lr = 0.0;
     Eigen::VectorXd signature;
     bool testable = false;
+    std::size_t family = 0;  // index into round.effects
   };
   std::vector<Tested> tested;
   for (const sim::EffectSpec& head : library) {
@@ -148,7 +150,10 @@ AttributionRound Workflow::Attribute(const Model& current,
       // ratio p < kShapeGate): a family that explains nothing in its first
       // shape is not searched further, which keeps the null's false names
       // and the cost where they were.
-      if (&spec != &head && !(variants.front().e.lr_p < kShapeGate)) break;
+      if (&spec != &head && !spec.own_test &&
+          !(variants.front().e.lr_p < kShapeGate)) {
+        continue;
+      }
       Variant var;
       EffectAttribution& e = var.e;
       e.id = head.id;
@@ -216,9 +221,16 @@ AttributionRound Workflow::Attribute(const Model& current,
     for (std::size_t v = 1; v < variants.size(); ++v) {
       if (variants[v].fit.rss < variants[best].fit.rss) best = v;
     }
-    const Variant& first = variants.front();
-    tested.push_back({first.e.lr, first.signature,
-                      !first.e.absorbed && first.signature.norm() > 0.0});
+    // The first shape, and each shape tested in its own right (the other
+    // side of the family's null).
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+      const sim::EffectSpec* spec = sim::FindEffect(variants[v].e.variant);
+      if (v > 0 && !(spec != nullptr && spec->own_test)) continue;
+      tested.push_back(
+          {variants[v].e.lr, variants[v].signature,
+           !variants[v].e.absorbed && variants[v].signature.norm() > 0.0,
+           round.effects.size()});
+    }
     Variant chosen = variants[best];
     for (std::size_t v = 0; v < variants.size(); ++v) {
       if (v == best || chosen.e.absorbed) continue;
@@ -231,8 +243,9 @@ AttributionRound Workflow::Attribute(const Model& current,
     round.fits.push_back(std::move(chosen.fit));
     round.effects.push_back(std::move(chosen.e));
   }
-  // Family-wise: max-T over the testable families, correlated through
-  // their first shapes' projected signatures.
+  // Family-wise: max-T over the testable families' first shapes (and the
+  // shapes tested in their own right), correlated through their projected
+  // signatures; a family's p is the smallest of its entries'.
   std::vector<std::size_t> testable;
   for (std::size_t i = 0; i < tested.size(); ++i) {
     if (tested[i].testable) testable.push_back(i);
@@ -252,7 +265,8 @@ AttributionRound Workflow::Attribute(const Model& current,
       MaxTAdjusted(lr, corr, pure_error ? dof : 0);
   for (EffectAttribution& e : round.effects) e.lr_p_adjusted = 1.0;
   for (int a = 0; a < m; ++a) {
-    round.effects[testable[a]].lr_p_adjusted = adjusted[a];
+    double& family_p = round.effects[tested[testable[a]].family].lr_p_adjusted;
+    family_p = std::min(family_p, adjusted[a]);
   }
   return round;
 }

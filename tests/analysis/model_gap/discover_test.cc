@@ -112,12 +112,11 @@ INSTANTIATE_TEST_SUITE_P(
 
 // Each family's other shapes: the family is named (or in the alias set)
 // whichever shape the truth has.
-INSTANTIATE_TEST_SUITE_P(Shapes, NamesTheHiddenEffect,
-                         ::testing::Values("motor_power_limit_droop",
-                                           "spindle_slowdown_exponential",
-                                           "cutting_threshold_soft",
-                                           "viscous_resistance_sqrt",
-                                           "friction_erosion_quadratic"));
+INSTANTIATE_TEST_SUITE_P(
+    Shapes, NamesTheHiddenEffect,
+    ::testing::Values("motor_power_limit_droop", "spindle_slowdown_exponential",
+                      "cutting_threshold_soft", "viscous_resistance_sqrt",
+                      "friction_erosion_quadratic", "contact_exponent_stiff"));
 
 TEST(Discover, SaysNoneWithoutAHiddenEffect) {
   const ScenarioDesign d = BoneDesign();

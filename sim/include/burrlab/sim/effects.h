@@ -117,6 +117,10 @@ struct EffectSpec {
   std::string_view shape = {};
   double Effects::*shape_field = nullptr;
   double shape_value = 0.0;
+  // A shape on the other side of the family's null (e.g. a stiffer contact
+  // than Hertz where the first shape is softer): the first shape cannot
+  // stand in for it, so a fitter tests it in its own right.
+  bool own_test = false;
 
   // `family`, or `id` when it is empty.
   std::string_view Family() const { return family.empty() ? id : family; }

@@ -183,10 +183,13 @@ TEST(DescentSurrogate, FollowsTheFrictionErosionOfTheRig) {
   EXPECT_NEAR(RigOverSurrogate(pvc, pvc.c_e_n_per_mm2, fx), 1.0, 0.03);
 }
 
-// The other shapes of each family (sim/effects.h), each where it changes v
-// by 30-60 % at load 1 on PVC: the simulator applies the shape in its own
-// code path (the power limit on its running removal estimate, the viscous
-// term in the contact force), the surrogate in closed form.
+// The other shapes whose simulator code path is their own (the power limit
+// on its running removal estimate, the viscous term in the contact force),
+// each where it changes v by 30-60 % at load 1 on PVC; the surrogate has
+// them in closed form. (The other shapes scale the erosion rate through
+// sim::ErosionRateScale, which the simulator and the surrogate share: its
+// formulas are checked in tests/sim/effects_test.cc, its use in the step by
+// the first shapes above.)
 TEST(DescentSurrogate, FollowsTheOtherShapesOfTheRig) {
   const RigCase& pvc = kMaterials[2];
   const double f = pvc.c_e_n_per_mm2;
@@ -202,10 +205,7 @@ TEST(DescentSurrogate, FollowsTheOtherShapesOfTheRig) {
   };
   const Shape shapes[] = {
       {"motor_power_limit_droop", 0.1},  // Q at 1.5-norm with the free rate
-      {"spindle_slowdown_exponential", 0.6},  // exp(-0.462 / 0.6) = 0.46
-      {"cutting_threshold_soft", 0.25},
-      {"viscous_resistance_sqrt", 0.3 * f / std::sqrt(v_free)},
-      {"friction_erosion_quadratic", pvc.alpha_per_s / (f * f)}};
+      {"viscous_resistance_sqrt", 0.3 * f / std::sqrt(v_free)}};
   for (const Shape& shape : shapes) {
     sim::Effects fx;
     ASSERT_TRUE(sim::SetEffect(shape.id, shape.value, &fx).ok()) << shape.id;

@@ -832,7 +832,8 @@ constexpr Command kSimCommands[] = {
      "force against depth of a burr pressed into a flat material (CSV)",
      RunForceCurve},
     {"descent",
-     "constant-force descent into a flat sample: steady penetration velocity",
+     "constant-force descent into a flat sample: the penetration velocity, "
+     "initial or settled",
      RunDescentCommand},
     {"bench",
      "time simulator steps (mono and octree x R = 1, 2, 3, 5 mm x probe and "

@@ -4,6 +4,7 @@
 // eq. 7.2 at the cap volume of the held indentation.
 #include <algorithm>
 #include <array>
+#include <boost/math/quadrature/gauss.hpp>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -15,15 +16,9 @@ namespace {
 
 constexpr double kContinuumPi = std::numbers::pi;
 
-// 16-point Gauss-Legendre on [-1, 1] (positive half).
-constexpr std::array<double, 8> kColumnNodes = {
-    0.0950125098376374, 0.2816035507792589, 0.4580167776572274,
-    0.6178762444026438, 0.7554044083550030, 0.8656312023878318,
-    0.9445750230732326, 0.9894009349916499};
-constexpr std::array<double, 8> kColumnWeights = {
-    0.1894506104550685, 0.1826034150449236, 0.1691565193950025,
-    0.1495959888165767, 0.1246289712555339, 0.0951585116824928,
-    0.0622535239386479, 0.0271524594117541};
+// 16-point Gauss-Legendre on [-1, 1]: Boost's positive half (nodes and
+// weights), mirrored.
+using GaussLegendre16 = boost::math::quadrature::gauss<double, 16>;
 
 // Units of R; depth z > 0 into the sample, whose surface is z = 0. A column
 // at distance s from the axis crosses the sphere (centre depth c) over
@@ -40,11 +35,13 @@ class ContinuumField {
     const double width = (1.0 - w_min) / grid.radial_panels;
     for (int p = 0; p < grid.radial_panels; ++p) {
       const double mid = w_min + (p + 0.5) * width, half = 0.5 * width;
-      for (std::size_t k = 0; k < kColumnNodes.size(); ++k) {
+      const auto& nodes = GaussLegendre16::abscissa();
+      const auto& weights = GaussLegendre16::weights();
+      for (std::size_t k = 0; k < nodes.size(); ++k) {
         for (const double sign : {-1.0, 1.0}) {
-          const double w = mid + sign * half * kColumnNodes[k];
+          const double w = mid + sign * half * nodes[k];
           w_.push_back(w);
-          weight_.push_back(2.0 * kContinuumPi * w * half * kColumnWeights[k]);
+          weight_.push_back(2.0 * kContinuumPi * w * half * weights[k]);
         }
       }
     }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "burrlab/analysis/model_gap/initial_velocity.h"
+#include "continuum_field.h"
 
 namespace burrlab::analysis {
 namespace {
@@ -20,99 +21,134 @@ constexpr double kContinuumPi = std::numbers::pi;
 // weights), mirrored.
 using GaussLegendre16 = boost::math::quadrature::gauss<double, 16>;
 
-// Units of R; depth z > 0 into the sample, whose surface is z = 0. A column
-// at distance s from the axis crosses the sphere (centre depth c) over
-// [c - w, c + w], w = sqrt(1 - s^2); 2 pi s ds = 2 pi w dw, so the columns
-// are Gauss nodes in w with weights 2 pi w dw. Each column holds the erosion
-// integral phi (rho / rho0 = exp(-phi)) at depths k dz, linear between.
-class ContinuumField {
- public:
-  ContinuumField(const ContinuumGrid& grid, double depth_ratio, double deepest)
-      : dz_(std::min(grid.depth_step, depth_ratio / 60.0)) {
-    // Columns farther out than s_max never reach material above `deepest`:
-    // w >= 1 - deepest. Equal panels over the rest.
-    const double w_min = std::max(0.0, 1.0 - deepest);
-    const double width = (1.0 - w_min) / grid.radial_panels;
-    for (int p = 0; p < grid.radial_panels; ++p) {
-      const double mid = w_min + (p + 0.5) * width, half = 0.5 * width;
-      const auto& nodes = GaussLegendre16::abscissa();
-      const auto& weights = GaussLegendre16::weights();
-      for (std::size_t k = 0; k < nodes.size(); ++k) {
-        for (const double sign : {-1.0, 1.0}) {
-          const double w = mid + sign * half * nodes[k];
-          w_.push_back(w);
-          weight_.push_back(2.0 * kContinuumPi * w * half * weights[k]);
-        }
-      }
-    }
-    nodes_ = static_cast<int>(std::ceil((deepest + 2.0) / dz_)) + 2;
-    phi_.assign(w_.size() * nodes_, 0.0);
-  }
-
-  // m0 / R^3 with the sphere's centre at depth c, and d m0 / dc.
-  double Moment(double c, double* derivative) const {
-    double m = 0.0, dm = 0.0;
-    for (std::size_t i = 0; i < w_.size(); ++i) {
-      const double top = c - w_[i], bottom = c + w_[i];
-      if (bottom <= 0.0) continue;
-      const double a = std::max(0.0, top);
-      // Trapezoid over the nodes inside [a, bottom], exact at both ends.
-      double z_prev = a, rho_prev = Rho(i, a), sum = 0.0;
-      for (int k = static_cast<int>(std::floor(a / dz_)) + 1;
-           k * dz_ < bottom && k < nodes_; ++k) {
-        const double z = k * dz_, rho = std::exp(-Phi(i, k));
-        sum += 0.5 * (rho_prev + rho) * (z - z_prev);
-        z_prev = z;
-        rho_prev = rho;
-      }
-      const double rho_bottom = Rho(i, bottom);
-      sum += 0.5 * (rho_prev + rho_bottom) * (bottom - z_prev);
-      m += weight_[i] * sum;
-      dm += weight_[i] * (rho_bottom - (top > 0.0 ? Rho(i, top) : 0.0));
-    }
-    *derivative = dm;
-    return m;
-  }
-
-  // Erodes for dtau with the centre at depth c.
-  void Erode(double c, double dtau) {
-    for (std::size_t i = 0; i < w_.size(); ++i) {
-      const double w2 = w_[i] * w_[i];
-      const int k0 =
-          std::max(0, static_cast<int>(std::ceil((c - w_[i]) / dz_)));
-      const int k1 =
-          std::min(nodes_ - 1, static_cast<int>(std::floor((c + w_[i]) / dz_)));
-      double* phi = &phi_[i * nodes_];
-      for (int k = k0; k <= k1; ++k) {
-        const double u = k * dz_ - c;
-        phi[k] += std::max(0.0, w2 - u * u) * dtau;
-      }
-    }
-  }
-
-  double dz() const { return dz_; }
-
- private:
-  double Phi(std::size_t i, int k) const { return phi_[i * nodes_ + k]; }
-  double Rho(std::size_t i, double z) const {
-    const double u = z / dz_;
-    const int k = std::clamp(static_cast<int>(u), 0, nodes_ - 2);
-    const double t = u - k;
-    return std::exp(-((1.0 - t) * Phi(i, k) + t * Phi(i, k + 1)));
-  }
-
-  double dz_;
-  int nodes_ = 0;
-  std::vector<double> w_, weight_, phi_;
-};
-
 }  // namespace
+
+namespace continuum {
+
+Field::Field(const ContinuumGrid& grid, double depth_ratio, double deepest)
+    : dz_(std::min(grid.depth_step, depth_ratio / 60.0)) {
+  // Columns farther out than s_max never reach material above `deepest`:
+  // w >= 1 - deepest. Equal panels over the rest.
+  const double w_min = std::max(0.0, 1.0 - deepest);
+  const double width = (1.0 - w_min) / grid.radial_panels;
+  for (int p = 0; p < grid.radial_panels; ++p) {
+    const double mid = w_min + (p + 0.5) * width, half = 0.5 * width;
+    const auto& nodes = GaussLegendre16::abscissa();
+    const auto& weights = GaussLegendre16::weights();
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      for (const double sign : {-1.0, 1.0}) {
+        const double w = mid + sign * half * nodes[k];
+        w_.push_back(w);
+        weight_.push_back(2.0 * kContinuumPi * w * half * weights[k]);
+      }
+    }
+  }
+  nodes_ = static_cast<int>(std::ceil((deepest + 2.0) / dz_)) + 2;
+  phi_.assign(w_.size() * nodes_, 0.0);
+  cumulative_.resize(w_.size() * nodes_);
+  for (std::size_t i = 0; i < w_.size(); ++i) {
+    for (int k = 0; k < nodes_; ++k) cumulative_[i * nodes_ + k] = k * dz_;
+  }
+  dirty_.assign(w_.size(), {nodes_, -1});
+}
+
+double Field::Rho(std::size_t i, double z) const {
+  const double u = z / dz_;
+  const int k = std::clamp(static_cast<int>(u), 0, nodes_ - 2);
+  const double t = u - k;
+  return std::exp(-((1.0 - t) * Phi(i, k) + t * Phi(i, k + 1)));
+}
+
+double Field::Moment(double c, double* derivative) const {
+  double m = 0.0, dm = 0.0;
+  for (std::size_t i = 0; i < w_.size(); ++i) {
+    const double top = c - w_[i], bottom = c + w_[i];
+    if (bottom <= 0.0) continue;
+    const double a = std::max(0.0, top);
+    // Trapezoid over the nodes inside [a, bottom], exact at both ends.
+    double z_prev = a, rho_prev = Rho(i, a), sum = 0.0;
+    for (int k = static_cast<int>(std::floor(a / dz_)) + 1;
+         k * dz_ < bottom && k < nodes_; ++k) {
+      const double z = k * dz_, rho = std::exp(-Phi(i, k));
+      sum += 0.5 * (rho_prev + rho) * (z - z_prev);
+      z_prev = z;
+      rho_prev = rho;
+    }
+    const double rho_bottom = Rho(i, bottom);
+    sum += 0.5 * (rho_prev + rho_bottom) * (bottom - z_prev);
+    m += weight_[i] * sum;
+    dm += weight_[i] * (rho_bottom - (top > 0.0 ? Rho(i, top) : 0.0));
+  }
+  *derivative = dm;
+  return m;
+}
+
+double Field::Integral(std::size_t i, double z) const {
+  if (z <= 0.0) return 0.0;
+  const double u = z / dz_;
+  const int k = std::min(static_cast<int>(u), nodes_ - 2);
+  const double* cum = &cumulative_[i * nodes_];
+  return cum[k] + (u - k) * (cum[k + 1] - cum[k]);
+}
+
+double Field::FastMoment(double c) const {
+  double m = 0.0;
+  for (std::size_t i = 0; i < w_.size(); ++i) {
+    const double bottom = c + w_[i];
+    if (bottom <= 0.0) continue;
+    m += weight_[i] * (Integral(i, bottom) - Integral(i, c - w_[i]));
+  }
+  return m;
+}
+
+void Field::Refresh() {
+  for (std::size_t i = 0; i < w_.size(); ++i) {
+    auto& [lo, hi] = dirty_[i];
+    if (hi < lo) continue;
+    const double* phi = &phi_[i * nodes_];
+    double* cum = &cumulative_[i * nodes_];
+    const int from = std::max(lo, 1);
+    // Trapezoid between nodes: the eroded stretch afresh, then the fresh
+    // material below it shifted by what the stretch lost.
+    double rho_prev = std::exp(-phi[from - 1]);
+    for (int k = from; k <= std::min(hi + 1, nodes_ - 1); ++k) {
+      const double rho = std::exp(-phi[k]);
+      cum[k] = cum[k - 1] + 0.5 * (rho_prev + rho) * dz_;
+      rho_prev = rho;
+    }
+    const int last = std::min(hi + 1, nodes_ - 1);
+    for (int k = last + 1; k < nodes_; ++k)
+      cum[k] = cum[last] + (k - last) * dz_;
+    lo = nodes_;
+    hi = -1;
+  }
+}
+
+void Field::Erode(double c, double dtau) {
+  for (std::size_t i = 0; i < w_.size(); ++i) {
+    const double w2 = w_[i] * w_[i];
+    const int k0 = std::max(0, static_cast<int>(std::ceil((c - w_[i]) / dz_)));
+    const int k1 =
+        std::min(nodes_ - 1, static_cast<int>(std::floor((c + w_[i]) / dz_)));
+    double* phi = &phi_[i * nodes_];
+    for (int k = k0; k <= k1; ++k) {
+      const double u = k * dz_ - c;
+      phi[k] += std::max(0.0, w2 - u * u) * dtau;
+    }
+    if (k0 <= k1) {
+      dirty_[i].first = std::min(dirty_[i].first, k0);
+      dirty_[i].second = std::max(dirty_[i].second, k1);
+    }
+  }
+}
+
+}  // namespace continuum
 
 ContinuumTrajectory IdealDescent(double x, double until_delta,
                                  const ContinuumGrid& grid) {
   // The cap volume m0 / R^3 = pi x^2 (1 - x / 3) the force holds (eq. 7.2).
   const double target = kContinuumPi * x * x * (1.0 - x / 3.0);
-  ContinuumField field(grid, x, x + until_delta);
+  continuum::Field field(grid, x, x + until_delta);
   // Fresh material: the lowest point at x, the centre at x - 1.
   double c = x - 1.0, tau = 0.0, v = 0.0, dtau = 0.0;
   ContinuumTrajectory out;

@@ -21,9 +21,10 @@
 //    deeper than the ideal descent when the window opens, so the window ends
 //    deeper too, and with a velocity that falls as the density profile in the
 //    burr develops, that lowers the slope (2 % for bone at 3 N, R = 2 mm). The
-//    surrogate runs this loop tick by tick on the elastic force of fresh
-//    material below a surface that recedes as the ideal descent cuts, until
-//    the loop has settled, and continues along the ideal descent after.
+//    surrogate runs this loop tick by tick on a coarse continuum field of
+//    its own (the burr erodes the material where it actually is; the force
+//    follows from the field's moment), until the force has held its target
+//    for 0.5 s, and continues along the ideal descent after.
 #ifndef BURRLAB_ANALYSIS_MODEL_GAP_INITIAL_VELOCITY_H_
 #define BURRLAB_ANALYSIS_MODEL_GAP_INITIAL_VELOCITY_H_
 

@@ -28,19 +28,45 @@ std::string IntervalText(const std::optional<analysis::Interval>& ci) {
 
 }  // namespace
 
-Result<analysis::MeasuredData> ReadMeasuredWithRadius(const std::string& path,
-                                                      bool flag_given,
-                                                      double* radius_mm) {
+void AddVelocityDefinitionFlag(FlagSet* flags, int* choice) {
+  *choice = -1;
+  flags->AddChoice(
+      "--velocity-definition",
+      fmt::format("what the measured velocities are (default: the file's "
+                  "velocity_definition column, else {}): {}",
+                  sim::VelocityDefinitionName(sim::kDefaultVelocityDefinition),
+                  sim::VelocityDefinitionHelp()),
+      {"initial", "settled"}, choice);
+}
+
+std::optional<sim::VelocityDefinition> VelocityDefinitionChoice(int choice) {
+  if (choice < 0) return std::nullopt;
+  return choice == 0 ? sim::VelocityDefinition::kInitial
+                     : sim::VelocityDefinition::kSettled;
+}
+
+Result<analysis::MeasuredData> ReadMeasuredWithRadius(
+    const std::string& path, bool radius_given, double* radius_mm,
+    std::optional<sim::VelocityDefinition> flag_definition,
+    sim::VelocityDefinition* definition) {
   Result<analysis::MeasuredData> read = analysis::ReadMeasuredData(path);
   if (!read.ok()) return read.error();
   const analysis::MeasuredData& data = *read;
-  // The surrogate models the settled velocity (descent_surrogate.h).
-  if (Status s = analysis::CheckVelocityDefinition(
-          path, data, sim::VelocityDefinition::kSettled);
-      !s.ok()) {
-    return s.error();
+  if (flag_definition) {
+    if (Status s =
+            analysis::CheckVelocityDefinition(path, data, *flag_definition);
+        !s.ok()) {
+      return Error{fmt::format(
+          "{}; --velocity-definition {} asked for the latter (leave the flag "
+          "out to fit the file's own kind)",
+          s.error().message, sim::VelocityDefinitionName(*flag_definition))};
+    }
+    *definition = *flag_definition;
+  } else {
+    *definition =
+        data.velocity_definition.value_or(sim::kDefaultVelocityDefinition);
   }
-  if (flag_given) {
+  if (radius_given) {
     if (data.burr_radius_mm && *data.burr_radius_mm != *radius_mm) {
       return Error{
           fmt::format("--radius-mm {} differs from burr_radius_mm {} in {}",
@@ -79,11 +105,14 @@ int RunCalibrateCommand(const Args& args, std::ostream& out,
   flags.AddPositive("--radius-mm",
                     "burr radius R, mm (default: the file's burr_radius_mm)",
                     "mm", &options.radius_mm);
+  int definition = -1;
+  AddVelocityDefinitionFlag(&flags, &definition);
   flags.AddSwitch("--json", "print the results as JSON", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<analysis::MeasuredData> data = ReadMeasuredWithRadius(
-      measured_path, flags.Given("--radius-mm"), &options.radius_mm);
+      measured_path, flags.Given("--radius-mm"), &options.radius_mm,
+      VelocityDefinitionChoice(definition), &options.definition);
   if (!data.ok()) {  // multi-line: the data error quotes its line and a caret
     err << "burrlab: " << data.error().message << '\n';
     return 1;
@@ -112,14 +141,17 @@ int RunCalibrateCommand(const Args& args, std::ostream& out,
     j["condition_number"] = r.condition_number;
     j["confidence"] = options.confidence;
     j["radius_mm"] = options.radius_mm;
+    j["velocity_definition"] = sim::VelocityDefinitionName(options.definition);
     j["runs"] = r.runs;
     j["force_levels"] = r.force_levels;
     j["units"] = {{"c_e", "N/mm^2"}, {"alpha", "1/s"}};
     out << j.dump(2) << '\n';
     return 0;
   }
-  out << fmt::format("data             {} runs at {} force levels, R = {} mm\n",
-                     r.runs, r.force_levels, options.radius_mm);
+  out << fmt::format(
+      "data             {} runs at {} force levels, R = {} mm, {} velocity\n",
+      r.runs, r.force_levels, options.radius_mm,
+      sim::VelocityDefinitionName(options.definition));
   out << fmt::format("c_e              {:.4g} N/mm^2  95 % {}\n",
                      r.c_e_n_per_mm2, IntervalText(r.c_e_ci));
   out << fmt::format("alpha            {:.4g} 1/s     95 % {}\n", r.alpha_per_s,

@@ -4,12 +4,15 @@
 #ifndef BURRLAB_RUNNER_CALIBRATE_COMMAND_H_
 #define BURRLAB_RUNNER_CALIBRATE_COMMAND_H_
 
+#include <optional>
 #include <ostream>
 #include <string>
 
 #include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/sim/descent.h"
 #include "burrlab/sim/result.h"
 #include "command_table.h"
+#include "flags.h"
 
 namespace burrlab::runner {
 
@@ -18,12 +21,23 @@ namespace burrlab::runner {
 int RunCalibrateCommand(const Args& args, std::ostream& out, std::ostream& err);
 
 // Reads measured data (analysis::ReadMeasuredData) and settles the burr
-// radius: the flag's value (`*radius_mm`, when `flag_given`) must agree with
-// the file's burr_radius_mm column; without the flag the column's value;
-// neither is an error naming `path`. Shared by calibrate and discover.
-Result<analysis::MeasuredData> ReadMeasuredWithRadius(const std::string& path,
-                                                      bool flag_given,
-                                                      double* radius_mm);
+// radius and the velocity definition. The radius flag's value (`*radius_mm`,
+// when `radius_given`) must agree with the file's burr_radius_mm column;
+// without the flag the column's value; neither is an error naming `path`.
+// The definition: `flag_definition` when given (a file whose
+// velocity_definition column names another is refused, naming both), else
+// the column's, else sim::kDefaultVelocityDefinition. Shared by calibrate and
+// discover.
+Result<analysis::MeasuredData> ReadMeasuredWithRadius(
+    const std::string& path, bool radius_given, double* radius_mm,
+    std::optional<sim::VelocityDefinition> flag_definition,
+    sim::VelocityDefinition* definition);
+
+// Declares --velocity-definition on `flags`; `*choice` receives the index
+// into {"initial", "settled"} (-1 when not given).
+void AddVelocityDefinitionFlag(FlagSet* flags, int* choice);
+// The definition `choice` names (nothing for -1).
+std::optional<sim::VelocityDefinition> VelocityDefinitionChoice(int choice);
 
 }  // namespace burrlab::runner
 

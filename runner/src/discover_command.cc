@@ -17,6 +17,7 @@
 #include <thread>
 #include <utility>
 
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/analysis/model_gap/discover.h"
 #include "burrlab/analysis/model_gap/discover_scenarios.h"
 #include "burrlab/analysis/model_gap/measured_data.h"
@@ -262,21 +263,33 @@ Status WritePlots(const analysis::DiscoverReport& r,
                          int colour) {
     analysis::Series s = MakeSeries(std::move(label), true, colour);
     const sim::Effects effects = EffectsOf(fit);
-    constexpr int kPoints = 200;
-    for (int k = 0; k <= kPoints; ++k) {
-      const double f = f_lo + (f_hi - f_lo) * k / kPoints;
+    const bool initial =
+        r.velocity_definition == sim::VelocityDefinition::kInitial;
+    // The initial velocity's transient factor costs milliseconds a point.
+    const int points = initial ? 60 : 200;
+    for (int k = 0; k <= points; ++k) {
+      const double f = f_lo + (f_hi - f_lo) * k / points;
+      double transient = 1.0;
+      if (initial) {
+        analysis::DescentSurrogateInput in;
+        in.force_n = f;
+        in.c_e_n_per_mm2 = fit.c_e_n_per_mm2;
+        in.alpha_per_s = fit.alpha_per_s;
+        in.radius_mm = radius_mm;
+        in.effects = effects;
+        transient = analysis::InitialTransientFactor(in);
+      }
       s.x.push_back(f);
       s.y.push_back(std::exp(analysis::ModelLogVelocity(
-          f, fit.c_e_n_per_mm2, fit.alpha_per_s, radius_mm, effects)));
+          f, fit.c_e_n_per_mm2, fit.alpha_per_s, radius_mm, effects,
+          r.velocity_definition, transient)));
     }
     return s;
   };
   analysis::LinePlot fit_plot;
-  // The fits model the settled velocity (sim/descent.h); the measured file
-  // was checked to hold that kind.
-  fit_plot.title = fmt::format(
-      "{} penetration velocity: data, base and augmented",
-      sim::VelocityDefinitionName(sim::VelocityDefinition::kSettled));
+  fit_plot.title =
+      fmt::format("{} penetration velocity: data, base and augmented",
+                  sim::VelocityDefinitionName(r.velocity_definition));
   fit_plot.x_label = "force held (N)";
   fit_plot.y_label = "velocity (mm/s)";
   fit_plot.log_y = true;
@@ -371,11 +384,14 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
                "effects load_cell_lag and arm_compliance",
                &traces_path)
       ->type_name("FILE.csv");
+  int definition = -1;
+  AddVelocityDefinitionFlag(&flags, &definition);
   flags.AddSwitch("--json", "print report.json to stdout as well", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<analysis::MeasuredData> data = ReadMeasuredWithRadius(
-      measured_path, flags.Given("--radius-mm"), &options.radius_mm);
+      measured_path, flags.Given("--radius-mm"), &options.radius_mm,
+      VelocityDefinitionChoice(definition), &options.definition);
   if (!data.ok()) {  // multi-line: the data error quotes its line and a caret
     err << "burrlab: " << data.error().message << '\n';
     return 1;

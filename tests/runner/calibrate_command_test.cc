@@ -93,7 +93,7 @@ TEST_F(CalibrateCommand, JsonSaysWhenOnlyACombinationIsIdentified) {
   // determined.
   std::string text = "force_n,velocity_mm_s,burr_radius_mm\n";
   for (double load : {0.01, 0.015, 0.02, 0.03, 0.045}) {
-    analysis::SteadyDescentInput in;
+    analysis::DescentSurrogateInput in;
     in.force_n = load * 2.145;
     in.c_e_n_per_mm2 = 2.145;
     in.alpha_per_s = 0.087;

@@ -16,6 +16,7 @@
 #include <limits>
 
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/initial_velocity.h"
 #include "non_finite.h"
 
 namespace burrlab::analysis {
@@ -23,17 +24,24 @@ namespace {
 
 using detail::kInf;
 constexpr int kGridPoints = 240;  // starts of the search over log c_e
+// Refits with the initial velocity's transient factors refreshed, at most,
+// and the change of their logs that ends them.
+constexpr int kTransientRounds = 4;
+constexpr double kTransientTolerance = 1e-3;
 
 // The least-squares problem in (L, A) = (log c_e, log alpha).
 class LogVelocityProblem {
  public:
   LogVelocityProblem(const MeasuredData& data,
                      const CalibrationOptions& options)
-      : ln_r_(std::log(options.radius_mm)) {
+      : ln_r_(std::log(options.radius_mm)),
+        radius_mm_(options.radius_mm),
+        definition_(options.definition) {
     double max_ln_f = -kInf;
     for (const MeasuredRun& run : data.runs) {
       ln_f_.push_back(std::log(run.force_n));
       ln_v_.push_back(std::log(run.velocity_mm_s));
+      ln_transient_.push_back(0.0);
       max_ln_f = std::max(max_ln_f, ln_f_.back());
     }
     // Every force must stay below the full-immersion load.
@@ -49,13 +57,40 @@ class LogVelocityProblem {
   double Load(int i, double l) const {
     return std::exp(ln_f_[i] - l - 2.0 * ln_r_);
   }
-  // Model log v without log alpha: log R - log kappa(load).
+  // Model log v without log alpha: log R - log kappa(load) (the initial
+  // velocity's kappa of the ideal window, and its transient factor held).
   double Shape(int i, double l) const {
+    if (definition_ == sim::VelocityDefinition::kInitial) {
+      const double x = std::cbrt(Load(i, l) * Load(i, l));
+      if (!(x < 2.0)) return -kInf;  // past full immersion: unreachable
+      return ln_r_ - std::log(IdealInitialKappa(x)) + ln_transient_[i];
+    }
     return ln_r_ - std::log(KappaAtLoad(Load(i, l)));
   }
   // d log v / d L = d log kappa / d log load.
   double ShapeSlope(int i, double l) const {
+    if (definition_ == sim::VelocityDefinition::kInitial) {
+      double slope = 0.0;
+      IdealInitialKappa(std::cbrt(Load(i, l) * Load(i, l)), &slope);
+      return 2.0 / 3.0 * slope;
+    }
     return KappaLogSlopeAtLoad(Load(i, l));
+  }
+  // The initial velocity's transient factors at (l, a), held from now on;
+  // returns the largest change of their logs.
+  double RefreshTransient(double l, double a) {
+    double change = 0.0;
+    for (int i = 0; i < size(); ++i) {
+      DescentSurrogateInput in;
+      in.force_n = std::exp(ln_f_[i]);
+      in.c_e_n_per_mm2 = std::exp(l);
+      in.alpha_per_s = std::exp(a);
+      in.radius_mm = radius_mm_;
+      const double ln = std::log(InitialTransientFactor(in));
+      change = std::max(change, std::abs(ln - ln_transient_[i]));
+      ln_transient_[i] = ln;
+    }
+    return change;
   }
   double PredictLogV(int i, double l, double a) const {
     return a + Shape(i, l);
@@ -82,8 +117,9 @@ class LogVelocityProblem {
   void set_ln_v(std::vector<double> ln_v) { ln_v_ = std::move(ln_v); }
 
  private:
-  std::vector<double> ln_f_, ln_v_;
-  double ln_r_, l_min_ = 0.0, l_max_ = 0.0;
+  std::vector<double> ln_f_, ln_v_, ln_transient_;
+  double ln_r_, radius_mm_, l_min_ = 0.0, l_max_ = 0.0;
+  sim::VelocityDefinition definition_;
 };
 
 // Minimises f over [lo, hi]: a grid of starts, Brent's method from every local
@@ -189,7 +225,7 @@ Result<CalibrationSummary> Calibrate(const MeasuredData& data,
         "levels, got {} runs at {} levels",
         n, data.force_levels)};
   }
-  const LogVelocityProblem problem(data, options);
+  LogVelocityProblem problem(data, options);
   if (problem.l_min() >= problem.l_max()) {
     double max_f = 0.0;
     for (const MeasuredRun& run : data.runs)
@@ -205,8 +241,20 @@ Result<CalibrationSummary> Calibrate(const MeasuredData& data,
     return problem.ProfileRss(l);
   };
   double rss_min = 0.0;
-  const double l_hat = MinimiseOnInterval(
-      profile_l, problem.l_min(), problem.l_max(), kGridPoints, &rss_min);
+  double l_hat = MinimiseOnInterval(profile_l, problem.l_min(), problem.l_max(),
+                                    kGridPoints, &rss_min);
+  // The initial velocity's transient factors (milliseconds each) are held at
+  // the fit and refreshed until they stop moving.
+  if (options.definition == sim::VelocityDefinition::kInitial) {
+    for (int round = 0; round < kTransientRounds; ++round) {
+      if (problem.RefreshTransient(l_hat, problem.BestA(l_hat)) <
+          kTransientTolerance) {
+        break;
+      }
+      l_hat = MinimiseOnInterval(profile_l, problem.l_min(), problem.l_max(),
+                                 kGridPoints, &rss_min);
+    }
+  }
   const double a_hat = problem.BestA(l_hat);
 
   CalibrationSummary out;

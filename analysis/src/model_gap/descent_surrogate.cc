@@ -9,6 +9,8 @@
 #include <numbers>
 #include <vector>
 
+#include "burrlab/analysis/model_gap/initial_velocity.h"
+
 namespace burrlab::analysis {
 namespace {
 
@@ -221,41 +223,53 @@ double KappaLogSlopeAtLoad(double load) {
 namespace {
 
 // The velocity at elastic force F_e = c_e' R^2 y_e (c_e' the effective
-// elastic constant), every erosion effect applied; 0 when the blades do not
-// cut, +inf beyond full immersion. `depth_ratio`, when given, receives h / R.
-double VelocityAtElasticLoad(const SteadyDescentInput& in, double c_e,
-                             double elastic_load, double* depth_ratio) {
+// elastic constant) under `definition`, every erosion effect applied and, for
+// the initial velocity, times `transient`; 0 when the blades do not cut, +inf
+// beyond full immersion. `depth_ratio`, when given, receives h / R.
+double VelocityAtElasticLoad(const DescentSurrogateInput& in,
+                             sim::VelocityDefinition definition,
+                             double transient, double c_e, double elastic_load,
+                             double* depth_ratio) {
   const double r = in.radius_mm;
   const sim::Effects& fx = in.effects;
+  const bool initial = definition == sim::VelocityDefinition::kInitial;
   // h / R from F_e = c_e R^2 (h/R)^n (eq. 7.3 with the contact exponent);
-  // the table is in the Hertz load (h/R)^{3/2}. (The fits call this millions
-  // of times: h / R only when asked for or needed.)
+  // the settled table is in the Hertz load (h/R)^{3/2}. (The fits call this
+  // millions of times: h / R only when asked for or needed.)
   const bool hertz = fx.contact_exponent == 1.5;
-  double load = elastic_load;
-  if (!hertz || depth_ratio != nullptr) {
-    const double x = hertz ? std::cbrt(elastic_load * elastic_load)
-                           : std::pow(elastic_load, 1.0 / fx.contact_exponent);
+  double load = elastic_load, x = 0.0;
+  if (initial || !hertz || depth_ratio != nullptr) {
+    x = hertz ? std::cbrt(elastic_load * elastic_load)
+              : std::pow(elastic_load, 1.0 / fx.contact_exponent);
     if (depth_ratio != nullptr) *depth_ratio = x;
     if (!hertz) load = x * std::sqrt(x);
   }
-  if (load >= MaxSteadyLoad()) return std::numeric_limits<double>::infinity();
+  if (initial ? x >= 2.0 : load >= MaxSteadyLoad()) {
+    return std::numeric_limits<double>::infinity();
+  }
   const double elastic_n = c_e * r * r * elastic_load;
   // The erosion profile depends on kappa_eff = scale alpha R / v only, and the
   // load fixes kappa_eff: every effect that scales the rate of eq. 7.12
   // scales v (sim::ErosionRateScale, as the simulator applies it).
   const double scale = sim::ErosionRateScale(fx, elastic_n, in.alpha_per_s);
   if (!(scale > 0.0)) return 0.0;
-  const double kappa = KappaAtLoad(load);
+  const double kappa = initial ? IdealInitialKappa(x) : KappaAtLoad(load);
   double v = scale * in.alpha_per_s * r / kappa;
   if (std::isfinite(fx.max_removal_mm3_per_s)) {
-    v *= sim::PowerLimitScale(fx, v * r * r * TabulatedRemovalArea(kappa));
+    const double area =
+        initial ? InitialRemovalArea(x) : TabulatedRemovalArea(kappa);
+    v *= sim::PowerLimitScale(fx, v * r * r * area);
   }
-  return v;
+  return initial ? v * transient : v;
 }
 
-}  // namespace
+// The velocity and the elastic share y_e of the load that gives it.
+struct Solution {
+  double v = 0.0, c_e = 0.0, elastic_load = 0.0;
+};
 
-double SteadyVelocityMmS(const SteadyDescentInput& in) {
+Solution Solve(const DescentSurrogateInput& in,
+               sim::VelocityDefinition definition, double transient) {
   const double r = in.radius_mm;
   const sim::Effects& fx = in.effects;
   // Only the elastic force carries the load in steady vertical descent (the
@@ -263,29 +277,68 @@ double SteadyVelocityMmS(const SteadyDescentInput& in) {
   // term c_i R^2 (h/R) v (eq. 7.14) to what the load cell reads; the
   // material's own c_i is below 1e-3 of F_e at these speeds and left out.
   const double solid = 1.0 - fx.porosity;
-  const double c_e = in.c_e_n_per_mm2 * solid * solid;
-  const double total_load = in.force_n / (c_e * r * r);
-  const double v_free = VelocityAtElasticLoad(in, c_e, total_load, nullptr);
+  Solution out;
+  out.c_e = in.c_e_n_per_mm2 * solid * solid;
+  const double total_load = in.force_n / (out.c_e * r * r);
+  out.elastic_load = total_load;
+  out.v = VelocityAtElasticLoad(in, definition, transient, out.c_e, total_load,
+                                nullptr);
   const double c_i = fx.impact_c_i_n_s_per_mm3;
-  if (c_i <= 0.0 || !(v_free > 0.0)) return v_free;
+  if (c_i <= 0.0 || !(out.v > 0.0)) return out;
   // F = c_e R^2 y_e + c_i R^2 (h/R) v(y_e): bisection on the elastic share
   // y_e in (0, total_load]; the residual is negative at 0 and not negative
   // at total_load.
   const auto residual = [&](double y_e) {
     double x = 0.0;
-    const double v = VelocityAtElasticLoad(in, c_e, y_e, &x);
+    const double v =
+        VelocityAtElasticLoad(in, definition, transient, out.c_e, y_e, &x);
     if (!std::isfinite(v)) return std::numeric_limits<double>::infinity();
     // c_i R^2 (h/R) v_ref (v / v_ref)^m, v_ref = 1 mm/s.
     const double resistance =
         fx.viscous_exponent == 1.0 ? v : std::pow(v, fx.viscous_exponent);
-    return c_e * r * r * y_e + c_i * r * r * x * resistance - in.force_n;
+    return out.c_e * r * r * y_e + c_i * r * r * x * resistance - in.force_n;
   };
   double lo = 0.0, hi = total_load;
   for (int it = 0; it < 48; ++it) {
     const double mid = 0.5 * (lo + hi);
     (residual(mid) < 0.0 ? lo : hi) = mid;
   }
-  return VelocityAtElasticLoad(in, c_e, 0.5 * (lo + hi), nullptr);
+  out.elastic_load = 0.5 * (lo + hi);
+  out.v = VelocityAtElasticLoad(in, definition, transient, out.c_e,
+                                out.elastic_load, nullptr);
+  return out;
+}
+
+}  // namespace
+
+double SteadyVelocityMmS(const DescentSurrogateInput& in) {
+  return Solve(in, sim::VelocityDefinition::kSettled, 1.0).v;
+}
+
+double SurrogateVelocityMmS(const DescentSurrogateInput& in,
+                            sim::VelocityDefinition definition,
+                            double transient_factor) {
+  return Solve(in, definition, transient_factor).v;
+}
+
+double InitialTransientFactor(const DescentSurrogateInput& in) {
+  const Solution ideal = Solve(in, sim::VelocityDefinition::kInitial, 1.0);
+  if (!(ideal.v > 0.0 && std::isfinite(ideal.v))) return 1.0;
+  const double r = in.radius_mm;
+  const sim::Effects& fx = in.effects;
+  const double x = std::pow(ideal.elastic_load, 1.0 / fx.contact_exponent);
+  InitialVelocityInput rig;
+  rig.depth_ratio = x;
+  rig.force_n = in.force_n;
+  rig.elastic_n = ideal.c_e * r * r * ideal.elastic_load;
+  rig.contact_exponent = fx.contact_exponent;
+  // Every effect on the rate (and the power limit at the window's removal
+  // rate) is in the ideal velocity: the rate that gives it.
+  rig.rate_per_s = ideal.v * IdealInitialKappa(x) / r;
+  rig.radius_mm = r;
+  rig.rig.effects = fx;  // the rig's own effects: load-cell lag, compliance
+  const double v = InitialVelocityMmS(rig);
+  return v > 0.0 ? v / ideal.v : 1.0;
 }
 
 }  // namespace burrlab::analysis

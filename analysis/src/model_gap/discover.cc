@@ -30,6 +30,11 @@ namespace {
 
 using detail::kNaN;
 
+// Refits of the base model with the initial velocity's transient factors
+// refreshed, at most, and the change of their logs that ends them.
+constexpr int kTransientRounds = 4;
+constexpr double kTransientTolerance = 1e-3;
+
 // Data the base fit and the gap tests cannot use: no more runs than
 // parameters, or a single force level.
 Status CheckDesign(const MeasuredData& data) {
@@ -48,7 +53,7 @@ Status CheckDesign(const MeasuredData& data) {
 Runs LeaveOutGrossOutliers(const MeasuredData& data,
                            const DiscoverOptions& options,
                            DiscoverReport* report) {
-  const Runs all = MakeRuns(data, options.radius_mm);
+  const Runs all = MakeRuns(data, options.radius_mm, options.definition);
   const std::vector<char> keep = ScreenOutliers(all, options.outlier_sigmas);
   for (int i = 0; i < all.size(); ++i) {
     if (!keep[i]) report->outlier_lines.push_back(all.line[i]);
@@ -163,12 +168,20 @@ DiscoverStages::DiscoverStages(const MeasuredData& data,
       runs_(LeaveOutGrossOutliers(data, options, &report_)),
       flow_(runs_, options) {
   flow_.set_total_tasks(ProgressTasks(options));
+  report_.velocity_definition = options.definition;
 }
 
 Status DiscoverStages::FitBaseModel() {
   if (options_.progress) options_.progress(progress_done_++, 2, "base fit");
   Result<Point> base_point = flow_.BaseFit({});
   if (!base_point.ok()) return base_point.error();
+  // The initial velocity's transient factors, held at the base fit: refit
+  // until they stop moving.
+  for (int round = 0; round < kTransientRounds; ++round) {
+    if (RefreshTransient(&runs_, {}, *base_point) < kTransientTolerance) break;
+    base_point = flow_.BaseFit({});
+    if (!base_point.ok()) return base_point.error();
+  }
   base_.point = *base_point;
   base_.rss = Rss(runs_, {}, base_.point, {});
   report_.baseline = flow_.Describe(base_);

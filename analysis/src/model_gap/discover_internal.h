@@ -29,6 +29,10 @@ namespace burrlab::analysis::discover_internal {
 
 // The runs a fit uses: log F, log v, level index, file line.
 struct Runs {
+  // What the velocities are; for the initial velocity, `transient` holds
+  // each run's transient factor (SurrogateVelocityMmS), 1 when empty.
+  sim::VelocityDefinition definition = sim::VelocityDefinition::kSettled;
+  std::vector<double> transient;
   std::vector<double> force_n, ln_v;
   std::vector<int> level, line;
   int levels = 0;
@@ -37,7 +41,8 @@ struct Runs {
 };
 
 // Every run of `data`, in file order.
-Runs MakeRuns(const MeasuredData& data, double radius_mm);
+Runs MakeRuns(const MeasuredData& data, double radius_mm,
+              sim::VelocityDefinition definition);
 
 // Gross outliers: runs far from the other replicates of their level, one at a
 // time (the largest first), against a robust scale of all runs. keep[i] is 0
@@ -61,6 +66,12 @@ struct Point {
   double ln_c_e = 0.0, ln_alpha = 0.0;
   std::vector<double> u;  // one per active effect
 };
+
+// For the initial velocity: every run's transient factor at `p` with
+// `active` (InitialTransientFactor); returns the largest change of their
+// logs. Nothing for the settled velocity.
+double RefreshTransient(Runs* runs, const std::vector<ActiveEffect>& active,
+                        const Point& p);
 
 // The whole state of one model in the workflow.
 struct Model {

@@ -19,6 +19,7 @@
 
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/analysis/model_gap/discover.h"
+#include "burrlab/analysis/model_gap/initial_velocity.h"
 #include "burrlab/sim/effects.h"
 #include "model_gap/discover_internal.h"
 #include "nlopt_ptr.h"
@@ -89,9 +90,11 @@ double MaxChange(const Runs& runs, const std::vector<ActiveEffect>& active,
 
 }  // namespace
 
-Runs MakeRuns(const MeasuredData& data, double radius_mm) {
+Runs MakeRuns(const MeasuredData& data, double radius_mm,
+              sim::VelocityDefinition definition) {
   Runs runs;
   runs.radius_mm = radius_mm;
+  runs.definition = definition;
   std::map<double, int> index;
   for (const MeasuredRun& r : data.runs) index.emplace(r.force_n, 0);
   int k = 0;
@@ -163,8 +166,10 @@ Runs Subset(const Runs& runs, const std::vector<char>& keep) {
   int k = 0;
   for (auto& [force, i] : index) i = k++;
   out.levels = k;
+  out.definition = runs.definition;
   for (int i = 0; i < runs.size(); ++i) {
     if (!keep[i]) continue;
+    if (!runs.transient.empty()) out.transient.push_back(runs.transient[i]);
     out.force_n.push_back(runs.force_n[i]);
     out.ln_v.push_back(runs.ln_v[i]);
     out.level.push_back(index[runs.force_n[i]]);
@@ -184,9 +189,31 @@ std::vector<double> Predict(const Runs& runs,
   std::vector<double> y(runs.size());
   for (int i = 0; i < runs.size(); ++i) {
     y[i] = ModelLogVelocity(runs.force_n[i], std::exp(p.ln_c_e),
-                            std::exp(p.ln_alpha), runs.radius_mm, effects);
+                            std::exp(p.ln_alpha), runs.radius_mm, effects,
+                            runs.definition,
+                            runs.transient.empty() ? 1.0 : runs.transient[i]);
   }
   return y;
+}
+
+double RefreshTransient(Runs* runs, const std::vector<ActiveEffect>& active,
+                        const Point& p) {
+  if (runs->definition != sim::VelocityDefinition::kInitial) return 0.0;
+  const sim::Effects effects = MakeEffects(active, p);
+  runs->transient.resize(runs->size(), 1.0);
+  double change = 0.0;
+  for (int i = 0; i < runs->size(); ++i) {
+    DescentSurrogateInput in;
+    in.force_n = runs->force_n[i];
+    in.c_e_n_per_mm2 = std::exp(p.ln_c_e);
+    in.alpha_per_s = std::exp(p.ln_alpha);
+    in.radius_mm = runs->radius_mm;
+    in.effects = effects;
+    const double factor = InitialTransientFactor(in);
+    change = std::max(change, std::abs(std::log(factor / runs->transient[i])));
+    runs->transient[i] = factor;
+  }
+  return change;
 }
 
 double Rss(const Runs& runs, const std::vector<ActiveEffect>& active,
@@ -304,12 +331,12 @@ ActiveEffect ScaleEffect(const sim::EffectSpec& spec, const Runs& runs,
   const double f_max =
       *std::max_element(runs.force_n.begin(), runs.force_n.end());
   const double r = runs.radius_mm;
-  SteadyDescentInput top;
+  DescentSurrogateInput top;
   top.force_n = f_max;
   top.c_e_n_per_mm2 = c_e;
   top.alpha_per_s = alpha;
   top.radius_mm = r;
-  double v_top = SteadyVelocityMmS(top);
+  double v_top = SurrogateVelocityMmS(top, runs.definition);
   if (!(v_top > 0.0 && std::isfinite(v_top))) v_top = alpha * r;
   // Scaled by the family; the shapes within one share its scale.
   const std::string_view id = spec.Family();
@@ -317,7 +344,10 @@ ActiveEffect ScaleEffect(const sim::EffectSpec& spec, const Runs& runs,
     // 1/Q_max in units of 1/Q_top, Q the free removal rate at the top force:
     // the cap binds from u = 1 on.
     const double load = f_max / (c_e * r * r);
-    const double q_top = v_top * r * r * RemovalAreaAtKappa(KappaAtLoad(load));
+    const double area = runs.definition == sim::VelocityDefinition::kInitial
+                            ? InitialRemovalArea(std::cbrt(load * load))
+                            : RemovalAreaAtKappa(KappaAtLoad(load));
+    const double q_top = v_top * r * r * area;
     e.unit = 1.0 / q_top;
     e.upper = 50.0;
   } else if (id == "spindle_slowdown") {
@@ -598,20 +628,22 @@ ModelFit Workflow::Describe(const Model& m) const {
 
 double ModelLogVelocity(double force_n, double c_e_n_per_mm2,
                         double alpha_per_s, double radius_mm,
-                        const sim::Effects& effects) {
-  SteadyDescentInput in;
+                        const sim::Effects& effects,
+                        sim::VelocityDefinition definition,
+                        double transient_factor) {
+  DescentSurrogateInput in;
   in.force_n = force_n;
   in.c_e_n_per_mm2 = c_e_n_per_mm2;
   in.alpha_per_s = alpha_per_s;
   in.radius_mm = radius_mm;
   in.effects = effects;
-  const double v = SteadyVelocityMmS(in);
+  const double v = SurrogateVelocityMmS(in, definition, transient_factor);
   return v > 0.0 && std::isfinite(v) ? std::log(v) : detail::kNaN;
 }
 
 Result<double> BaseModelRss(const MeasuredData& data, double radius_mm) {
-  const discover_internal::Runs runs =
-      discover_internal::MakeRuns(data, radius_mm);
+  const discover_internal::Runs runs = discover_internal::MakeRuns(
+      data, radius_mm, sim::VelocityDefinition::kSettled);
   DiscoverOptions options;
   options.radius_mm = radius_mm;
   const discover_internal::Workflow flow(runs, options);

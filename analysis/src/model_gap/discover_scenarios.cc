@@ -39,7 +39,7 @@ std::vector<double> SurrogateVelocities(const ScenarioDesign& d,
                                         const sim::Effects& effects) {
   std::vector<double> v;
   for (double f : d.ForcesN()) {
-    SteadyDescentInput in;
+    DescentSurrogateInput in;
     in.force_n = f;
     in.c_e_n_per_mm2 = d.material.c_e_n_per_mm2;
     in.alpha_per_s = d.material.alpha_per_s;

@@ -141,6 +141,87 @@ std::vector<double> InitialTableRow(int i) {
   return row;
 }
 
+namespace {
+
+// ln kappa of the ideal window at each table row.
+class IdealWindowTable {
+ public:
+  IdealWindowTable() {
+    for (int i = 0; i < kTableDepthRatios; ++i) {
+      const TabulatedDescent d(InitialTableDepthRatio(i));
+      ContinuumTrajectory tr;
+      tr.tau.assign(d.tau.begin() + 1, d.tau.end());
+      tr.delta.assign(d.delta.begin() + 1, d.delta.end());
+      tr.tau.insert(tr.tau.begin(), 0.0);
+      tr.delta.insert(tr.delta.begin(), 0.0);
+      ln_kappa_[i] = -std::log(TrajectorySlope(tr, 0.0, d.TauAt(1.0 / 3.0)));
+    }
+  }
+
+  double LnKappa(double ln_x, double* slope) const {
+    const double ln_lo = std::log(kMinInitialDepthRatio);
+    const double step =
+        (std::log(kMaxInitialDepthRatio) - ln_lo) / (kTableDepthRatios - 1);
+    const double u = (ln_x - ln_lo) / step;
+    if (u < 0.0 || u > kTableDepthRatios - 1) {
+      // Linear in ln x from the end, with the end's slope.
+      const int end = u < 0.0 ? 0 : kTableDepthRatios - 1;
+      double s = 0.0;
+      const double at = Interpolate(end, &s);
+      *slope = s / step;
+      return at + s * (u - end);
+    }
+    double s = 0.0;
+    const double v = Interpolate(u, &s);
+    *slope = s / step;
+    return v;
+  }
+
+ private:
+  // Cubic Lagrange through the four rows around u, and its derivative in u.
+  double Interpolate(double u, double* derivative) const {
+    const int i0 = std::clamp(static_cast<int>(std::floor(u)) - 1, 0,
+                              kTableDepthRatios - 4);
+    double value = 0.0, slope = 0.0;
+    for (int a = 0; a < 4; ++a) {
+      double l = 1.0, dl = 0.0;
+      for (int b = 0; b < 4; ++b) {
+        if (b == a) continue;
+        const double factor = (u - (i0 + b)) / static_cast<double>(a - b);
+        dl = dl * factor + l / static_cast<double>(a - b);
+        l *= factor;
+      }
+      value += l * ln_kappa_[i0 + a];
+      slope += dl * ln_kappa_[i0 + a];
+    }
+    *derivative = slope;
+    return value;
+  }
+
+  std::array<double, kTableDepthRatios> ln_kappa_{};
+};
+
+}  // namespace
+
+double IdealInitialKappa(double depth_ratio, double* log_slope) {
+  static const IdealWindowTable table;
+  double slope = 0.0;
+  const double ln_kappa = table.LnKappa(std::log(depth_ratio), &slope);
+  if (log_slope != nullptr) *log_slope = slope;
+  return std::exp(ln_kappa);
+}
+
+double InitialRemovalArea(double x) {
+  // int_0^{1/3} max(0, a - delta)^2 d delta, a = 1 - x, times 3.
+  const double a = 1.0 - x;
+  double mean_square = 0.0;
+  if (a > 0.0) {
+    const double b = std::max(0.0, a - 1.0 / 3.0);
+    mean_square = a * a * a - b * b * b;  // 3 * (a^3 - b^3) / 3
+  }
+  return std::numbers::pi * (1.0 - mean_square);
+}
+
 double InitialVelocityMmS(const InitialVelocityInput& in) {
   if (!(in.rate_per_s > 0.0)) return 0.0;
   const sim::DescentOptions& rig = in.rig;

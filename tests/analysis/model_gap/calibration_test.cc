@@ -34,7 +34,7 @@ MeasuredData MakeData(const Truth& truth, const std::vector<double>& loads,
   const double s = std::sqrt(std::log1p(cv * cv));
   MeasuredData data;
   for (double load : loads) {
-    SteadyDescentInput in;
+    DescentSurrogateInput in;
     in.force_n = load * truth.c_e_n_per_mm2 * truth.radius_mm * truth.radius_mm;
     in.c_e_n_per_mm2 = truth.c_e_n_per_mm2;
     in.alpha_per_s = truth.alpha_per_s;

@@ -49,10 +49,10 @@ TEST(DescentSurrogate, TableInvertsTheQuadrature) {
 // penetration velocity is the same number with and without them.
 TEST(DescentSurrogate, TraceOnlyEffectsLeaveTheSteadyVelocityUnchanged) {
   for (double force_n : {0.5, 1.0, 2.0, 4.0}) {
-    SteadyDescentInput plain;
+    DescentSurrogateInput plain;
     plain.force_n = force_n;
     plain.radius_mm = 1.0;
-    SteadyDescentInput traced = plain;
+    DescentSurrogateInput traced = plain;
     traced.effects.load_cell_lag_s = 0.2;
     traced.effects.arm_compliance_mm_per_n = 0.5;
     ASSERT_FALSE(traced.effects.IsNull());
@@ -86,7 +86,7 @@ double RigOverSurrogate(const RigCase& m, double force_n,
   rig.definition = sim::VelocityDefinition::kSettled;
   Result<double> v_rig = RigSteadyVelocityMmS(rig, force_n, 7);
   EXPECT_TRUE(v_rig.ok()) << v_rig.error().message;
-  SteadyDescentInput in;
+  DescentSurrogateInput in;
   in.force_n = force_n;
   in.c_e_n_per_mm2 = m.c_e_n_per_mm2;
   in.alpha_per_s = m.alpha_per_s;
@@ -159,7 +159,7 @@ TEST(DescentSurrogate, FollowsTheSpindleSlowdownOfTheRig) {
 
 TEST(DescentSurrogate, FollowsTheViscousResistanceOfTheRig) {
   const RigCase& pvc = kMaterials[2];
-  SteadyDescentInput in;
+  DescentSurrogateInput in;
   in.force_n = pvc.c_e_n_per_mm2;
   in.c_e_n_per_mm2 = pvc.c_e_n_per_mm2;
   in.alpha_per_s = pvc.alpha_per_s;
@@ -193,7 +193,7 @@ TEST(DescentSurrogate, FollowsTheFrictionErosionOfTheRig) {
 TEST(DescentSurrogate, FollowsTheOtherShapesOfTheRig) {
   const RigCase& pvc = kMaterials[2];
   const double f = pvc.c_e_n_per_mm2;
-  SteadyDescentInput in;
+  DescentSurrogateInput in;
   in.force_n = f;
   in.c_e_n_per_mm2 = pvc.c_e_n_per_mm2;
   in.alpha_per_s = pvc.alpha_per_s;

@@ -139,7 +139,7 @@ TEST(LumpedRig, SettlesOnTheSurrogatesSteadyState) {
     ASSERT_EQ(m.t_s.size(), t.t_s.size());
     const std::size_t end = m.t_s.size() - 1, mid = end - 100;
     EXPECT_NEAR(m.force_n[end], force_n, 1e-3 * force_n);
-    SteadyDescentInput in;
+    DescentSurrogateInput in;
     in.force_n = force_n;
     in.c_e_n_per_mm2 = o.c_e_n_per_mm2;
     in.alpha_per_s = o.alpha_per_s;

@@ -38,7 +38,7 @@ Truth With(Truth t, Mechanism mechanism, double strength) {
 
 double ProductVelocity(const Truth& t, double force_n,
                        const sim::Effects& effects = {}) {
-  SteadyDescentInput in;
+  DescentSurrogateInput in;
   in.force_n = force_n;
   in.c_e_n_per_mm2 = t.c_e_n_per_mm2;
   in.alpha_per_s = t.alpha_per_s;

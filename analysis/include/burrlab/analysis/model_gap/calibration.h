@@ -18,12 +18,15 @@
 #include <vector>
 
 #include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/sim/descent.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 
 struct CalibrationOptions {
-  double radius_mm = 0.0;    // burr radius R, mm (required)
+  double radius_mm = 0.0;  // burr radius R, mm (required)
+  // What the measured velocities are (sim/descent.h).
+  sim::VelocityDefinition definition = sim::kDefaultVelocityDefinition;
   double confidence = 0.95;  // level of the profile-likelihood intervals
   // Search box for c_e (alpha, profiled in closed form, has none). The lower
   // end rises to where the largest force would push the burr through.

@@ -15,6 +15,7 @@
 #ifndef BURRLAB_ANALYSIS_MODEL_GAP_DESCENT_SURROGATE_H_
 #define BURRLAB_ANALYSIS_MODEL_GAP_DESCENT_SURROGATE_H_
 
+#include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"
 
 namespace burrlab::analysis {
@@ -33,7 +34,7 @@ double LoadAtKappa(double kappa);
 // 2 pi int_0^1 w (1 - exp(-4/3 kappa w^3)) dw (pi when every column is cut).
 double RemovalAreaAtKappa(double kappa);
 
-struct SteadyDescentInput {
+struct DescentSurrogateInput {
   double force_n = 1.0;          // force held
   double c_e_n_per_mm2 = 2.145;  // elastic constant
   double alpha_per_s = 0.087;    // erosion constant
@@ -44,7 +45,22 @@ struct SteadyDescentInput {
 // The steady penetration velocity in mm/s; 0 when the burr does not cut
 // (below a cutting threshold), +inf when the force exceeds the full-immersion
 // force MaxSteadyLoad() c_e R^2 (the burr falls through).
-double SteadyVelocityMmS(const SteadyDescentInput& input);
+double SteadyVelocityMmS(const DescentSurrogateInput& input);
+
+// The velocity under `definition`, as the fits model it. Settled: as
+// SteadyVelocityMmS. Initial: the ideal-control window slope of
+// initial_velocity.h (IdealInitialKappa; the power limit at the window's
+// mean removal rate, InitialRemovalArea) times `transient_factor`, the rig's
+// impact transient (InitialTransientFactor), which the fits hold fixed at a
+// reference point and refresh: it costs milliseconds, the ideal slope
+// microseconds.
+double SurrogateVelocityMmS(const DescentSurrogateInput& input,
+                            sim::VelocityDefinition definition,
+                            double transient_factor = 1.0);
+
+// The initial velocity of the rig's loop (InitialVelocityMmS, with the input's
+// load-cell lag and arm compliance) over the ideal-control slope, at `input`.
+double InitialTransientFactor(const DescentSurrogateInput& input);
 
 }  // namespace burrlab::analysis
 

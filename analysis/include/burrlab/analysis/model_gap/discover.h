@@ -9,10 +9,10 @@
 // tests re-run), and say what was found: a named effect, an ambiguous set, a
 // gap outside the library, an effect absorbed by a base parameter, or none.
 //
-// Every model is log v = log SteadyVelocityMmS(F; c_e, alpha, R, effects)
-// (descent_surrogate.h) with unweighted least squares on log v (log-normal
-// run-to-run scatter), so the Gaussian profile likelihood gives
-// LR = n log(RSS_0 / RSS_1).
+// Every model is log v = log SurrogateVelocityMmS(F; c_e, alpha, R, effects)
+// under the options' velocity definition (descent_surrogate.h) with unweighted
+// least squares on log v (log-normal run-to-run scatter), so the Gaussian
+// profile likelihood gives LR = n log(RSS_0 / RSS_1).
 #ifndef BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_H_
 #define BURRLAB_ANALYSIS_MODEL_GAP_DISCOVER_H_
 
@@ -24,13 +24,18 @@
 
 #include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/analysis/model_gap/trace_gap.h"
+#include "burrlab/sim/descent.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 
 struct DiscoverOptions {
-  double radius_mm = 0.0;    // burr radius R, mm (required)
+  double radius_mm = 0.0;  // burr radius R, mm (required)
+  // What the measured velocities are (sim/descent.h). For the initial
+  // velocity the rig's transient factor of each run is refreshed at the base
+  // fit until it settles and held through the effects' fits.
+  sim::VelocityDefinition definition = sim::kDefaultVelocityDefinition;
   double test_level = 0.05;  // family-wise level of each family of tests
   int max_effects = 2;       // effects added at most, one at a time
   // |cos| of two projected signatures above which the design cannot tell the
@@ -127,6 +132,9 @@ struct EffectAttribution {
 struct DiscoverReport {
   // named, ambiguous, unexplained, absorbed or none.
   std::string verdict;
+  // What the velocities were (DiscoverOptions::definition).
+  sim::VelocityDefinition velocity_definition =
+      sim::VelocityDefinition::kSettled;
   std::vector<std::string> effects;    // added, in order (empty: none)
   std::vector<std::string> alias_set;  // cannot be told from effects[0]
   // One per added effect: alias_sets[k] holds effects[k] and the effects
@@ -167,9 +175,11 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
 Result<double> BaseModelRss(const MeasuredData& data, double radius_mm);
 
 // log v of the surrogate with the given effects (NaN when v is 0 or inf).
-double ModelLogVelocity(double force_n, double c_e_n_per_mm2,
-                        double alpha_per_s, double radius_mm,
-                        const sim::Effects& effects);
+double ModelLogVelocity(
+    double force_n, double c_e_n_per_mm2, double alpha_per_s, double radius_mm,
+    const sim::Effects& effects,
+    sim::VelocityDefinition definition = sim::VelocityDefinition::kSettled,
+    double transient_factor = 1.0);
 
 }  // namespace burrlab::analysis
 

@@ -82,6 +82,20 @@ ContinuumTrajectory IdealDescent(double depth_ratio, double until_delta,
 double TrajectorySlope(const ContinuumTrajectory& trajectory, double tau1,
                        double tau2);
 
+// The ideal descent's window slope as the fits use it: kappa = alpha R / v
+// for the least-squares slope from delta = 0 until the burr has cut R/3, at
+// x = h / R (cubic interpolation in ln x over the table's rows, continued
+// linearly in ln x beyond them), and d ln kappa / d ln x when `log_slope` is
+// given. The rig's transient multiplies v by the factor InitialVelocityMmS
+// gives against alpha R / kappa.
+double IdealInitialKappa(double depth_ratio, double* log_slope = nullptr);
+
+// The mean area (units of R^2) of the columns the burr enters over the
+// window of the ideal descent: pi (1 - max(0, 1 - x - delta)^2) averaged over
+// delta in [0, 1/3]. The moment is held, so what enters is what erodes: v R^2
+// times this is the removal rate of the window (for the power limit).
+double InitialRemovalArea(double depth_ratio);
+
 struct InitialVelocityInput {
   double depth_ratio = 0.5;       // x = h / R under the held force
   double force_n = 1.0;           // force held (the load cell's reading)

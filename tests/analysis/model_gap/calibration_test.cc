@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
+#include "burrlab/analysis/model_gap/initial_velocity.h"
 
 namespace burrlab::analysis {
 namespace {
@@ -68,6 +69,43 @@ TEST(Calibrate, RecoversNoiseFreeData) {
   EXPECT_NEAR(fit->c_e_n_per_mm2 / truth.c_e_n_per_mm2, 1.0, 1e-4);
   EXPECT_NEAR(fit->alpha_per_s / truth.alpha_per_s, 1.0, 1e-4);
   EXPECT_LT(fit->rmse_log_v, 1e-5);
+}
+
+// The initial velocity, truth the surrogate's own rig loop (InitialVelocity
+// MmS, transient included): the fit holds each run's transient factor at its
+// estimate and refreshes it until it settles, so it must land on the truth.
+// (The full rig as the truth: tests/runner/calibrate_command_test.cc.)
+TEST(Calibrate, RecoversTheInitialVelocityWithItsTransient) {
+  const Truth truth{2.145, 0.087, 2.0};
+  MeasuredData data;
+  for (const double force_n : {1.0, 2.0, 3.0, 4.0, 5.0}) {
+    InitialVelocityInput in;
+    in.force_n = in.elastic_n = force_n;
+    in.radius_mm = truth.radius_mm;
+    in.rate_per_s = truth.alpha_per_s;
+    in.depth_ratio = std::cbrt(std::pow(
+        force_n / (truth.c_e_n_per_mm2 * truth.radius_mm * truth.radius_mm),
+        2.0));
+    MeasuredRun run;
+    run.force_n = force_n;
+    run.velocity_mm_s = InitialVelocityMmS(in);
+    data.runs.push_back(run);
+  }
+  data.force_levels = 5;
+  CalibrationOptions options;
+  options.radius_mm = truth.radius_mm;
+  options.definition = sim::VelocityDefinition::kInitial;
+  options.bootstrap_replicates = 0;
+  Result<CalibrationSummary> fit = Calibrate(data, options);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_NEAR(fit->c_e_n_per_mm2 / truth.c_e_n_per_mm2, 1.0, 2e-3);
+  EXPECT_NEAR(fit->alpha_per_s / truth.alpha_per_s, 1.0, 3e-3);
+  EXPECT_LT(fit->rmse_log_v, 1e-4);
+  // Fitted as settled velocities the same data are far off.
+  options.definition = sim::VelocityDefinition::kSettled;
+  Result<CalibrationSummary> wrong = Calibrate(data, options);
+  ASSERT_TRUE(wrong.ok());
+  EXPECT_GT(std::abs(std::log(wrong->alpha_per_s / truth.alpha_per_s)), 0.2);
 }
 
 TEST(Calibrate, SeparatesCeAndAlphaWhenTheLoadsReachDeepImmersion) {

@@ -13,6 +13,7 @@
 #include <numbers>
 #include <string>
 
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/sim/descent.h"
 
 namespace burrlab::analysis {
@@ -147,6 +148,50 @@ TEST(InitialVelocity, MatchesTheFullRigWhereTheRigResolvesTheIndentation) {
   }
 }
 #endif
+
+}  // namespace
+}  // namespace burrlab::analysis
+
+namespace burrlab::analysis {
+namespace {
+
+// The fits' fast form of the ideal window slope against the continuum
+// descent computed afresh (another path than the compiled table: a grid
+// integration at x between the table's rows), and the fits' model (ideal
+// slope times the held transient factor) against the rig-loop surrogate it
+// stands for.
+TEST(InitialVelocity, FitsUseTheIdealWindowSlopeTimesTheTransient) {
+  for (const double x : {0.13, 0.47, 1.21}) {
+    const ContinuumTrajectory tr = IdealDescent(x, 0.4);
+    std::size_t j = 1;
+    while (tr.delta[j] < 1.0 / 3.0) ++j;
+    const double u =
+        (1.0 / 3.0 - tr.delta[j - 1]) / (tr.delta[j] - tr.delta[j - 1]);
+    const double tau_end = tr.tau[j - 1] + u * (tr.tau[j] - tr.tau[j - 1]);
+    const double slope = TrajectorySlope(tr, 0.0, tau_end);
+    EXPECT_NEAR(IdealInitialKappa(x) * slope, 1.0, 2e-3) << "x " << x;
+  }
+  DescentSurrogateInput in;
+  in.c_e_n_per_mm2 = 2.145;
+  in.alpha_per_s = 0.087;
+  in.radius_mm = 2.0;
+  for (const double force_n : {1.0, 3.0}) {
+    in.force_n = force_n;
+    const double factor = InitialTransientFactor(in);
+    InitialVelocityInput rig;
+    rig.force_n = rig.elastic_n = force_n;
+    rig.radius_mm = 2.0;
+    rig.rate_per_s = 0.087;
+    rig.depth_ratio = std::cbrt(std::pow(force_n / (2.145 * 4.0), 2.0));
+    EXPECT_NEAR(
+        SurrogateVelocityMmS(in, sim::VelocityDefinition::kInitial, factor) /
+            InitialVelocityMmS(rig),
+        1.0, 1e-9)
+        << force_n << " N";
+    // The transient is a correction of a few percent.
+    EXPECT_NEAR(factor, 1.0, 0.05) << force_n << " N";
+  }
+}
 
 }  // namespace
 }  // namespace burrlab::analysis

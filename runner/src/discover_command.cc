@@ -70,6 +70,8 @@ Json FitJson(const analysis::ModelFit& fit) {
 Json ReportJson(const analysis::DiscoverReport& r) {
   Json j;
   j["verdict"] = r.verdict;
+  j["velocity_definition"] =
+      std::string(sim::VelocityDefinitionName(r.velocity_definition));
   j["effect"] = r.effects.empty() ? Json(nullptr) : Json(r.effects[0]);
   j["alias_set"] = r.alias_set;
   j["alias_sets"] = r.alias_sets;

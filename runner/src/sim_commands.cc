@@ -81,6 +81,16 @@ Status CheckMaterialChoice(const FlagSet& flags, bool erodes) {
   return {};
 }
 
+// The rig's --voxel-mm (sim descent, sim measure).
+std::string VoxelFlagHelp() {
+  return fmt::format(
+      "voxel size of the sample, mm (default: R/{0} at loads F/(c_e R^2) of "
+      "{2} and above, finer below, to R/{1}: the rig resolves the thin skin "
+      "the burr cuts at light loads)",
+      sim::kRigVoxelsPerRadius, sim::kRigMaxVoxelsPerRadius,
+      sim::kRigResolvedLoad);
+}
+
 Status CheckVoxelFitsBurr(double voxel_mm, double radius_mm) {
   if (voxel_mm > radius_mm) {
     return Error{
@@ -237,10 +247,7 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "--spindle-rad-s",
       fmt::format("burr spin, rad/s (default {})", options.spindle_rad_s),
       "rad/s", &options.spindle_rad_s);
-  flags.AddPositive("--voxel-mm",
-                    fmt::format("voxel size of the sample, mm (default R/{})",
-                                sim::kRigVoxelsPerRadius),
-                    "mm", &options.voxel_mm);
+  flags.AddPositive("--voxel-mm", VoxelFlagHelp(), "mm", &options.voxel_mm);
   flags.AddPositive(
       "--duration-s",
       "longest simulated time after contact, s (default 3600 for the "
@@ -678,6 +685,7 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
                   "(default {})",
                   options.trace_depth_noise_mm),
       "mm", &options.trace_depth_noise_mm);
+  flags.AddPositive("--voxel-mm", VoxelFlagHelp(), "mm", &options.voxel_mm);
   options.jobs = static_cast<int>(
       std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
   flags.AddInteger("--jobs",
@@ -690,6 +698,10 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
   options.definition = definition == 0 ? sim::VelocityDefinition::kInitial
                                        : sim::VelocityDefinition::kSettled;
   options.keep_traces = !traces_path.empty();
+  if (Status s = CheckVoxelFitsBurr(options.voxel_mm, options.radius_mm);
+      !s.ok()) {
+    return Fail(err, s.error().message);
+  }
   Result<std::vector<double>> forces = ParseForces(forces_text);
   if (!forces.ok()) return Fail(err, forces.error().message);
   options.forces_n = *forces;

@@ -67,8 +67,18 @@ std::string_view VelocityDefinitionHelp() {
          "no longer changes (long runs)";
 }
 
+double RigVoxelsPerRadius(double load) {
+  if (!(load > 0.0) || !std::isfinite(load)) return kRigVoxelsPerRadius;
+  constexpr double kSkinExponent = 0.94;
+  const double n =
+      kRigVoxelsPerRadius * std::pow(kRigResolvedLoad / load, kSkinExponent);
+  return std::clamp(std::round(n), kRigVoxelsPerRadius, kRigMaxVoxelsPerRadius);
+}
+
 double DescentOptions::VoxelMm() const {
-  return voxel_mm > 0.0 ? voxel_mm : radius_mm / kRigVoxelsPerRadius;
+  if (voxel_mm > 0.0) return voxel_mm;
+  return radius_mm / RigVoxelsPerRadius(force_n / (material.c_e_n_per_mm2 *
+                                                   radius_mm * radius_mm));
 }
 
 double DescentOptions::DurationS() const {

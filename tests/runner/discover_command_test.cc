@@ -69,10 +69,12 @@ TEST_F(DiscoverCommand, NamesAHiddenPowerLimitAndWritesTheReport) {
   const nlohmann::json j = nlohmann::json::parse(run.out);
   EXPECT_EQ(nlohmann::json::parse(Read(out / "report.json")), j);
   for (const char* key :
-       {"verdict", "effect", "alias_set", "alias_sets", "effect_params",
-        "baseline", "augmented", "gap", "tests"}) {
+       {"verdict", "velocity_definition", "effect", "alias_set", "alias_sets",
+        "effect_params", "baseline", "augmented", "gap", "tests"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
+  // The file has no velocity_definition column: the settled default.
+  EXPECT_EQ(j["velocity_definition"], "settled");
   const std::string verdict = j["verdict"];
   ASSERT_TRUE(verdict == "named" || verdict == "ambiguous") << run.out;
   const std::vector<std::string> alias = j["alias_set"];

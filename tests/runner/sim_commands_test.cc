@@ -32,7 +32,11 @@ namespace {
 // --noise-cv 0` (5 ms, another seed per level) run one rig with one
 // definition, so they agree within 2 % for each definition on the loads of
 // dissertation ch. 8 (R = 2 mm). The truth here is the command a user would
-// run to check a single level; the measure CSV states its definition.
+// run to check a single level; the measure CSV states its definition. Both
+// take their default voxels from one function of the material, force and
+// radius (sim::DescentOptions::VoxelMm); here both are given R/12, which
+// checks the periods and seeds at a tenth of the cost of bone at 1 N on its
+// default R/40 (200 s at 1 ms).
 struct AgreementCase {
   std::string material;
   std::vector<double> forces_n;
@@ -40,16 +44,17 @@ struct AgreementCase {
 
 void ExpectDescentAndMeasureAgree(const std::string& definition,
                                   const std::vector<AgreementCase>& cases) {
+  const std::string voxel_mm = fmt::format("{}", 2.0 / 12.0);
   for (const AgreementCase& c : cases) {
     std::string forces;
     for (double f : c.forces_n) {
       if (!forces.empty()) forces += ',';
       forces += fmt::format("{}", f);
     }
-    const CliRun measure =
-        RunBurrlab({"sim", "measure", "--material", c.material, "--forces",
-                    forces, "--replicates", "1", "--noise-cv", "0",
-                    "--radius-mm", "2", "--velocity-definition", definition});
+    const CliRun measure = RunBurrlab(
+        {"sim", "measure", "--material", c.material, "--forces", forces,
+         "--replicates", "1", "--noise-cv", "0", "--radius-mm", "2",
+         "--voxel-mm", voxel_mm, "--velocity-definition", definition});
     ASSERT_EQ(measure.code, 0) << measure.err;
     // run,material,burr_radius_mm,spindle_rad_s,force_n,velocity_mm_s,
     // velocity_definition; one level may be all there is.
@@ -72,10 +77,10 @@ void ExpectDescentAndMeasureAgree(const std::string& definition,
     }
     ASSERT_EQ(measured.size(), c.forces_n.size()) << measure.err;
     for (std::size_t k = 0; k < c.forces_n.size(); ++k) {
-      const CliRun descent =
-          RunBurrlab({"sim", "descent", "--material", c.material, "--force-n",
-                      fmt::format("{}", c.forces_n[k]), "--radius-mm", "2",
-                      "--velocity-definition", definition, "--json"});
+      const CliRun descent = RunBurrlab(
+          {"sim", "descent", "--material", c.material, "--force-n",
+           fmt::format("{}", c.forces_n[k]), "--radius-mm", "2", "--voxel-mm",
+           voxel_mm, "--velocity-definition", definition, "--json"});
       ASSERT_EQ(descent.code, 0) << descent.err;
       const nlohmann::json j = nlohmann::json::parse(descent.out);
       EXPECT_EQ(j["velocity_definition"], definition);
@@ -198,6 +203,44 @@ TEST(SimMeasure, JobsDoNotChangeTheOutput) {
   EXPECT_EQ(out[1], out[0]);
   EXPECT_GT(traces[0].size(), 1000u);
   EXPECT_TRUE(traces[1] == traces[0]);  // not printed: megabytes
+}
+
+// --voxel-mm sets the rig's voxels (default: the rig's own for each level): a
+// voxel larger than the burr, or finer than R/200, is one error and exit 1.
+TEST(SimMeasure, VoxelFlagSetsTheRigsVoxels) {
+  const auto measure = [](std::vector<std::string> extra) {
+    std::vector<std::string> args = {"sim",
+                                     "measure",
+                                     "--material",
+                                     "pvc_k70",
+                                     "--forces",
+                                     "0.3",
+                                     "--replicates",
+                                     "1",
+                                     "--noise-cv",
+                                     "0",
+                                     "--velocity-definition",
+                                     "initial"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return RunBurrlab(args);
+  };
+  const CliRun default_voxels = measure({});
+  const CliRun coarse = measure({"--voxel-mm", "0.25"});
+  ASSERT_EQ(default_voxels.code, 0) << default_voxels.err;
+  ASSERT_EQ(coarse.code, 0) << coarse.err;
+  EXPECT_NE(default_voxels.out, coarse.out);
+  const CliRun large = measure({"--voxel-mm", "2"});
+  EXPECT_EQ(large.code, 1);
+  EXPECT_EQ(large.out, "");
+  EXPECT_EQ(
+      large.err,
+      "burrlab: --voxel-mm must be at most --radius-mm = 1 mm, got '2'\n");
+  const CliRun fine = measure({"--voxel-mm", "0.001"});
+  EXPECT_EQ(fine.code, 1);
+  EXPECT_EQ(fine.out, "");
+  EXPECT_EQ(fine.err,
+            "burrlab: sim measure: a voxel of 0.001 mm is finer than the rig "
+            "allows (R/200 = 0.005 mm)\n");
 }
 
 TEST(SimMeasure, JobsTakeAWholeNumberFromOne) {

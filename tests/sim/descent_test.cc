@@ -22,6 +22,31 @@ Material Mat(double c_e, double alpha) {
 const Material kBone = Mat(2.145, 0.087), kPettigrew = Mat(1.504, 0.116),
                kPvc = Mat(0.462, 0.296);
 
+// The rig's default voxels: R/12 from the load F / (c_e R^2) = 0.5 up, then
+// 12 (0.5 / y)^0.94 rounded, at most R/40. Values by hand: y = 0.3497 (bone,
+// 3 N, R = 2 mm) gives 12 x 1.4298^0.94 = 16.8, so R/17; y = 0.2706 (PVC
+// 0.5 N) 12 x 1.8477^0.94 = 21.4, so R/21; y = 0.1166 (bone 1 N) 47, so R/40.
+TEST(Descent, DefaultVoxelsShrinkBelowALoadOfOneHalf) {
+  EXPECT_EQ(RigVoxelsPerRadius(5.0), 12.0);
+  EXPECT_EQ(RigVoxelsPerRadius(0.5), 12.0);
+  EXPECT_EQ(RigVoxelsPerRadius(3.0 / (2.145 * 4.0)), 17.0);
+  EXPECT_EQ(RigVoxelsPerRadius(0.5 / (0.462 * 4.0)), 21.0);
+  EXPECT_EQ(RigVoxelsPerRadius(1.0 / (2.145 * 4.0)), 40.0);
+  EXPECT_EQ(RigVoxelsPerRadius(0.09), 40.0);
+  EXPECT_EQ(RigVoxelsPerRadius(0.01), 40.0);
+  EXPECT_EQ(RigVoxelsPerRadius(0.0), 12.0);
+  EXPECT_EQ(RigVoxelsPerRadius(std::nan("")), 12.0);
+  DescentOptions options;
+  options.material = kBone;
+  options.radius_mm = 2.0;
+  options.force_n = 1.0;
+  EXPECT_DOUBLE_EQ(options.VoxelMm(), 2.0 / 40.0);
+  options.force_n = 5.0;  // load 0.583
+  EXPECT_DOUBLE_EQ(options.VoxelMm(), 2.0 / 12.0);
+  options.voxel_mm = 0.1;  // given: kept
+  EXPECT_DOUBLE_EQ(options.VoxelMm(), 0.1);
+}
+
 // Physics, not memory: the sanitizer build runs the rig in the tests further
 // down. At R = 2 mm, where these loads F / (c_e R^2) cut R/3 within 100 s.
 #if !defined(__SANITIZE_ADDRESS__)

@@ -46,9 +46,21 @@ Status SyntheticMeasurementOptions::Validate() const {
   if (!std::isfinite(radius_mm) || radius_mm <= 0.0) {
     return Error{fmt::format("radius_mm must be positive, got {}", radius_mm)};
   }
-  if (!(voxels_per_radius >= 2.0 && voxels_per_radius <= 40.0)) {
-    return Error{fmt::format("voxels_per_radius must lie in [2, 40], got {}",
-                             voxels_per_radius)};
+  if (!std::isfinite(voxel_mm) || voxel_mm < 0.0) {
+    return Error{fmt::format(
+        "voxel_mm must be finite and at least 0 (0: the rig's default), got {}",
+        voxel_mm)};
+  }
+  if (voxel_mm > radius_mm) {
+    return Error{
+        fmt::format("a voxel of {:g} mm is larger than the burr radius {:g} mm",
+                    voxel_mm, radius_mm)};
+  }
+  if (voxel_mm > 0.0 && radius_mm / voxel_mm > 200.0) {
+    return Error{
+        fmt::format("a voxel of {:g} mm is finer than the rig allows (R/200 = "
+                    "{:g} mm)",
+                    voxel_mm, radius_mm / 200.0)};
   }
   if (!std::isfinite(dt_s) || dt_s <= 0.0 || dt_s > 0.01) {
     return Error{fmt::format("dt_s must lie in (0, 0.01] s, got {}", dt_s)};
@@ -71,7 +83,7 @@ sim::DescentOptions RigAt(const SyntheticMeasurementOptions& o, double force_n,
   rig.force_n = force_n;
   rig.radius_mm = o.radius_mm;
   rig.spindle_rad_s = o.spindle_rad_s;
-  rig.voxel_mm = o.radius_mm / o.voxels_per_radius;
+  rig.voxel_mm = o.voxel_mm;
   rig.dt_s = o.dt_s;
   rig.seed = seed;
   rig.definition = o.definition;

@@ -106,25 +106,29 @@ TEST(InitialVelocity, ContinuumDescentIsConverged) {
 #if !defined(__SANITIZE_ADDRESS__)
 // Against the full voxel rig (another discretisation of the same physics, with
 // its stochastic erosion and its own force loop), R = 2 mm, the rig's default
-// voxels of R/12 and 1 ms loop: within 3 % where the indentation spans at least
-// five voxels, up to and past full immersion (PVC at 3 N, x = 1.38: +0.4 %).
-// Below five voxels the rig's own voxels are what parts the two, and the rig
-// converges on the surrogate as they shrink (analysis/README.md, "The
-// initial-velocity surrogate"): bone at 1 N, rig 0.0009998, 0.001025,
-// 0.001038 and 0.001052 mm/s at voxels of R/12, R/20, R/30 and R/40,
-// surrogate 0.001078.
+// voxels (R/12 from the load y = F / (c_e R^2) = 0.5 up, finer below) and
+// `sim measure`'s 5 ms loop, which the surrogate's loop follows: within 3 %
+// from light loads (Pettigrew 1 N, y = 0.17, R/34 voxels; PVC 0.4 N, R/26)
+// up to and past full immersion (PVC at 3 N, h/R = 1.38). At R/12 everywhere
+// the light loads part by 4-5 %: the skin the burr cuts is thinner than a
+// voxel, and the rig converges on the surrogate as the voxels shrink
+// (analysis/README.md, "The initial-velocity surrogate": bone at 1 N, rig
+// 0.0009998, 0.001025, 0.001038 and 0.001052 mm/s at voxels of R/12, R/20,
+// R/30 and R/40, surrogate 0.001078).
 TEST(InitialVelocity, MatchesTheFullRigWhereTheRigResolvesTheIndentation) {
   // The built-in materials' constants (dissertation §8.7).
   struct Case {
     const char* name;
     double c_e_n_per_mm2, alpha_per_s, force_n;
   };
-  const Case cases[] = {{"pvc_k70", 0.462, 0.296, 1.0},
+  const Case cases[] = {{"pvc_k70", 0.462, 0.296, 0.4},
+                        {"pvc_k70", 0.462, 0.296, 1.0},
                         {"pvc_k70", 0.462, 0.296, 2.0},
+                        {"pvc_k70", 0.462, 0.296, 3.0},
+                        {"pettigrew_temporal_bone", 1.504, 0.116, 1.0},
                         {"pettigrew_temporal_bone", 1.504, 0.116, 3.0},
                         {"human_temporal_bone", 2.145, 0.087, 3.0},
-                        {"human_temporal_bone", 2.145, 0.087, 5.0},
-                        {"pvc_k70", 0.462, 0.296, 3.0}};
+                        {"human_temporal_bone", 2.145, 0.087, 5.0}};
   for (const Case& c : cases) {
     sim::DescentOptions rig;
     rig.material.c_e_n_per_mm2 = c.c_e_n_per_mm2;
@@ -132,6 +136,7 @@ TEST(InitialVelocity, MatchesTheFullRigWhereTheRigResolvesTheIndentation) {
     rig.force_n = c.force_n;
     rig.radius_mm = 2.0;
     rig.definition = sim::VelocityDefinition::kInitial;
+    rig.dt_s = 5e-3;
     const Result<sim::DescentResult> run = sim::RunDescent(rig);
     ASSERT_TRUE(run.ok()) << run.error().message;
     ASSERT_TRUE(run->velocity_mm_s) << run->no_velocity_reason;
@@ -139,6 +144,7 @@ TEST(InitialVelocity, MatchesTheFullRigWhereTheRigResolvesTheIndentation) {
     in.force_n = in.elastic_n = c.force_n;
     in.radius_mm = 2.0;
     in.rate_per_s = c.alpha_per_s;
+    in.rig = rig;
     in.depth_ratio =
         std::cbrt(std::pow(c.force_n / (c.c_e_n_per_mm2 * 4.0), 2.0));
     const double v = InitialVelocityMmS(in);
@@ -169,7 +175,7 @@ TEST(InitialVelocity, FitsUseTheIdealWindowSlopeTimesTheTransient) {
         (1.0 / 3.0 - tr.delta[j - 1]) / (tr.delta[j] - tr.delta[j - 1]);
     const double tau_end = tr.tau[j - 1] + u * (tr.tau[j] - tr.tau[j - 1]);
     const double slope = TrajectorySlope(tr, 0.0, tau_end);
-    EXPECT_NEAR(IdealInitialKappa(x) * slope, 1.0, 2e-3) << "x " << x;
+    EXPECT_NEAR(IdealInitialKappa(x) * slope, 1.0, 1e-3) << "x " << x;
   }
   DescentSurrogateInput in;
   in.c_e_n_per_mm2 = 2.145;

@@ -55,10 +55,26 @@ std::optional<VelocityDefinition> ParseVelocityDefinition(
 std::string_view VelocityDefinitionHelp();
 
 // Voxels per burr radius of the rig's sample when DescentOptions::voxel_mm is
-// 0. Measured at R = 2 mm, initial velocity against voxels of R/20: 2.9 %
-// slower on bone at 1 N (an indentation of under 3 voxels), 1.3 % at 3 N,
-// 0.1 % on PVC at 2 N.
+// 0, at the load y = F / (c_e R^2) (F = c_e R^2 (h/R)^{3/2}, eq. 7.3).
+//
+// The burr cuts a skin of material about sqrt(R v / alpha) thick (where the
+// erosion of eq. 7.12 has used up what flows into the sphere), and v falls
+// steeply with the load: at light loads the skin is thinner than a voxel and
+// the rig's velocity is low by an error first-order in the voxel size. At
+// R/12, R = 2 mm, against the continuum limit: bone 5 N (y = 0.58) 0.8 %,
+// 2 N (0.23) 3.4 %, 1 N (0.12) 7.7 %, 0.5 N (0.058) 27 %; at R/40 a third
+// of that. The skin thickness over R goes as about y^0.94, so the rig keeps
+// R/12 from y = 0.5 up and refines as 12 (0.5 / y)^0.94 below, at most R/40
+// (y below about 0.14), where a run's cost stops it: within about 2 % of the
+// continuum limit down to y = 0.15 (bone 1.3 N at R = 2 mm), 2.5 % at bone
+// 1 N, 8 % at bone 0.5 N.
 inline constexpr double kRigVoxelsPerRadius = 12.0;
+inline constexpr double kRigResolvedLoad = 0.5;
+inline constexpr double kRigMaxVoxelsPerRadius = 40.0;
+// The rig's default voxels per radius at the load y (rounded to a whole
+// number; 12 for
+// a load that is not positive and finite).
+double RigVoxelsPerRadius(double load);
 
 struct DescentOptions {
   Material material;       // sample material
@@ -67,7 +83,8 @@ struct DescentOptions {
   double radius_mm = 3.0;  // burr radius
   double spindle_rad_s =
       2094.0;  // burr spin (MINICRAFT MB150, about 20 000 rpm)
-  // Voxel size of the virtual sample; 0 = radius_mm / kRigVoxelsPerRadius.
+  // Voxel size of the virtual sample; 0 = radius_mm / RigVoxelsPerRadius at
+  // the load force_n / (c_e R^2).
   double voxel_mm = 0.0;
   VelocityDefinition definition = kDefaultVelocityDefinition;
   // Longest simulated time after contact; 0 = 3600 s for the initial

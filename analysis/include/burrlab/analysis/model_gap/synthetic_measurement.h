@@ -31,10 +31,11 @@ struct SyntheticMeasurementOptions {
   double spindle_rad_s = 2094.0;  // burr spin
   // What the velocity is (sim/descent.h); written to the CSV.
   sim::VelocityDefinition definition = sim::kDefaultVelocityDefinition;
-  // Rig discretisation: voxel = R / this (the rig's default), and a control
-  // and simulation period of 5 ms instead of the rig's 1 ms: five times
-  // cheaper, and within 0.3 % of it (tests/runner/sim_commands_test.cc).
-  double voxels_per_radius = sim::kRigVoxelsPerRadius;
+  // Rig discretisation: the voxel size (0: the rig's default for each force
+  // level, sim::RigVoxelsPerRadius), and a control and simulation period of
+  // 5 ms instead of the rig's 1 ms: five times cheaper, and within 0.3 % of
+  // it (tests/runner/sim_commands_test.cc).
+  double voxel_mm = 0.0;
   double dt_s = 5e-3;
   // Keep each level's time trace (trace_data.h): every 10 ms (100 Hz) until
   // this long after contact, at the rig's coarser trace period after.

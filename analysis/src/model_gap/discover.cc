@@ -28,6 +28,7 @@ namespace burrlab::analysis {
 namespace discover_internal {
 namespace {
 
+using detail::kInf;
 using detail::kNaN;
 
 // Refits of the base model with the initial velocity's transient factors
@@ -176,14 +177,29 @@ Status DiscoverStages::FitBaseModel() {
   Result<Point> base_point = flow_.BaseFit({});
   if (!base_point.ok()) return base_point.error();
   // The initial velocity's transient factors, held at the base fit: refit
-  // until they stop moving.
-  for (int round = 0; round < kTransientRounds; ++round) {
-    if (RefreshTransient(&runs_, {}, *base_point) < kTransientTolerance) break;
+  // until they stop moving. Where the refits cycle instead (near full
+  // immersion), fit with the factors computed at every point, from the
+  // round that fitted best with its own factors.
+  bool settled = runs_.definition != sim::VelocityDefinition::kInitial;
+  Point best = *base_point;
+  double best_rss = kInf;
+  for (int round = 0; round < kTransientRounds && !settled; ++round) {
+    settled = RefreshTransient(&runs_, {}, *base_point) < kTransientTolerance;
+    const double own = Rss(runs_, {}, *base_point, {});
+    if (own < best_rss) {
+      best_rss = own;
+      best = *base_point;
+    }
+    if (settled) break;
     base_point = flow_.BaseFit({});
     if (!base_point.ok()) return base_point.error();
   }
-  base_.point = *base_point;
-  base_.rss = Rss(runs_, {}, base_.point, {});
+  if (settled) {
+    base_.point = *base_point;
+    base_.rss = Rss(runs_, {}, base_.point, {});
+  } else {
+    base_.point = FitBaseWithOwnTransient(&runs_, best, &base_.rss);
+  }
   report_.baseline = flow_.Describe(base_);
   report_.augmented = report_.baseline;
   return {};

@@ -72,6 +72,12 @@ struct Point {
 // logs. Nothing for the settled velocity.
 double RefreshTransient(Runs* runs, const std::vector<ActiveEffect>& active,
                         const Point& p);
+// The base model's fit with every run's transient factor computed at each
+// point searched (BOBYQA over log c_e and log alpha from `start`), for when
+// the held-factor refits cycle: near full immersion the factor moves fast
+// with c_e. Leaves runs->transient at the returned point's; `rss` receives
+// its RSS.
+Point FitBaseWithOwnTransient(Runs* runs, const Point& start, double* rss);
 
 // The whole state of one model in the workflow.
 struct Model {

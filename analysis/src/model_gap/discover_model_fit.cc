@@ -202,18 +202,60 @@ double RefreshTransient(Runs* runs, const std::vector<ActiveEffect>& active,
   const sim::Effects effects = MakeEffects(active, p);
   runs->transient.resize(runs->size(), 1.0);
   double change = 0.0;
+  // Replicates share their level's factor (milliseconds each).
+  double last_force_n = kInf, factor = 1.0;
   for (int i = 0; i < runs->size(); ++i) {
-    DescentSurrogateInput in;
-    in.force_n = runs->force_n[i];
-    in.c_e_n_per_mm2 = std::exp(p.ln_c_e);
-    in.alpha_per_s = std::exp(p.ln_alpha);
-    in.radius_mm = runs->radius_mm;
-    in.effects = effects;
-    const double factor = InitialTransientFactor(in);
+    if (runs->force_n[i] != last_force_n) {
+      DescentSurrogateInput in;
+      in.force_n = runs->force_n[i];
+      in.c_e_n_per_mm2 = std::exp(p.ln_c_e);
+      in.alpha_per_s = std::exp(p.ln_alpha);
+      in.radius_mm = runs->radius_mm;
+      in.effects = effects;
+      factor = InitialTransientFactor(in);
+      last_force_n = runs->force_n[i];
+    }
     change = std::max(change, std::abs(std::log(factor / runs->transient[i])));
     runs->transient[i] = factor;
   }
   return change;
+}
+
+Point FitBaseWithOwnTransient(Runs* runs, const Point& start, double* rss) {
+  struct Search {
+    Runs* runs;
+    double best = kInf;
+    Point point;
+  } search{runs, kInf, start};
+  const auto objective = [](unsigned, const double* x, double*, void* data) {
+    Search& s = *static_cast<Search*>(data);
+    Point p;
+    p.ln_c_e = x[0];
+    p.ln_alpha = x[1];
+    RefreshTransient(s.runs, {}, p);
+    const double value = Rss(*s.runs, {}, p, {});
+    if (value < s.best) {
+      s.best = value;
+      s.point = p;
+    }
+    return std::isfinite(value) ? value : 1e300;
+  };
+  detail::NloptPtr opt(nlopt_create(NLOPT_LN_BOBYQA, 2));
+  const double lower[2] = {std::log(1e-3), start.ln_alpha - 3.0};
+  const double upper[2] = {std::log(1e3), start.ln_alpha + 3.0};
+  nlopt_set_lower_bounds(opt.get(), lower);
+  nlopt_set_upper_bounds(opt.get(), upper);
+  nlopt_set_min_objective(opt.get(), objective, &search);
+  nlopt_set_xtol_abs1(opt.get(), 1e-6);
+  nlopt_set_maxeval(opt.get(), 300);
+  const double step[2] = {0.05, 0.05};
+  nlopt_set_initial_step(opt.get(), step);
+  double x[2] = {std::clamp(start.ln_c_e, lower[0], upper[0]), start.ln_alpha};
+  double value = 0.0;
+  nlopt_optimize(opt.get(), x, &value);
+  RefreshTransient(runs, {}, search.point);
+  *rss = Rss(*runs, {}, search.point, {});
+  return search.point;
 }
 
 double Rss(const Runs& runs, const std::vector<ActiveEffect>& active,

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/analysis/model_gap/discover_scenarios.h"
 #include "burrlab/analysis/model_gap/measured_data.h"
 #include "discover_fixtures.h"
@@ -315,6 +316,45 @@ TEST(Discover, RefusesBadOptionsAndTooLittleData) {
             "discover needs more runs than parameters and at least 2 force "
             "levels, got 2 runs at 2 levels");
 }
+
+// Not in the sanitizer build: a few hundred rig-loop transients of
+// milliseconds each (Calibrate.RecoversTheInitialVelocityNearFullImmersion
+// runs calibrate's search of the same kind there).
+#if !defined(__SANITIZE_ADDRESS__)
+// The base fit of the initial velocity near full immersion (PVC at 0.2-3 N,
+// R = 2 mm): the held-factor refits cycle there (the transient factor of the
+// top load moves fast with c_e), and the base fit must still land on the
+// truth. Truth: the rig-loop surrogate's velocities, three replicates at
+// 0.98, 1 and 1.02 of each.
+TEST(Discover, FitsTheBaseModelOfTheInitialVelocityNearFullImmersion) {
+  MeasuredData data;
+  for (const double force_n : {0.2, 0.4, 0.6, 0.8, 1.0, 1.5, 2.0, 2.5, 3.0}) {
+    DescentSurrogateInput in;
+    in.force_n = force_n;
+    in.c_e_n_per_mm2 = 0.462;
+    in.alpha_per_s = 0.296;
+    in.radius_mm = 2.0;
+    const double v = SurrogateVelocityMmS(in, sim::VelocityDefinition::kInitial,
+                                          InitialTransientFactor(in));
+    for (const double factor : {0.98, 1.0, 1.02}) {
+      MeasuredRun run;
+      run.force_n = force_n;
+      run.velocity_mm_s = v * factor;
+      data.runs.push_back(run);
+    }
+  }
+  data.force_levels = 9;
+  DiscoverOptions options;
+  options.radius_mm = 2.0;
+  options.definition = sim::VelocityDefinition::kInitial;
+  options.max_effects = 0;
+  Result<DiscoverReport> report = Discover(data, options);
+  ASSERT_TRUE(report.ok()) << report.error().message;
+  EXPECT_NEAR(report->baseline.c_e_n_per_mm2 / 0.462, 1.0, 3e-3);
+  EXPECT_NEAR(report->baseline.alpha_per_s / 0.296, 1.0, 3e-3);
+  EXPECT_EQ(report->verdict, "none") << report->summary;
+}
+#endif
 
 }  // namespace
 }  // namespace burrlab::analysis

@@ -4,7 +4,6 @@
 #include "burrlab/analysis/model_gap/calibration.h"
 
 #include <fmt/format.h>
-#include <nlopt.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -15,10 +14,11 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <span>
 
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/analysis/model_gap/initial_velocity.h"
-#include "nlopt_ptr.h"
+#include "model_gap/box_search.h"
 #include "non_finite.h"
 
 namespace burrlab::analysis {
@@ -178,43 +178,21 @@ void FitWithTransient(LogVelocityProblem& problem,
     *l_hat = MinimiseOnInterval(profile_l, problem.l_min(), problem.l_max(),
                                 kGridPoints, rss_min);
   }
-  struct Search {
-    LogVelocityProblem* problem;
-    double best = kInf;
-    double x[2] = {0.0, 0.0};
-  } search{&problem};
-  const auto objective = [](unsigned, const double* x, double*, void* data) {
-    Search& s = *static_cast<Search*>(data);
-    s.problem->RefreshTransient(x[0], x[1]);
-    const double rss = s.problem->Rss(x[0], x[1]);
-    if (rss < s.best) {
-      s.best = rss;
-      s.x[0] = x[0];
-      s.x[1] = x[1];
-    }
-    return std::isfinite(rss) ? rss : 1e300;
-  };
-  detail::NloptPtr opt(nlopt_create(NLOPT_LN_BOBYQA, 2));
-  const double lower[2] = {problem.l_min(), best_a - 3.0};
-  const double upper[2] = {problem.l_max(), best_a + 3.0};
-  nlopt_set_lower_bounds(opt.get(), lower);
-  nlopt_set_upper_bounds(opt.get(), upper);
-  nlopt_set_min_objective(opt.get(), objective, &search);
-  nlopt_set_xtol_abs1(opt.get(), 1e-6);
-  nlopt_set_maxeval(opt.get(), 300);
-  const double step[2] = {0.05, 0.05};
-  nlopt_set_initial_step(opt.get(), step);
-  double x[2] = {std::clamp(best_l, lower[0], upper[0]), best_a};
-  double f = 0.0;
-  nlopt_optimize(opt.get(), x, &f);
-  if (!(search.best < best_rss)) {
-    search.x[0] = best_l;
-    search.x[1] = best_a;
-  }
+  detail::BoxSearch box;
+  box.lower = {problem.l_min(), best_a - 3.0};
+  box.upper = {problem.l_max(), best_a + 3.0};
+  box.initial_step = {0.05, 0.05};
+  detail::BoxMinimum found = detail::MinimiseInBox(
+      [&problem](std::span<const double> x) {
+        problem.RefreshTransient(x[0], x[1]);
+        return problem.Rss(x[0], x[1]);
+      },
+      box, {best_l, best_a});
+  if (!(found.value < best_rss)) found.x = {best_l, best_a};
   // Hold the factors of the point found; alpha is then the closed form's,
   // which moves it by less than the factors' own change.
-  problem.RefreshTransient(search.x[0], search.x[1]);
-  *l_hat = search.x[0];
+  problem.RefreshTransient(found.x[0], found.x[1]);
+  *l_hat = found.x[0];
   *rss_min = problem.ProfileRss(*l_hat);
 }
 

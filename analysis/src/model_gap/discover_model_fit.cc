@@ -3,7 +3,6 @@
 // each effect's strength scale, the Jacobian, the fitted model's numbers and
 // its held-out error.
 #include <fmt/format.h>
-#include <nlopt.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -21,8 +21,8 @@
 #include "burrlab/analysis/model_gap/discover.h"
 #include "burrlab/analysis/model_gap/initial_velocity.h"
 #include "burrlab/sim/effects.h"
+#include "model_gap/box_search.h"
 #include "model_gap/discover_internal.h"
-#include "nlopt_ptr.h"
 #include "non_finite.h"
 
 namespace burrlab::analysis {
@@ -47,30 +47,6 @@ sim::Effects MakeEffects(const std::vector<ActiveEffect>& active,
         &effects);
   }
   return effects;
-}
-
-struct FitObjective {
-  const Runs* runs;
-  const std::vector<ActiveEffect>* active;
-  const std::vector<char>* use;
-  // The best point evaluated: BOBYQA on the power limit's kinked RSS can
-  // stop at a point worse than its start, so the search keeps its own best.
-  std::vector<double> best_x;
-  double best = std::numeric_limits<double>::infinity();
-};
-
-double NloptObjective(unsigned n, const double* x, double*, void* data) {
-  FitObjective& o = *static_cast<FitObjective*>(data);
-  Point p;
-  p.ln_c_e = x[0];
-  p.ln_alpha = x[1];
-  p.u.assign(x + 2, x + n);
-  const double rss = Rss(*o.runs, *o.active, p, *o.use);
-  if (rss < o.best) {
-    o.best = rss;
-    o.best_x.assign(x, x + n);
-  }
-  return rss;
 }
 
 // The largest |change of log v| over the runs that effect `k` of `active`
@@ -222,40 +198,27 @@ double RefreshTransient(Runs* runs, const std::vector<ActiveEffect>& active,
 }
 
 Point FitBaseWithOwnTransient(Runs* runs, const Point& start, double* rss) {
-  struct Search {
-    Runs* runs;
-    double best = kInf;
-    Point point;
-  } search{runs, kInf, start};
-  const auto objective = [](unsigned, const double* x, double*, void* data) {
-    Search& s = *static_cast<Search*>(data);
+  const auto point = [](std::span<const double> x) {
     Point p;
     p.ln_c_e = x[0];
     p.ln_alpha = x[1];
-    RefreshTransient(s.runs, {}, p);
-    const double value = Rss(*s.runs, {}, p, {});
-    if (value < s.best) {
-      s.best = value;
-      s.point = p;
-    }
-    return std::isfinite(value) ? value : 1e300;
+    return p;
   };
-  detail::NloptPtr opt(nlopt_create(NLOPT_LN_BOBYQA, 2));
-  const double lower[2] = {std::log(1e-3), start.ln_alpha - 3.0};
-  const double upper[2] = {std::log(1e3), start.ln_alpha + 3.0};
-  nlopt_set_lower_bounds(opt.get(), lower);
-  nlopt_set_upper_bounds(opt.get(), upper);
-  nlopt_set_min_objective(opt.get(), objective, &search);
-  nlopt_set_xtol_abs1(opt.get(), 1e-6);
-  nlopt_set_maxeval(opt.get(), 300);
-  const double step[2] = {0.05, 0.05};
-  nlopt_set_initial_step(opt.get(), step);
-  double x[2] = {std::clamp(start.ln_c_e, lower[0], upper[0]), start.ln_alpha};
-  double value = 0.0;
-  nlopt_optimize(opt.get(), x, &value);
-  RefreshTransient(runs, {}, search.point);
-  *rss = Rss(*runs, {}, search.point, {});
-  return search.point;
+  detail::BoxSearch box;
+  box.lower = {std::log(1e-3), start.ln_alpha - 3.0};
+  box.upper = {std::log(1e3), start.ln_alpha + 3.0};
+  box.initial_step = {0.05, 0.05};
+  const detail::BoxMinimum found = detail::MinimiseInBox(
+      [&](std::span<const double> x) {
+        const Point p = point(x);
+        RefreshTransient(runs, {}, p);
+        return Rss(*runs, {}, p, {});
+      },
+      box, {start.ln_c_e, start.ln_alpha});
+  const Point best = std::isfinite(found.value) ? point(found.x) : start;
+  RefreshTransient(runs, {}, best);
+  *rss = Rss(*runs, {}, best, {});
+  return best;
 }
 
 double Rss(const Runs& runs, const std::vector<ActiveEffect>& active,
@@ -300,52 +263,47 @@ Point FitFromStarts(const Runs& runs, const std::vector<ActiveEffect>& active,
     lower[2 + k] = 0.0;
     upper[2 + k] = active[k].upper;
   }
-  FitObjective objective{&runs, &active, &use, {}, kInf};
-  detail::NloptPtr opt(nlopt_create(NLOPT_LN_BOBYQA, dim));
-  nlopt_set_lower_bounds(opt.get(), lower.data());
-  nlopt_set_upper_bounds(opt.get(), upper.data());
-  nlopt_set_min_objective(opt.get(), NloptObjective, &objective);
-  nlopt_set_xtol_abs1(opt.get(), 1e-7);
-  nlopt_set_ftol_rel(opt.get(), 1e-10);
-  nlopt_set_maxeval(opt.get(), 400);
-  std::vector<double> step(dim, 0.1);
-  for (std::size_t k = 0; k < active.size(); ++k) {
-    step[2 + k] = 0.1 * active[k].upper;
-  }
-  nlopt_set_initial_step(opt.get(), step.data());
+  detail::BoxSearch box;
+  box.lower = lower;
+  box.upper = upper;
+  box.xtol_abs = 1e-7;
+  box.ftol_rel = 1e-10;
+  box.max_evaluations = 400;
+  box.initial_step.assign(dim, 0.1);
+  // The power limit's RSS is kinked: the search keeps the best point it
+  // evaluated, which BOBYQA can stop above.
+  const auto rss = [&](std::span<const double> x) {
+    Point p;
+    p.ln_c_e = x[0];
+    p.ln_alpha = x[1];
+    p.u.assign(x.begin() + 2, x.end());
+    return Rss(runs, active, p, use);
+  };
   Point best;
   double best_rss = kInf;
   for (const Point& start : starts) {
     std::vector<double> x(dim);
-    x[0] = std::clamp(start.ln_c_e, lower[0], upper[0]);
-    x[1] = std::clamp(start.ln_alpha, lower[1], upper[1]);
+    x[0] = start.ln_c_e;
+    x[1] = start.ln_alpha;
     for (std::size_t k = 0; k < active.size(); ++k) {
       x[2 + k] = std::clamp(start.u[k], 0.0, active[k].upper);
     }
     if (fixed.has_value()) {  // equal bounds: NLopt drops the dimension
-      lower[2 + *fixed] = upper[2 + *fixed] = x[2 + *fixed];
-      nlopt_set_lower_bounds(opt.get(), lower.data());
-      nlopt_set_upper_bounds(opt.get(), upper.data());
+      box.lower[2 + *fixed] = box.upper[2 + *fixed] = x[2 + *fixed];
     }
     // Steps in the strengths scaled to the start, so a search near a small
     // strength does not begin by jumping across the whole range.
     for (std::size_t k = 0; k < active.size(); ++k) {
-      step[2 + k] = std::min(0.1 * active[k].upper,
-                             std::max(0.01 * active[k].upper, 0.2 * x[2 + k]));
+      box.initial_step[2 + k] =
+          std::min(0.1 * active[k].upper,
+                   std::max(0.01 * active[k].upper, 0.2 * x[2 + k]));
     }
-    nlopt_set_initial_step(opt.get(), step.data());
-    objective.best = kInf;
-    double value = kInf;
-    nlopt_optimize(opt.get(), x.data(), &value);
-    if (objective.best < value) {
-      value = objective.best;
-      x = objective.best_x;
-    }
-    if (value < best_rss) {
-      best_rss = value;
-      best.ln_c_e = x[0];
-      best.ln_alpha = x[1];
-      best.u.assign(x.begin() + 2, x.end());
+    const detail::BoxMinimum found = detail::MinimiseInBox(rss, box, x);
+    if (found.value < best_rss) {
+      best_rss = found.value;
+      best.ln_c_e = found.x[0];
+      best.ln_alpha = found.x[1];
+      best.u.assign(found.x.begin() + 2, found.x.end());
     }
   }
   *rss_out = best_rss;

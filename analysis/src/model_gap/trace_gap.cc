@@ -3,7 +3,6 @@
 #include "burrlab/analysis/model_gap/trace_gap.h"
 
 #include <fmt/format.h>
-#include <nlopt.h>
 
 #include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
@@ -13,8 +12,10 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <span>
 
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
+#include "model_gap/box_search.h"
 
 namespace burrlab::analysis {
 namespace {
@@ -385,33 +386,20 @@ Result<TraceGapResult> TestTraceEffects(const std::vector<TraceRun>& runs,
     }
     {
       // x = (log c_e, parameter / bound).
-      const std::function<double(const double*)> objective =
-          [&](const double* x) {
+      detail::BoxSearch box;
+      box.lower = {lo, 0.0};
+      box.upper = {hi, 1.0};
+      box.initial_step = {0.05, std::max(0.25 * best_value / upper, 1e-4)};
+      box.max_evaluations = 80;
+      const detail::BoxMinimum found = detail::MinimiseInBox(
+          [&](std::span<const double> x) {
             return deviance(evaluate(x[0], with(x[1] * upper)));
-          };
-      const auto f = [](unsigned, const double* x, double*, void* data) {
-        return (
-            *static_cast<const std::function<double(const double*)>*>(data))(x);
-      };
-      std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(
-          nlopt_create(NLOPT_LN_BOBYQA, 2), &nlopt_destroy);
-      const double lower_bounds[2] = {lo, 0.0}, upper_bounds[2] = {hi, 1.0};
-      nlopt_set_lower_bounds(opt.get(), lower_bounds);
-      nlopt_set_upper_bounds(opt.get(), upper_bounds);
-      nlopt_set_min_objective(
-          opt.get(), f,
-          const_cast<void*>(static_cast<const void*>(&objective)));
-      nlopt_set_xtol_abs1(opt.get(), 1e-6);
-      nlopt_set_maxeval(opt.get(), 80);
-      const double step[2] = {0.05, std::max(0.25 * best_value / upper, 1e-4)};
-      nlopt_set_initial_step(opt.get(), step);
-      double x[2] = {best_ln_c_e, best_value / upper};
-      double value = std::numeric_limits<double>::infinity();
-      nlopt_optimize(opt.get(), x, &value);  // any stop keeps the best x
-      if (value < best_deviance) {
-        best_deviance = value;
-        best_ln_c_e = x[0];
-        best_value = x[1] * upper;
+          },
+          box, {best_ln_c_e, best_value / upper});
+      if (found.value < best_deviance) {
+        best_deviance = found.value;
+        best_ln_c_e = found.x[0];
+        best_value = found.x[1] * upper;
       }
     }
     const double fitted = best_value;

@@ -156,9 +156,17 @@ class DiscoverStages {
 
   const DiscoverOptions& options_;
   DiscoverReport report_;
-  Runs runs_;                     // gross outliers left out
-  Workflow flow_;                 // on runs_
-  Model base_;                    // the base fit
+  Runs runs_;      // gross outliers left out
+  Workflow flow_;  // on runs_
+  Model base_;     // the base fit
+  // The base model as the effects' fits see it: with the initial velocity's
+  // transient factors held at the base fit, (c_e, alpha) refitted. Where the
+  // factors settled this is the base fit; where they did not, the effects'
+  // fits (which hold the factors) must be compared with it, not with the fit
+  // that computed them at every point, or the stale factors alone give every
+  // effect a likelihood ratio at its null strength.
+  Model null_;
+  ModelFit null_fit_;
   AttributionRound first_round_;  // against the base fit
   int progress_done_ = 0;
 };
@@ -202,6 +210,18 @@ Status DiscoverStages::FitBaseModel() {
   }
   report_.baseline = flow_.Describe(base_);
   report_.augmented = report_.baseline;
+  null_ = base_;
+  null_fit_ = report_.baseline;
+  if (!settled) {
+    const Result<Point> held = flow_.BaseFit({});
+    if (held.ok()) {
+      const double rss = Rss(runs_, {}, *held, {});
+      if (rss < base_.rss) {
+        null_ = Model{{}, *held, rss};
+        null_fit_ = flow_.Describe(null_);
+      }
+    }
+  }
   return {};
 }
 
@@ -209,7 +229,7 @@ void DiscoverStages::TestForGap() {
   const int n = runs_.size();
   const double level = options_.test_level;
   report_.gap_before = flow_.Gap(base_);
-  first_round_ = flow_.Attribute(base_, &progress_done_);
+  first_round_ = flow_.Attribute(null_, &progress_done_);
   report_.rounds.push_back(first_round_.effects);
   report_.gap_before.library_p = 1.0;
   for (const EffectAttribution& e : report_.rounds[0]) {
@@ -332,7 +352,7 @@ void DiscoverStages::AttributeAndAugment() {
 StepwiseOutcome DiscoverStages::AddEffectsStepwise() {
   const double level = options_.test_level;
   StepwiseOutcome outcome;
-  Model current = base_;
+  Model current = null_;
   // A step was taken on AICc alone (see ChooseEffect): the final model must
   // then lower the held-out error against the base model.
   bool held_out_deferred = false;
@@ -368,7 +388,7 @@ StepwiseOutcome DiscoverStages::AddEffectsStepwise() {
                     Join(report_.effects), DescribeGap(report_.gap_after));
       break;
     }
-    const ModelFit before = step == 0 ? report_.baseline : report_.augmented;
+    const ModelFit before = step == 0 ? null_fit_ : report_.augmented;
     const bool further_step_possible =
         step + 1 < options_.max_effects && runs_.levels - (parameters + 1) >= 3;
     const StepChoice choice = ChooseEffect(round, candidates, before,
@@ -397,11 +417,11 @@ StepwiseOutcome DiscoverStages::AddEffectsStepwise() {
     }
   }
   if (outcome.explained && held_out_deferred &&
-      report_.augmented.cv_rmse_log_v >= report_.baseline.cv_rmse_log_v) {
+      report_.augmented.cv_rmse_log_v >= null_fit_.cv_rmse_log_v) {
     outcome.explained = false;
     outcome.failure = fmt::format(
         "adding {} does not lower the held-out error ({:.4g} -> {:.4g})",
-        Join(report_.effects), report_.baseline.cv_rmse_log_v,
+        Join(report_.effects), null_fit_.cv_rmse_log_v,
         report_.augmented.cv_rmse_log_v);
   }
   return outcome;

@@ -71,6 +71,16 @@ TEST(Calibrate, RecoversNoiseFreeData) {
   EXPECT_LT(fit->rmse_log_v, 1e-5);
 }
 
+// Options for a fit of initial velocities at burr radius `radius_mm`, point
+// estimates only.
+CalibrationOptions InitialWithoutBootstrap(double radius_mm) {
+  CalibrationOptions options;
+  options.radius_mm = radius_mm;
+  options.definition = sim::VelocityDefinition::kInitial;
+  options.bootstrap_replicates = 0;
+  return options;
+}
+
 // The initial velocity, truth the surrogate's own rig loop (InitialVelocity
 // MmS, transient included): the fit holds each run's transient factor at its
 // estimate and refreshes it until it settles, so it must land on the truth.
@@ -92,10 +102,7 @@ TEST(Calibrate, RecoversTheInitialVelocityWithItsTransient) {
     data.runs.push_back(run);
   }
   data.force_levels = 5;
-  CalibrationOptions options;
-  options.radius_mm = truth.radius_mm;
-  options.definition = sim::VelocityDefinition::kInitial;
-  options.bootstrap_replicates = 0;
+  CalibrationOptions options = InitialWithoutBootstrap(truth.radius_mm);
   Result<CalibrationSummary> fit = Calibrate(data, options);
   ASSERT_TRUE(fit.ok()) << fit.error().message;
   EXPECT_NEAR(fit->c_e_n_per_mm2 / truth.c_e_n_per_mm2, 1.0, 2e-3);
@@ -130,10 +137,7 @@ TEST(Calibrate, RecoversTheInitialVelocityNearFullImmersion) {
     data.runs.push_back(run);
   }
   data.force_levels = 9;
-  CalibrationOptions options;
-  options.radius_mm = truth.radius_mm;
-  options.definition = sim::VelocityDefinition::kInitial;
-  options.bootstrap_replicates = 0;
+  CalibrationOptions options = InitialWithoutBootstrap(truth.radius_mm);
   Result<CalibrationSummary> fit = Calibrate(data, options);
   ASSERT_TRUE(fit.ok()) << fit.error().message;
   EXPECT_NEAR(fit->c_e_n_per_mm2 / truth.c_e_n_per_mm2, 1.0, 3e-3);

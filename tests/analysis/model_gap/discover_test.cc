@@ -18,9 +18,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -371,15 +368,11 @@ TEST(Discover, FitsTheBaseModelOfTheInitialVelocityNearFullImmersion) {
 // null strength gains nothing. Compared with the search's fit, each gained a
 // likelihood ratio of 3.8 and every family was named as one set.
 TEST(Discover, AnEffectAtItsNullGainsNothingWhereTheTransientFactorsCycle) {
-  const std::filesystem::path file =
-      std::filesystem::path(BURRLAB_SOURCE_DIR) /
+  const std::string file =
       "tests/analysis/model_gap/fixtures/pvc_initial_rig_noise_only.csv";
-  std::ifstream in(file, std::ios::binary);
-  ASSERT_TRUE(in) << file;
-  std::ostringstream text;
-  text << in.rdbuf();
-  const Result<MeasuredData> data =
-      ParseMeasuredData(file.string(), text.str());
+  const std::string text = testing::ReadSourceFile(file);
+  ASSERT_FALSE(text.empty()) << file;
+  const Result<MeasuredData> data = ParseMeasuredData(file, text);
   ASSERT_TRUE(data.ok()) << data.error().message;
   DiscoverOptions options;
   options.radius_mm = 2.0;

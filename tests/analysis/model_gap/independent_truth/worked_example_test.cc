@@ -13,12 +13,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include "burrlab/analysis/model_gap/measured_data.h"
+#include "discover_fixtures.h"
 #include "independent_truth/measured_csv.h"
 
 namespace burrlab::analysis::independent_truth {
@@ -43,15 +42,10 @@ TEST(IndependentTruthWorkedExample, TheCommittedDataAreTheGeneratorsOutput) {
     std::ofstream(path, std::ios::binary) << fresh;
     GTEST_SKIP() << "wrote " << path;
   }
-  const std::filesystem::path file =
-      std::filesystem::path(BURRLAB_SOURCE_DIR) /
-      "tests/analysis/model_gap/independent_truth/pvc_power_droop.csv";
-  std::ifstream in(file, std::ios::binary);
-  ASSERT_TRUE(in) << file;
-  std::ostringstream committed;
-  committed << in.rdbuf();
-  const Result<MeasuredData> a =
-      ParseMeasuredData("committed", committed.str());
+  const std::string committed = testing::ReadSourceFile(
+      "tests/analysis/model_gap/independent_truth/pvc_power_droop.csv");
+  ASSERT_FALSE(committed.empty());
+  const Result<MeasuredData> a = ParseMeasuredData("committed", committed);
   const Result<MeasuredData> b = ParseMeasuredData("fresh", fresh);
   ASSERT_TRUE(a.ok()) << a.error().message;
   ASSERT_TRUE(b.ok()) << b.error().message;

@@ -167,7 +167,7 @@ class DiscoverStages {
   // effect a likelihood ratio at its null strength.
   Model null_;
   ModelFit null_fit_;
-  AttributionRound first_round_;  // against the base fit
+  AttributionRound first_round_;  // against null_
   int progress_done_ = 0;
 };
 

@@ -97,8 +97,10 @@ TEST_F(CalibrateCommand, JsonSaysWhenOnlyACombinationIsIdentified) {
   // Shallow immersion: bone (c_e 2.145, alpha 0.087, R 1 mm) at loads
   // 0.01-0.045 of c_e R^2 through the surrogate, with +-8 % scatter. The
   // log-log slope of v(F) hardly changes there, so only alpha * c_e^b is
-  // determined.
-  std::string text = "force_n,velocity_mm_s,burr_radius_mm\n";
+  // determined. The surrogate's velocities are settled ones, and the file says
+  // so.
+  std::string text =
+      "force_n,velocity_mm_s,burr_radius_mm,velocity_definition\n";
   for (double load : {0.01, 0.015, 0.02, 0.03, 0.045}) {
     analysis::DescentSurrogateInput in;
     in.force_n = load * 2.145;
@@ -106,7 +108,7 @@ TEST_F(CalibrateCommand, JsonSaysWhenOnlyACombinationIsIdentified) {
     in.alpha_per_s = 0.087;
     in.radius_mm = 1.0;
     for (double factor : {1.08, 0.92, 1.0}) {
-      text += fmt::format("{},{},1\n", in.force_n,
+      text += fmt::format("{},{},1,settled\n", in.force_n,
                           analysis::SteadyVelocityMmS(in) * factor);
     }
   }

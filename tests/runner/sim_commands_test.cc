@@ -129,11 +129,12 @@ TEST(SimMeasure, TracesFlagWritesEveryRunsTrace) {
   EXPECT_EQ(traces.runs[0].run, "1");
   EXPECT_EQ(traces.runs[1].run, "2");
   for (const analysis::RunTrace& t : traces.runs) {
-    // From 0.2 mm above the surface to the end of the steady window, every
+    // From 0.2 mm above the surface to the end of the initial velocity's
+    // window (R/3 cut after the impact transient: about 10 s here), every
     // 10 ms for the first seconds, the force held once settled.
     EXPECT_EQ(t.t_s.front(), 0.0);
     EXPECT_NEAR(t.depth_mm.front(), -0.2, 0.02);
-    EXPECT_GT(t.t_s.back(), 20.0);
+    EXPECT_GT(t.t_s.back(), 8.0);
     int fine = 0;
     for (std::size_t k = 1; k < t.t_s.size() && t.t_s[k] < 5.0; ++k) {
       fine += t.t_s[k] - t.t_s[k - 1] < 0.0151;

@@ -273,6 +273,11 @@ Result<CalibrationSummary> Calibrate(const MeasuredData& data,
         "levels, got {} runs at {} levels",
         n, data.force_levels)};
   }
+  if (Status s =
+          CheckVelocityDefinition("measured data", data, options.definition);
+      !s.ok()) {
+    return s.error();
+  }
   LogVelocityProblem problem(data, options);
   if (problem.l_min() >= problem.l_max()) {
     double max_f = 0.0;

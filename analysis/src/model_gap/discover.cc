@@ -597,6 +597,13 @@ Result<DiscoverReport> Discover(const MeasuredData& data,
   if (Status s = discover_internal::CheckDesign(data); !s.ok()) {
     return s.error();
   }
+  // A file that names its velocities must name the ones the model predicts
+  // (the command line checks this first, with the file's path).
+  if (Status s =
+          CheckVelocityDefinition("measured data", data, options.definition);
+      !s.ok()) {
+    return s.error();
+  }
   discover_internal::DiscoverStages stages(data, options);
   if (Status s = stages.FitBaseModel(); !s.ok()) return s.error();
   stages.TestForGap();

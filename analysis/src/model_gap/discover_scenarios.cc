@@ -32,6 +32,7 @@ SyntheticMeasurementOptions GeneratorOptions(const ScenarioDesign& d,
   o.replicates = d.replicates;
   o.noise_cv = d.noise_cv;
   o.radius_mm = d.radius_mm;
+  o.definition = ScenarioDesign::kDefinition;
   return o;
 }
 
@@ -222,6 +223,7 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
       }
       DiscoverOptions o = options;
       o.radius_mm = d.radius_mm;
+      o.definition = ScenarioDesign::kDefinition;
       Result<DiscoverReport> report = Discover(*data, o);
       if (!report.ok()) {
         slot.error = report.error();

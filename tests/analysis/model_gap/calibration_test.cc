@@ -49,7 +49,17 @@ MeasuredData MakeData(const Truth& truth, const std::vector<double>& loads,
     }
   }
   data.force_levels = static_cast<int>(loads.size());
+  data.velocity_definition = sim::VelocityDefinition::kSettled;
   return data;
+}
+
+// Options for a fit of MakeData's settled velocities at burr radius
+// `radius_mm`.
+CalibrationOptions SettledOptions(double radius_mm) {
+  CalibrationOptions options;
+  options.radius_mm = radius_mm;
+  options.definition = sim::VelocityDefinition::kSettled;
+  return options;
 }
 
 bool Covers(const std::optional<Interval>& ci, double value) {
@@ -61,14 +71,27 @@ const std::vector<double> kShallowLoads = {0.01, 0.015, 0.02, 0.03, 0.045};
 
 TEST(Calibrate, RecoversNoiseFreeData) {
   const Truth truth;
-  CalibrationOptions options;
-  options.radius_mm = truth.radius_mm;
+  CalibrationOptions options = SettledOptions(truth.radius_mm);
   Result<CalibrationSummary> fit =
       Calibrate(MakeData(truth, kWideLoads, 1, 0.0, 1), options);
   ASSERT_TRUE(fit.ok()) << fit.error().message;
   EXPECT_NEAR(fit->c_e_n_per_mm2 / truth.c_e_n_per_mm2, 1.0, 1e-4);
   EXPECT_NEAR(fit->alpha_per_s / truth.alpha_per_s, 1.0, 1e-4);
   EXPECT_LT(fit->rmse_log_v, 1e-5);
+}
+
+TEST(Calibrate, RefusesDataThatNameAnotherVelocityThanTheModels) {
+  const Truth truth;
+  CalibrationOptions options = SettledOptions(truth.radius_mm);
+  options.definition = sim::VelocityDefinition::kInitial;
+  MeasuredData data = MakeData(truth, kWideLoads, 1, 0.0, 1);
+  data.velocity_definition_line = 2;
+  EXPECT_EQ(Calibrate(data, options).error().message,
+            "measured data:2: error: the measured velocities are settled "
+            "velocities (velocity_definition column) but the model predicts "
+            "initial velocities; the two are different quantities (the "
+            "initial one is taken before the density in the burr has "
+            "settled)");
 }
 
 // Options for a fit of initial velocities at burr radius `radius_mm`, point
@@ -147,8 +170,7 @@ TEST(Calibrate, RecoversTheInitialVelocityNearFullImmersion) {
 
 TEST(Calibrate, SeparatesCeAndAlphaWhenTheLoadsReachDeepImmersion) {
   const Truth truth;
-  CalibrationOptions options;
-  options.radius_mm = truth.radius_mm;
+  CalibrationOptions options = SettledOptions(truth.radius_mm);
   Result<CalibrationSummary> fit =
       Calibrate(MakeData(truth, kWideLoads, 3, 0.1, 5), options);
   ASSERT_TRUE(fit.ok()) << fit.error().message;
@@ -165,8 +187,7 @@ TEST(Calibrate, SeparatesCeAndAlphaWhenTheLoadsReachDeepImmersion) {
 
 TEST(Calibrate, ReportsOnlyTheCombinationForShallowImmersion) {
   const Truth truth;
-  CalibrationOptions options;
-  options.radius_mm = truth.radius_mm;
+  CalibrationOptions options = SettledOptions(truth.radius_mm);
   Result<CalibrationSummary> fit =
       Calibrate(MakeData(truth, kShallowLoads, 3, 0.1, 5), options);
   ASSERT_TRUE(fit.ok()) << fit.error().message;
@@ -206,7 +227,7 @@ struct Design {
 TEST(Calibrate, ProfileIntervalsCoverTheTruth) {
   const bool slow = std::getenv("BURRLAB_SLOW_TESTS") != nullptr;
   const int seeds = slow ? 1000 : 60;
-  CalibrationOptions options;
+  CalibrationOptions options = SettledOptions(1.0);
   // The command's 200 bootstrap replicates in the slow tier; 100 in CI.
   options.bootstrap_replicates = slow ? 200 : 100;
   const Design designs[] = {

@@ -40,6 +40,7 @@ int NullSeeds() { return kSanitized ? 2 : Slow() ? 100 : 30; }
 DiscoverOptions Options(const ScenarioDesign& d) {
   DiscoverOptions o;
   o.radius_mm = d.radius_mm;
+  o.definition = ScenarioDesign::kDefinition;
   o.reference = d.material;
   return o;
 }
@@ -316,6 +317,19 @@ TEST(Discover, RefusesBadOptionsAndTooLittleData) {
   EXPECT_EQ(Discover(data, options).error().message,
             "discover needs more runs than parameters and at least 2 force "
             "levels, got 2 runs at 2 levels");
+  // Data that name their velocities must name the model's.
+  MeasuredData named =
+      ParseMeasuredData("d.csv",
+                        "force_n,velocity_mm_s,velocity_definition\n"
+                        "1,0.01,settled\n2,0.05,settled\n3,0.2,settled\n")
+          .value();
+  options.definition = sim::VelocityDefinition::kInitial;
+  EXPECT_EQ(Discover(named, options).error().message,
+            "measured data:2: error: the measured velocities are settled "
+            "velocities (velocity_definition column) but the model predicts "
+            "initial velocities; the two are different quantities (the "
+            "initial one is taken before the density in the burr has "
+            "settled)");
 }
 
 // Not in the sanitizer build: a few hundred rig-loop transients of

@@ -51,6 +51,7 @@ Scenario MakeScenario(const sim::Effects& effects, std::uint64_t seed) {
   s.measured = ParseMeasuredData("m.csv", csv).value();
   CalibrationOptions calibration;
   calibration.radius_mm = d.radius_mm;
+  calibration.definition = ScenarioDesign::kDefinition;
   calibration.bootstrap_replicates = 0;
   const CalibrationSummary fit = Calibrate(s.measured, calibration).value();
   SyntheticMeasurementOptions rig;
@@ -222,6 +223,7 @@ TEST(TraceGap, DiscoverNamesTheLagOnlyWithTraces) {
     const Scenario s = MakeScenario(lag, 200 + seed);
     DiscoverOptions options;
     options.radius_mm = s.options.radius_mm;
+    options.definition = ScenarioDesign::kDefinition;
     const DiscoverReport without = Discover(s.measured, options).value();
     EXPECT_FALSE(without.trace_gap.has_value());
     for (const auto& round : without.rounds) {

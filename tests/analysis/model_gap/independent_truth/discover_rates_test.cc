@@ -158,6 +158,7 @@ Tally RunSeeds(const Design& d, const std::vector<double>& truth,
       }
       DiscoverOptions options;
       options.radius_mm = d.radius_mm;
+      options.definition = sim::VelocityDefinition::kSettled;  // the truth's
       sim::Material reference;
       reference.c_e_n_per_mm2 = d.c_e_n_per_mm2;
       reference.alpha_per_s = d.alpha_per_s;

@@ -133,8 +133,7 @@ struct DiscoverReport {
   // named, ambiguous, unexplained, absorbed or none.
   std::string verdict;
   // What the velocities were (DiscoverOptions::definition).
-  sim::VelocityDefinition velocity_definition =
-      sim::VelocityDefinition::kSettled;
+  sim::VelocityDefinition velocity_definition = sim::kDefaultVelocityDefinition;
   std::vector<std::string> effects;    // added, in order (empty: none)
   std::vector<std::string> alias_set;  // cannot be told from effects[0]
   // One per added effect: alias_sets[k] holds effects[k] and the effects
@@ -178,7 +177,7 @@ Result<double> BaseModelRss(const MeasuredData& data, double radius_mm);
 double ModelLogVelocity(
     double force_n, double c_e_n_per_mm2, double alpha_per_s, double radius_mm,
     const sim::Effects& effects,
-    sim::VelocityDefinition definition = sim::VelocityDefinition::kSettled,
+    sim::VelocityDefinition definition = sim::kDefaultVelocityDefinition,
     double transient_factor = 1.0);
 
 }  // namespace burrlab::analysis

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "burrlab/analysis/model_gap/discover.h"
+#include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/sim/result.h"
@@ -31,6 +32,11 @@ struct ScenarioDesign {
   // The truth: the full descent rig (voxel R/12, 5 ms), or the continuum
   // surrogate itself (fast tier).
   bool full_rig = true;
+  // The matrix measures the settled velocity, whichever the tools' default:
+  // the surrogate tier's truths are the steady-state surrogate's, and its
+  // published rates are of that quantity.
+  static constexpr sim::VelocityDefinition kDefinition =
+      sim::VelocityDefinition::kSettled;
 
   std::vector<double> ForcesN() const;
   // The noise's standard deviation of log v, sqrt(ln(1 + cv^2)).

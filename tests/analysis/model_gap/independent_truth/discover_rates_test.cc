@@ -17,7 +17,8 @@
 // Knobs: BURRLAB_TRUTH_SEEDS (default 20), BURRLAB_TRUTH_SNR (targets,
 // default 4,6), BURRLAB_TRUTH_JOBS (threads sharing the seeds, default 1;
 // the table is the same for any number), BURRLAB_TRUTH_FILTER (only the
-// scenarios whose name contains it; the null always runs).
+// scenarios whose name contains it; the null always runs),
+// BURRLAB_TRUTH_MISSES (print each missed seed's verdict and summary).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -197,6 +198,12 @@ Tally RunSeeds(const Design& d, const std::vector<double>& truth,
                      answer == Answer::kSetHoldsIt ||
                      (answer == Answer::kAbsorbed && !r.effects.empty() &&
                       r.effects[0] == expected);
+    if (!hit && !expected.empty() &&
+        std::getenv("BURRLAB_TRUTH_MISSES") != nullptr) {
+      std::fprintf(stderr, "  miss, seed %llu (%s): %s\n",
+                   static_cast<unsigned long long>(o.per_seed.back().seed),
+                   r.verdict.c_str(), r.summary.c_str());
+    }
     if (hit) {
       ++o.hits;
       o.mean_cv_before += r.baseline.cv_rmse_log_v;

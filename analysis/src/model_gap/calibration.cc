@@ -229,6 +229,97 @@ std::optional<Interval> ProfileInterval(
   return Interval{std::exp(*lo), std::exp(*hi)};
 }
 
+// The profile of one parameter (log c_e, log alpha or the combination) on a
+// problem whose transient factors are held: `rss` its profile RSS at a value,
+// `point` the (log c_e, log alpha) where that profile value is attained.
+// alpha's and the combination's minimise over log c_e in [l_lo, l_hi].
+struct HeldProfile {
+  std::function<double(const LogVelocityProblem&, double, double, double)> rss;
+  std::function<std::array<double, 2>(const LogVelocityProblem&, double, double,
+                                      double)>
+      point;
+};
+
+// The initial velocity's profile interval with each end's own transient
+// factors. The fit holds the factors at the fit; an interval end lies
+// elsewhere, where they differ (PVC near full immersion, R = 2 mm: the c_e
+// interval [0.453, 0.618] with the fit's factors, and at 0.618 the RSS with
+// its own factors is 2.2 times the threshold). Each end starts from the
+// held-factor end; the profile is then evaluated with the factors of the
+// profile point itself (found with held factors and refreshed twice:
+// milliseconds per level each time) and the crossing bracketed and found to
+// kEndTolerance in log units. alpha's and the combination's profiles
+// minimise over log c_e in [l_lo, l_hi], the c_e interval with its own
+// factors widened by its width on each side: beyond it the held factors are
+// stale and make spurious minima.
+constexpr double kEndTolerance = 3e-4;
+
+std::optional<Interval> ProfileIntervalOwnFactors(
+    const LogVelocityProblem& problem, const HeldProfile& profile, double at,
+    double lo_bound, double hi_bound, double threshold, double l_lo,
+    double l_hi) {
+  const std::function<double(double)> held = [&](double x) {
+    return profile.rss(problem, x, l_lo, l_hi);
+  };
+  LogVelocityProblem own = problem;
+  const auto own_rss = [&](double x) {
+    std::array<double, 2> p = profile.point(problem, x, l_lo, l_hi);
+    own.RefreshTransient(p[0], p[1]);
+    p = profile.point(own, x, l_lo, l_hi);
+    own.RefreshTransient(p[0], p[1]);
+    return profile.rss(own, x, l_lo, l_hi);
+  };
+  std::array<std::optional<double>, 2> ends;
+  const std::array<double, 2> bounds = {lo_bound, hi_bound};
+  for (int side = 0; side < 2; ++side) {
+    const std::optional<double> start =
+        ProfileEnd(held, at, bounds[side], threshold);
+    if (!start) return std::nullopt;
+    const double direction = bounds[side] > at ? 1.0 : -1.0;
+    // At the fit the own factors are the held ones.
+    double inside = at, outside = *start, step = std::abs(*start - at);
+    double f_in = held(at) - threshold, f_out = own_rss(outside) - threshold;
+    // Where the factors hardly vary the held end is the own one.
+    if (std::abs(f_out) <= 1e-3 * threshold) {
+      ends[side] = outside;
+      continue;
+    }
+    // Walk out until the own-factor profile exceeds the threshold.
+    while (!(f_out > 0.0)) {
+      if (outside == bounds[side]) return std::nullopt;
+      inside = outside;
+      f_in = f_out;
+      step *= 1.6;
+      outside = inside + direction * step;
+      if ((outside - bounds[side]) * direction >= 0.0) outside = bounds[side];
+      f_out = own_rss(outside) - threshold;
+    }
+    // The crossing by the Illinois variant of false position (the profile is
+    // smooth: a few points instead of bisection's dozen).
+    int kept = 0;  // which end the last step kept: -1 inside, +1 outside
+    double end = 0.5 * (inside + outside);
+    for (int it = 0; it < 20 && std::abs(outside - inside) > kEndTolerance;
+         ++it) {
+      end = outside - f_out * (outside - inside) / (f_out - f_in);
+      const double f = own_rss(end) - threshold;
+      if (std::abs(f) <= 1e-6 * threshold) break;
+      if (f > 0.0) {
+        outside = end;
+        f_out = f;
+        if (kept == 1) f_in *= 0.5;
+        kept = 1;
+      } else {
+        inside = end;
+        f_in = f;
+        if (kept == -1) f_out *= 0.5;
+        kept = -1;
+      }
+    }
+    ends[side] = end;
+  }
+  return Interval{std::exp(*ends[0]), std::exp(*ends[1])};
+}
+
 std::string FormatInterval(const Interval& ci) {
   return fmt::format("[{:.4g}, {:.4g}]", ci[0], ci[1]);
 }
@@ -399,25 +490,84 @@ Result<CalibrationSummary> Calibrate(const MeasuredData& data,
     return rss_floor * (1.0 + quantile[k] / dof);
   };
 
-  out.c_e_ci = ProfileInterval(profile_l, l_hat, problem.l_min(),
-                               problem.l_max(), threshold(0));
-  const std::function<double(double)> profile_a = [&](double a) {
-    return profile_over_l(problem, [&](double l) { return problem.Rss(l, a); });
+  // The intervals' profiles. For the initial velocity each interval end is
+  // found with its own transient factors (ProfileIntervalOwnFactors); the
+  // bootstrap's quantiles above hold the fit's, a calibration of the
+  // statistic that the factors hardly move.
+  const auto interval = [&](const HeldProfile& profile, double at, double lo,
+                            double hi, double rss_threshold, double l_lo,
+                            double l_hi) {
+    if (options.definition == sim::VelocityDefinition::kInitial) {
+      return ProfileIntervalOwnFactors(problem, profile, at, lo, hi,
+                                       rss_threshold, l_lo, l_hi);
+    }
+    return ProfileInterval(
+        [&](double x) { return profile.rss(problem, x, l_lo, l_hi); }, at, lo,
+        hi, rss_threshold);
   };
+  // Minimises over log c_e in [l_lo, l_hi] at log alpha = a_of_l(log c_e);
+  // the argmin to `l`.
+  const auto min_over_l = [](const LogVelocityProblem& p,
+                             const std::function<double(double)>& a_of_l,
+                             double l_lo, double l_hi, double* l) {
+    double value = 0.0;
+    *l = MinimiseOnInterval([&](double x) { return p.Rss(x, a_of_l(x)); }, l_lo,
+                            l_hi, 80, &value);
+    return value;
+  };
+  // A profile over log c_e at a fixed a(l): alpha's (a constant) and the
+  // combination's (psi - b l); a_of_l_at(x) is a(l) at the profiled value x.
+  using AOfL = std::function<double(double)>;
+  const auto over_l = [&](std::function<AOfL(double)> a_of_l_at) {
+    return HeldProfile{
+        [=](const LogVelocityProblem& p, double x, double l_lo, double l_hi) {
+          double l = 0.0;
+          return min_over_l(p, a_of_l_at(x), l_lo, l_hi, &l);
+        },
+        [=](const LogVelocityProblem& p, double x, double l_lo, double l_hi) {
+          double l = 0.0;
+          min_over_l(p, a_of_l_at(x), l_lo, l_hi, &l);
+          return std::array<double, 2>{l, a_of_l_at(x)(l)};
+        }};
+  };
+  const HeldProfile c_e_profile{
+      [](const LogVelocityProblem& p, double l, double, double) {
+        return p.ProfileRss(l);
+      },
+      [](const LogVelocityProblem& p, double l, double, double) {
+        return std::array<double, 2>{l, p.BestA(l)};
+      }};
+  const HeldProfile alpha_profile =
+      over_l([](double a) { return AOfL([a](double) { return a; }); });
+  const HeldProfile psi_profile = over_l([b](double psi) {
+    return AOfL([psi, b](double l) { return psi - b * l; });
+  });
+  out.c_e_ci = interval(c_e_profile, l_hat, problem.l_min(), problem.l_max(),
+                        threshold(0), problem.l_min(), problem.l_max());
+  // Where c_e's interval closes, the others minimise over it widened by its
+  // width on each side (see ProfileIntervalOwnFactors); else over the box.
+  double l_lo = problem.l_min(), l_hi = problem.l_max();
+  if (out.c_e_ci) {
+    const double lo = std::log((*out.c_e_ci)[0]);
+    const double hi = std::log((*out.c_e_ci)[1]);
+    l_lo = std::max(problem.l_min(), lo - (hi - lo));
+    l_hi = std::min(problem.l_max(), hi + (hi - lo));
+  }
   const double span = 30.0;  // e^30: far beyond any plausible interval
   if (out.c_e_ci) {
-    out.alpha_ci = ProfileInterval(profile_a, a_hat, a_hat - span, a_hat + span,
-                                   threshold(1));
+    out.alpha_ci = interval(alpha_profile, a_hat, a_hat - span, a_hat + span,
+                            threshold(1), l_lo, l_hi);
   }
   out.identifiable = out.c_e_ci.has_value() && out.alpha_ci.has_value();
   out.combination_exponent = b;
   out.combination_value = std::exp(psi_hat);
-  const std::function<double(double)> profile_psi = [&](double psi) {
-    return profile_over_l(
-        problem, [&](double l) { return problem.Rss(l, psi - b * l); });
-  };
-  out.combination_ci = ProfileInterval(profile_psi, psi_hat, psi_hat - span,
-                                       psi_hat + span, threshold(2));
+  // The combination keeps the fit's factors (not checked with its ends'
+  // own): along it the held-factor minimum over log c_e lies in the flat
+  // valley where the factors are stale, and an own-factor search there would
+  // cost a refresh per point of the inner search.
+  out.combination_ci = ProfileInterval(
+      [&](double x) { return psi_profile.rss(problem, x, l_lo, l_hi); },
+      psi_hat, psi_hat - span, psi_hat + span, threshold(2));
   const std::string combination = CombinationName(b);
   const std::string combination_text =
       out.combination_ci

@@ -91,6 +91,14 @@ std::string VoxelFlagHelp() {
       sim::kRigResolvedLoad);
 }
 
+// The rig's --ell-over-r (sim descent, sim measure).
+std::string EllFlagHelp(double default_ell_over_r) {
+  return fmt::format(
+      "octree accuracy scale ell as a fraction of R (default {}; smaller is "
+      "finer and slower, 0 refines every partial block to voxels)",
+      default_ell_over_r);
+}
+
 Status CheckVoxelFitsBurr(double voxel_mm, double radius_mm) {
   if (voxel_mm > radius_mm) {
     return Error{
@@ -248,6 +256,8 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
       fmt::format("burr spin, rad/s (default {})", options.spindle_rad_s),
       "rad/s", &options.spindle_rad_s);
   flags.AddPositive("--voxel-mm", VoxelFlagHelp(), "mm", &options.voxel_mm);
+  flags.AddNonNegative("--ell-over-r", EllFlagHelp(options.ell_over_r), "",
+                       &options.ell_over_r);
   flags.AddPositive(
       "--duration-s",
       "longest simulated time after contact, s (default 3600 for the "
@@ -342,6 +352,7 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
     j["radius_mm"] = options.radius_mm;
     j["spindle_rad_s"] = options.spindle_rad_s;
     j["voxel_mm"] = options.VoxelMm();
+    j["ell_over_r"] = options.ell_over_r;
     j["duration_s"] = options.DurationS();
     j["seed"] = options.seed;
     j["velocity_definition"] = definition_name;
@@ -686,6 +697,8 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
                   options.trace_depth_noise_mm),
       "mm", &options.trace_depth_noise_mm);
   flags.AddPositive("--voxel-mm", VoxelFlagHelp(), "mm", &options.voxel_mm);
+  flags.AddNonNegative("--ell-over-r", EllFlagHelp(options.ell_over_r), "",
+                       &options.ell_over_r);
   options.jobs = static_cast<int>(
       std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
   flags.AddInteger("--jobs",

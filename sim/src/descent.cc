@@ -106,6 +106,11 @@ Status DescentOptions::Validate() const {
           name, value)};
     }
   }
+  if (!std::isfinite(ell_over_r) || ell_over_r < 0.0) {
+    return Error{fmt::format(
+        "ell_over_r must be zero or a positive finite number, got {}",
+        ell_over_r)};
+  }
   if (!(settling_band > 0.0 && settling_band < 1.0)) {
     return Error{
         fmt::format("settling_band must lie in (0, 1), got {}", settling_band)};
@@ -325,6 +330,7 @@ Result<DescentResult> RunDescent(const DescentOptions& o) {
   model.effects = o.effects;
   model.radius_mm = radius;
   model.dt_s = o.dt_s;
+  model.ell_over_r = o.ell_over_r;
   model.sample_estimate_hold =
       false;  // the rig reads the model force through its load cell
   Result<State> state = State::Create(model, std::move(*volume), o.seed);

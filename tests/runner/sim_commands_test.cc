@@ -242,6 +242,17 @@ TEST(SimMeasure, VoxelFlagSetsTheRigsVoxels) {
   EXPECT_EQ(fine.err,
             "burrlab: sim measure: a voxel of 0.001 mm is finer than the rig "
             "allows (R/200 = 0.005 mm)\n");
+  // The octree's accuracy scale reaches the rig too (at 0.3 N, y = 0.65,
+  // the voxels are R/12 and ell 0.3 R spans several blocks).
+  const CliRun fine_ell = measure({"--ell-over-r", "0.05"});
+  ASSERT_EQ(fine_ell.code, 0) << fine_ell.err;
+  EXPECT_NE(default_voxels.out, fine_ell.out);
+  const CliRun negative_ell = measure({"--ell-over-r", "-1"});
+  EXPECT_EQ(negative_ell.code, 1);
+  EXPECT_EQ(negative_ell.out, "");
+  EXPECT_EQ(negative_ell.err,
+            "burrlab: --ell-over-r must be zero or a positive number, got "
+            "'-1'\n");
 }
 
 TEST(SimMeasure, JobsTakeAWholeNumberFromOne) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace burrlab::sim {
@@ -315,6 +316,10 @@ TEST(Descent, RejectsBadOptionsNamingTheField) {
   ASSERT_FALSE(result.ok());
   EXPECT_EQ(result.error().message,
             "force_n must be a positive finite number, got -2");
+  options.force_n = 2.0;
+  options.ell_over_r = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(RunDescent(options).error().message,
+            "ell_over_r must be zero or a positive finite number, got nan");
 }
 
 }  // namespace

@@ -84,6 +84,7 @@ sim::DescentOptions RigAt(const SyntheticMeasurementOptions& o, double force_n,
   rig.radius_mm = o.radius_mm;
   rig.spindle_rad_s = o.spindle_rad_s;
   rig.voxel_mm = o.voxel_mm;
+  rig.ell_over_r = o.ell_over_r;
   rig.dt_s = o.dt_s;
   rig.seed = seed;
   rig.definition = o.definition;

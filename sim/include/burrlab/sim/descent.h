@@ -86,6 +86,10 @@ struct DescentOptions {
   // Voxel size of the virtual sample; 0 = radius_mm / RigVoxelsPerRadius at
   // the load force_n / (c_e R^2).
   double voxel_mm = 0.0;
+  // The octree's accuracy scale ell as a fraction of R (Model::ell_over_r,
+  // eq. 7.10): partial blocks up to ell are taken whole; smaller is finer
+  // and slower, 0 refines every partial block to voxels.
+  double ell_over_r = Model{}.ell_over_r;
   VelocityDefinition definition = kDefaultVelocityDefinition;
   // Longest simulated time after contact; 0 = 3600 s for the initial
   // velocity, 36000 s for the settled one.

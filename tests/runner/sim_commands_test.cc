@@ -230,29 +230,28 @@ TEST(SimMeasure, VoxelFlagSetsTheRigsVoxels) {
   ASSERT_EQ(default_voxels.code, 0) << default_voxels.err;
   ASSERT_EQ(coarse.code, 0) << coarse.err;
   EXPECT_NE(default_voxels.out, coarse.out);
-  const CliRun large = measure({"--voxel-mm", "2"});
-  EXPECT_EQ(large.code, 1);
-  EXPECT_EQ(large.out, "");
-  EXPECT_EQ(
-      large.err,
+  // Bad values: one error line, exit 1, nothing on stdout.
+  const auto expect_error = [&](std::vector<std::string> extra,
+                                const std::string& text) {
+    const CliRun run = measure(std::move(extra));
+    EXPECT_EQ(run.code, 1);
+    EXPECT_EQ(run.out, "");
+    EXPECT_EQ(run.err, text);
+  };
+  expect_error(
+      {"--voxel-mm", "2"},
       "burrlab: --voxel-mm must be at most --radius-mm = 1 mm, got '2'\n");
-  const CliRun fine = measure({"--voxel-mm", "0.001"});
-  EXPECT_EQ(fine.code, 1);
-  EXPECT_EQ(fine.out, "");
-  EXPECT_EQ(fine.err,
-            "burrlab: sim measure: a voxel of 0.001 mm is finer than the rig "
-            "allows (R/200 = 0.005 mm)\n");
+  expect_error({"--voxel-mm", "0.001"},
+               "burrlab: sim measure: a voxel of 0.001 mm is finer than the "
+               "rig allows (R/200 = 0.005 mm)\n");
   // The octree's accuracy scale reaches the rig too (at 0.3 N, y = 0.65,
   // the voxels are R/12 and ell 0.3 R spans several blocks).
   const CliRun fine_ell = measure({"--ell-over-r", "0.05"});
   ASSERT_EQ(fine_ell.code, 0) << fine_ell.err;
   EXPECT_NE(default_voxels.out, fine_ell.out);
-  const CliRun negative_ell = measure({"--ell-over-r", "-1"});
-  EXPECT_EQ(negative_ell.code, 1);
-  EXPECT_EQ(negative_ell.out, "");
-  EXPECT_EQ(negative_ell.err,
-            "burrlab: --ell-over-r must be zero or a positive number, got "
-            "'-1'\n");
+  expect_error({"--ell-over-r", "-1"},
+               "burrlab: --ell-over-r must be zero or a positive number, got "
+               "'-1'\n");
 }
 
 TEST(SimMeasure, JobsTakeAWholeNumberFromOne) {

@@ -544,10 +544,11 @@ Result<CalibrationSummary> Calibrate(const MeasuredData& data,
   });
   out.c_e_ci = interval(c_e_profile, l_hat, problem.l_min(), problem.l_max(),
                         threshold(0), problem.l_min(), problem.l_max());
-  // Where c_e's interval closes, the others minimise over it widened by its
-  // width on each side (see ProfileIntervalOwnFactors); else over the box.
+  // For the initial velocity, where c_e's interval closes, the others
+  // minimise over it widened by its width on each side (see
+  // ProfileIntervalOwnFactors); else over the whole box.
   double l_lo = problem.l_min(), l_hi = problem.l_max();
-  if (out.c_e_ci) {
+  if (out.c_e_ci && options.definition == sim::VelocityDefinition::kInitial) {
     const double lo = std::log((*out.c_e_ci)[0]);
     const double hi = std::log((*out.c_e_ci)[1]);
     l_lo = std::max(problem.l_min(), lo - (hi - lo));

@@ -37,17 +37,23 @@ class Field {
   double dz() const { return dz_; }
 
  private:
-  double Phi(std::size_t i, int k) const { return phi_[i * nodes_ + k]; }
+  double NodeRho(std::size_t i, int k) const { return rho_[i * nodes_ + k]; }
   double Rho(std::size_t i, double z) const;
   // int_0^z rho of column i from the running integrals.
   double Integral(std::size_t i, double z) const;
 
   double dz_;
   int nodes_ = 0;
-  std::vector<double> w_, weight_, phi_, cumulative_;
+  // Per node (column-major): the density rho / rho0 = exp(-phi), phi the
+  // erosion integral, kept up to date by Erode so Refresh needs no exp.
+  std::vector<double> w_, weight_, rho_, cumulative_;
   // Per column, the nodes eroded since the last Refresh (first > second when
   // none).
   std::vector<std::pair<int, int>> dirty_;
+  // Per column, the node below which all material is fresh (the deepest node
+  // ever eroded, plus one): the running integral is exact up to it and grows
+  // by dz per node below it.
+  std::vector<int> tail_;
 };
 
 }  // namespace burrlab::analysis::continuum

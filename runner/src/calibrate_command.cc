@@ -135,6 +135,16 @@ int RunCalibrateCommand(const Args& args, std::ostream& out,
           {"exponent", r.combination_exponent},
           {"value", r.combination_value},
           {"ci", IntervalJson(r.combination_ci)}}}};
+    if (r.second_minimum) {
+      const analysis::SecondMinimum& m = *r.second_minimum;
+      j["second_minimum"] = {{"c_e", m.c_e_n_per_mm2},
+                             {"alpha", m.alpha_per_s},
+                             {"rss_log_v", m.rss_log_v},
+                             {"ci_c_e", IntervalJson(m.c_e_ci)}};
+    } else {
+      j["second_minimum"] = nullptr;
+    }
+    j["rss_log_v"] = r.rss_log_v;
     j["rmse_log_v"] = r.rmse_log_v;
     j["sigma_log_v"] = r.sigma_log_v;
     j["jacobian_singular_values"] = r.singular_values;
@@ -158,6 +168,18 @@ int RunCalibrateCommand(const Args& args, std::ostream& out,
                      IntervalText(r.alpha_ci));
   out << fmt::format("rmse log v       {:.4g}\n", r.rmse_log_v);
   out << fmt::format("identifiability  {}\n", r.identifiability);
+  if (r.second_minimum) {
+    const analysis::SecondMinimum& m = *r.second_minimum;
+    out << fmt::format(
+        "second minimum   c_e {:.4g} N/mm^2, alpha {:.4g} 1/s: RSS of log v "
+        "{:.4g} against {:.4g} at the fit, {}; the data do not decide between "
+        "the two (forces nearer the full-immersion force c_e R^2 2^(3/2) or "
+        "an indentation (probe) measurement would).\n",
+        m.c_e_n_per_mm2, m.alpha_per_s, m.rss_log_v, r.rss_log_v,
+        m.c_e_ci
+            ? "its own part of the 95 % set of c_e is " + IntervalText(m.c_e_ci)
+            : std::string("inside the 95 % interval of c_e"));
+  }
   return 0;
 }
 

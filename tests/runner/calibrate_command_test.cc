@@ -127,6 +127,26 @@ TEST_F(CalibrateCommand, JsonSaysWhenOnlyACombinationIsIdentified) {
   }
 }
 
+// A profile with two minima is said in the text, with what would decide
+// between them. The fixture and its two minima are described in
+// tests/analysis/model_gap/calibration_test.cc (ReportsASecondMinimum...);
+// with the bootstrap-calibrated threshold the second lies inside c_e's
+// interval.
+TEST_F(CalibrateCommand, NamesASecondMinimumOfTheProfile) {
+  const CliRun fit = RunBurrlab(
+      {"calibrate", "--measured",
+       std::string(BURRLAB_SOURCE_DIR) +
+           "/tests/analysis/model_gap/fixtures/bone_initial_two_minima.csv"});
+  ASSERT_EQ(fit.code, 0) << fit.err;
+  EXPECT_THAT(
+      fit.out,
+      HasSubstr("second minimum   c_e 2.028 N/mm^2, alpha 0.07893 1/s: RSS of "
+                "log v 0.04405 against 0.04238 at the fit, inside the 95 % "
+                "interval of c_e; the data do not decide between the two "
+                "(forces nearer the full-immersion force c_e R^2 2^(3/2) or an "
+                "indentation (probe) measurement would).\n"));
+}
+
 TEST_F(CalibrateCommand, BadInputIsOneErrorAndExitOne) {
   const auto expect_error = [](const std::vector<std::string>& args,
                                const std::string& text) {

@@ -128,10 +128,10 @@ class LogVelocityProblem {
   sim::VelocityDefinition definition_;
 };
 
-// Minimises f over [lo, hi]: a grid of starts, Brent's method from every local
-// minimum of the grid. Returns the argmin.
+// Minimises f over [lo, hi]: a grid of starts, Brent's method (to `bits` of
+// precision) from every local minimum of the grid. Returns the argmin.
 double MinimiseOnInterval(const std::function<double(double)>& f, double lo,
-                          double hi, int points, double* value) {
+                          double hi, int points, double* value, int bits = 40) {
   std::vector<double> x(points), y(points);
   for (int k = 0; k < points; ++k) {
     x[k] = lo + (hi - lo) * k / (points - 1);
@@ -143,7 +143,7 @@ double MinimiseOnInterval(const std::function<double(double)>& f, double lo,
         (k == 0 || y[k] <= y[k - 1]) && (k == points - 1 || y[k] <= y[k + 1]);
     if (!local || !std::isfinite(y[k])) continue;
     const double a = x[std::max(k - 1, 0)], b = x[std::min(k + 1, points - 1)];
-    const auto [xm, ym] = boost::math::tools::brent_find_minima(f, a, b, 40);
+    const auto [xm, ym] = boost::math::tools::brent_find_minima(f, a, b, bits);
     const double cx = ym < y[k] ? xm : x[k], cy = std::min(ym, y[k]);
     if (cy < best_y) {
       best_y = cy;
@@ -254,10 +254,14 @@ struct HeldProfile {
 // stale and make spurious minima.
 constexpr double kEndTolerance = 3e-4;
 
+// `limits`, where given, cap the held-factor start on that side (a ridge of
+// the own-factor profile that the held one does not see); the end then lies
+// between `at` and the limit, at the limit when the profile stays below the
+// threshold up to it.
 std::optional<Interval> ProfileIntervalOwnFactors(
     const LogVelocityProblem& problem, const HeldProfile& profile, double at,
     double lo_bound, double hi_bound, double threshold, double l_lo,
-    double l_hi) {
+    double l_hi, const std::array<std::optional<double>, 2>& limits = {}) {
   const std::function<double(double)> held = [&](double x) {
     return profile.rss(problem, x, l_lo, l_hi);
   };
@@ -272,15 +276,18 @@ std::optional<Interval> ProfileIntervalOwnFactors(
   std::array<std::optional<double>, 2> ends;
   const std::array<double, 2> bounds = {lo_bound, hi_bound};
   for (int side = 0; side < 2; ++side) {
-    const std::optional<double> start =
-        ProfileEnd(held, at, bounds[side], threshold);
-    if (!start) return std::nullopt;
+    std::optional<double> start = ProfileEnd(held, at, bounds[side], threshold);
     const double direction = bounds[side] > at ? 1.0 : -1.0;
+    const bool limited =
+        limits[side] && (!start || (*start - *limits[side]) * direction > 0.0);
+    if (limited) start = limits[side];
+    if (!start) return std::nullopt;
     // At the fit the own factors are the held ones.
     double inside = at, outside = *start, step = std::abs(*start - at);
     double f_in = held(at) - threshold, f_out = own_rss(outside) - threshold;
-    // Where the factors hardly vary the held end is the own one.
-    if (std::abs(f_out) <= 1e-3 * threshold) {
+    // Where the factors hardly vary the held end is the own one; a limit the
+    // profile stays below is the end.
+    if (limited ? !(f_out > 0.0) : std::abs(f_out) <= 1e-3 * threshold) {
       ends[side] = outside;
       continue;
     }
@@ -318,6 +325,68 @@ std::optional<Interval> ProfileIntervalOwnFactors(
     ends[side] = end;
   }
   return Interval{std::exp(*ends[0]), std::exp(*ends[1])};
+}
+
+// Another minimum of the c_e profile (CalibrationSummary::second_minimum).
+// Candidates are the local minima of the held-factor profile on a grid over
+// the box outside the fit's basin (the stretch between the grid's local
+// maxima around the fit), each refined over its own basin on `profile`: for
+// the initial velocity the profile with each point's own transient factors,
+// since the held one is stale away from the fit (a bone design, R = 1 mm,
+// loads 0.7-1.45: the held profile's other minimum at c_e 1.80, RSS 0.0494;
+// with own factors at 2.02, 0.0441). A candidate counts when its minimum is
+// interior to its basin, `profile` at the ridge between it and the fit lies
+// above both (so there are two minima), and its RSS is within `threshold`.
+struct OtherMinimum {
+  double l = 0.0, rss = 0.0;
+  double ridge = 0.0;  // a point between it and the fit where profile is above
+};
+std::optional<OtherMinimum> FindOtherMinimum(
+    const LogVelocityProblem& problem,
+    const std::function<double(double)>& profile, double l_hat, double rss_hat,
+    double threshold) {
+  const double lo = problem.l_min(), hi = problem.l_max();
+  const double step = (hi - lo) / (kGridPoints - 1);
+  std::vector<double> y(kGridPoints);
+  for (int k = 0; k < kGridPoints; ++k)
+    y[k] = problem.ProfileRss(lo + step * k);
+  // Basin edges: the ends and the grid's local maxima.
+  std::vector<int> edges{0};
+  for (int k = 1; k + 1 < kGridPoints; ++k) {
+    if (y[k] > y[k - 1] && y[k] >= y[k + 1]) edges.push_back(k);
+  }
+  edges.push_back(kGridPoints - 1);
+  // Held-factor candidates, best first; the held profile's bias allows
+  // twice the threshold.
+  struct Basin {
+    int left, right, at;
+  };
+  std::vector<Basin> basins;
+  for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+    const int left = edges[b], right = edges[b + 1];
+    if (l_hat >= lo + step * left && l_hat <= lo + step * right) continue;
+    const int at = static_cast<int>(
+        std::min_element(y.begin() + left, y.begin() + right + 1) - y.begin());
+    if (at == left || at == right || !(y[at] <= 2.0 * threshold)) continue;
+    basins.push_back({left, right, at});
+  }
+  std::sort(basins.begin(), basins.end(),
+            [&](const Basin& a, const Basin& b) { return y[a.at] < y[b.at]; });
+  if (basins.size() > 3) basins.resize(3);  // each costs a refined search
+  std::optional<OtherMinimum> best;
+  for (const Basin& basin : basins) {
+    const double left = lo + step * basin.left, right = lo + step * basin.right;
+    double rss = 0.0;
+    // To about 1e-4 in log c_e: each point costs two refreshes of the
+    // factors.
+    const double l = MinimiseOnInterval(profile, left, right, 6, &rss, 14);
+    if (!(rss <= threshold) || (best && rss >= best->rss)) continue;
+    if (l - left < step || right - l < step) continue;  // not interior
+    const double ridge = l < l_hat ? right : left;
+    if (!(profile(ridge) > std::max(rss, rss_hat))) continue;
+    best = OtherMinimum{l, rss, ridge};
+  }
+  return best;
 }
 
 std::string FormatInterval(const Interval& ci) {
@@ -544,11 +613,53 @@ Result<CalibrationSummary> Calibrate(const MeasuredData& data,
   });
   out.c_e_ci = interval(c_e_profile, l_hat, problem.l_min(), problem.l_max(),
                         threshold(0), problem.l_min(), problem.l_max());
+  const bool initial = options.definition == sim::VelocityDefinition::kInitial;
+  if (out.c_e_ci) {
+    // A second minimum of c_e's profile inside the confidence set.
+    LogVelocityProblem own = problem;
+    const std::function<double(double)> c_e_rss = [&](double l) {
+      if (!initial) return problem.ProfileRss(l);
+      own.RefreshTransient(l, problem.BestA(l));
+      own.RefreshTransient(l, own.BestA(l));
+      return own.ProfileRss(l);
+    };
+    if (const std::optional<OtherMinimum> other =
+            FindOtherMinimum(problem, c_e_rss, l_hat, rss_min, threshold(0))) {
+      c_e_rss(other->l);  // own's factors at the minimum
+      const double a = initial ? own.BestA(other->l) : problem.BestA(other->l);
+      SecondMinimum second;
+      second.c_e_n_per_mm2 = std::exp(other->l);
+      second.alpha_per_s = std::exp(a);
+      second.rss_log_v = other->rss;
+      const bool inside = second.c_e_n_per_mm2 >= (*out.c_e_ci)[0] &&
+                          second.c_e_n_per_mm2 <= (*out.c_e_ci)[1];
+      if (!inside) {
+        // Its own part of the set, found as the fit's is, from the factors
+        // at the second minimum.
+        LogVelocityProblem there = problem;
+        if (initial) there.RefreshTransient(other->l, a);
+        // The held profile there need not rise over the ridge toward the
+        // fit: the ridge limits that side.
+        std::array<std::optional<double>, 2> limits;
+        limits[other->ridge > other->l ? 1 : 0] = other->ridge;
+        second.c_e_ci =
+            initial
+                ? ProfileIntervalOwnFactors(there, c_e_profile, other->l,
+                                            problem.l_min(), problem.l_max(),
+                                            threshold(0), problem.l_min(),
+                                            problem.l_max(), limits)
+                : ProfileInterval(
+                      [&](double l) { return problem.ProfileRss(l); }, other->l,
+                      problem.l_min(), problem.l_max(), threshold(0));
+      }
+      out.second_minimum = second;
+    }
+  }
   // For the initial velocity, where c_e's interval closes, the others
   // minimise over it widened by its width on each side (see
   // ProfileIntervalOwnFactors); else over the whole box.
   double l_lo = problem.l_min(), l_hi = problem.l_max();
-  if (out.c_e_ci && options.definition == sim::VelocityDefinition::kInitial) {
+  if (out.c_e_ci && initial) {
     const double lo = std::log((*out.c_e_ci)[0]);
     const double hi = std::log((*out.c_e_ci)[1]);
     l_lo = std::max(problem.l_min(), lo - (hi - lo));

@@ -44,6 +44,19 @@ struct CalibrationOptions {
 // A closed interval [lo, hi].
 using Interval = std::array<double, 2>;
 
+// Another local minimum of the c_e profile whose RSS lies inside the
+// confidence set: v(F) at the data's loads does not decide between it and the
+// fit.
+struct SecondMinimum {
+  double c_e_n_per_mm2 = 0.0;
+  double alpha_per_s = 0.0;
+  double rss_log_v = 0.0;
+  // Its own part of the confidence set when a ridge above the threshold
+  // separates it from the fit's interval; nullopt when it lies inside that
+  // interval.
+  std::optional<Interval> c_e_ci;
+};
+
 struct CalibrationSummary {
   double c_e_n_per_mm2 = 0.0;  // best fit
   double alpha_per_s = 0.0;
@@ -51,6 +64,9 @@ struct CalibrationSummary {
   // inside the search box (the parameter is not identifiable from v(F)).
   std::optional<Interval> c_e_ci;
   std::optional<Interval> alpha_ci;
+  // The best other minimum of the c_e profile inside the confidence set, when
+  // the profile has one (only looked for where c_e_ci closes).
+  std::optional<SecondMinimum> second_minimum;
   bool identifiable = false;    // c_e and alpha are determined separately
   std::string identifiability;  // one sentence for people
   // The combination alpha * c_e^exponent that v(F) determines best (exponent =

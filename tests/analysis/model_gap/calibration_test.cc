@@ -224,6 +224,7 @@ struct Design {
   double cv;
 };
 
+#if !defined(__SANITIZE_ADDRESS__)
 // The initial velocity's profile RSS of log v at c_e with the point's own
 // transient factors, computed from the surrogate's public velocity
 // (SurrogateVelocityMmS, InitialTransientFactor), alpha in closed form and
@@ -269,7 +270,6 @@ double OwnFactorProfileRss(const MeasuredData& data, double radius_mm,
 // the fit's factors put the upper end at 0.618 N/mm^2 and the RSS there with
 // its own factors is 2.2 times the threshold. Not in the sanitizer build:
 // hundreds of rig-loop transients.
-#if !defined(__SANITIZE_ADDRESS__)
 TEST(Calibrate, InitialIntervalEndsUseTheirOwnTransientFactors) {
   const std::string file =
       "tests/analysis/model_gap/fixtures/pvc_initial_rig_noise_only.csv";

@@ -67,7 +67,11 @@ std::string_view VelocityDefinitionHelp();
 // R/12 from y = 0.5 up and refines as 12 (0.5 / y)^0.94 below, at most R/40
 // (y below about 0.14), where a run's cost stops it: within about 2 % of the
 // continuum limit down to y = 0.15 (bone 1.3 N at R = 2 mm), 2.5 % at bone
-// 1 N, 8 % at bone 0.5 N.
+// 1 N, 8 % at bone 0.5 N. Below y = 0.2 most of what is left is the octree's
+// accuracy scale ell (eq. 7.10), coarse against the skin: with ell = 0.03 R
+// bone 0.5 N is low by 3.3 % at R/40 and 1.8 % at R/60, 0.75 N by 1.8 % and
+// 1 N by 1.1 % at R/40 (a run costs 1.5-2.5 CPU-minutes there). The rig does
+// not yet choose ell from the load.
 inline constexpr double kRigVoxelsPerRadius = 12.0;
 inline constexpr double kRigResolvedLoad = 0.5;
 inline constexpr double kRigMaxVoxelsPerRadius = 40.0;

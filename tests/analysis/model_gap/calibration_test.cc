@@ -225,6 +225,12 @@ struct Design {
 };
 
 #if !defined(__SANITIZE_ADDRESS__)
+// A committed fixture of tests/analysis/model_gap/fixtures, parsed.
+Result<MeasuredData> ParseFixture(const std::string& name) {
+  const std::string file = "tests/analysis/model_gap/fixtures/" + name;
+  return ParseMeasuredData(file, testing::ReadSourceFile(file));
+}
+
 // The initial velocity's profile RSS of log v at c_e with the point's own
 // transient factors, computed from the surrogate's public velocity
 // (SurrogateVelocityMmS, InitialTransientFactor), alpha in closed form and
@@ -271,10 +277,8 @@ double OwnFactorProfileRss(const MeasuredData& data, double radius_mm,
 // its own factors is 2.2 times the threshold. Not in the sanitizer build:
 // hundreds of rig-loop transients.
 TEST(Calibrate, InitialIntervalEndsUseTheirOwnTransientFactors) {
-  const std::string file =
-      "tests/analysis/model_gap/fixtures/pvc_initial_rig_noise_only.csv";
   const Result<MeasuredData> data =
-      ParseMeasuredData(file, testing::ReadSourceFile(file));
+      ParseFixture("pvc_initial_rig_noise_only.csv");
   ASSERT_TRUE(data.ok()) << data.error().message;
   CalibrationOptions options = InitialWithoutBootstrap(2.0);
   const Result<CalibrationSummary> fit = Calibrate(*data, options);
@@ -307,10 +311,7 @@ TEST(Calibrate, InitialIntervalEndsUseTheirOwnTransientFactors) {
 // the F threshold (0.056), and the truth 2.145 lies in the part around the
 // minimum the fit did not land in.
 TEST(Calibrate, ReportsASecondMinimumOfTheInitialVelocityProfile) {
-  const std::string file =
-      "tests/analysis/model_gap/fixtures/bone_initial_two_minima.csv";
-  const Result<MeasuredData> data =
-      ParseMeasuredData(file, testing::ReadSourceFile(file));
+  const Result<MeasuredData> data = ParseFixture("bone_initial_two_minima.csv");
   ASSERT_TRUE(data.ok()) << data.error().message;
   const Result<CalibrationSummary> fit =
       Calibrate(*data, InitialWithoutBootstrap(1.0));

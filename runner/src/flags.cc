@@ -173,6 +173,20 @@ CLI::Option* FlagSet::AddPositive(const std::string& name,
 
 CLI::Option* FlagSet::AddNonNegative(const std::string& name,
                                      const std::string& help,
+                                     std::string_view unit,
+                                     std::optional<double>* value) {
+  return Add(
+      name, help, "X",
+      [name, unit = std::string(unit), value](std::string_view text) -> Status {
+        Result<double> parsed = ParseNonNegative(name, text, unit);
+        if (!parsed.ok()) return parsed.error();
+        *value = *parsed;
+        return {};
+      });
+}
+
+CLI::Option* FlagSet::AddNonNegative(const std::string& name,
+                                     const std::string& help,
                                      std::string_view unit, double* value) {
   return Add(
       name, help, "X",

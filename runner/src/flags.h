@@ -57,6 +57,10 @@ class FlagSet {
       double* value, double max = std::numeric_limits<double>::infinity());
   CLI::Option* AddNonNegative(const std::string& name, const std::string& help,
                               std::string_view unit, double* value);
+  // The same, into a value that stays unset when the flag is not given.
+  CLI::Option* AddNonNegative(const std::string& name, const std::string& help,
+                              std::string_view unit,
+                              std::optional<double>* value);
   CLI::Option* AddInteger(const std::string& name, const std::string& help,
                           int min, int max, int* value);
   CLI::Option* AddUnsigned(const std::string& name, const std::string& help,

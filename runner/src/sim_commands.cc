@@ -92,11 +92,14 @@ std::string VoxelFlagHelp() {
 }
 
 // The rig's --ell-over-r (sim descent, sim measure).
-std::string EllFlagHelp(double default_ell_over_r) {
+std::string EllFlagHelp() {
   return fmt::format(
-      "octree accuracy scale ell as a fraction of R (default {}; smaller is "
-      "finer and slower, 0 refines every partial block to voxels)",
-      default_ell_over_r);
+      "octree accuracy scale ell as a fraction of R (default: {} from the "
+      "load y = F/(c_e R^2) = {} up, {} (y/{})^0.94 below, at least {}: "
+      "about the skin the burr cuts; smaller is finer and slower, 0 refines "
+      "every partial block to voxels)",
+      sim::Model{}.ell_over_r, sim::kRigResolvedLoad, sim::Model{}.ell_over_r,
+      sim::kRigResolvedLoad, sim::kRigMinEllOverR);
 }
 
 Status CheckVoxelFitsBurr(double voxel_mm, double radius_mm) {
@@ -256,8 +259,7 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
       fmt::format("burr spin, rad/s (default {})", options.spindle_rad_s),
       "rad/s", &options.spindle_rad_s);
   flags.AddPositive("--voxel-mm", VoxelFlagHelp(), "mm", &options.voxel_mm);
-  flags.AddNonNegative("--ell-over-r", EllFlagHelp(options.ell_over_r), "",
-                       &options.ell_over_r);
+  flags.AddNonNegative("--ell-over-r", EllFlagHelp(), "", &options.ell_over_r);
   flags.AddPositive(
       "--duration-s",
       "longest simulated time after contact, s (default 3600 for the "
@@ -352,7 +354,7 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
     j["radius_mm"] = options.radius_mm;
     j["spindle_rad_s"] = options.spindle_rad_s;
     j["voxel_mm"] = options.VoxelMm();
-    j["ell_over_r"] = options.ell_over_r;
+    j["ell_over_r"] = options.EllOverR();
     j["duration_s"] = options.DurationS();
     j["seed"] = options.seed;
     j["velocity_definition"] = definition_name;
@@ -697,8 +699,7 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
                   options.trace_depth_noise_mm),
       "mm", &options.trace_depth_noise_mm);
   flags.AddPositive("--voxel-mm", VoxelFlagHelp(), "mm", &options.voxel_mm);
-  flags.AddNonNegative("--ell-over-r", EllFlagHelp(options.ell_over_r), "",
-                       &options.ell_over_r);
+  flags.AddNonNegative("--ell-over-r", EllFlagHelp(), "", &options.ell_over_r);
   options.jobs = static_cast<int>(
       std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
   flags.AddInteger("--jobs",

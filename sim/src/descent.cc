@@ -67,12 +67,27 @@ std::string_view VelocityDefinitionHelp() {
          "no longer changes (long runs)";
 }
 
+// The skin the burr cuts, over R, goes as about y^0.94 (descent.h).
+constexpr double kSkinExponent = 0.94;
+
 double RigVoxelsPerRadius(double load) {
   if (!(load > 0.0) || !std::isfinite(load)) return kRigVoxelsPerRadius;
-  constexpr double kSkinExponent = 0.94;
   const double n =
       kRigVoxelsPerRadius * std::pow(kRigResolvedLoad / load, kSkinExponent);
   return std::clamp(std::round(n), kRigVoxelsPerRadius, kRigMaxVoxelsPerRadius);
+}
+
+double RigEllOverR(double load) {
+  const double ell = Model{}.ell_over_r;
+  if (!(load > 0.0) || !std::isfinite(load)) return ell;
+  return std::clamp(ell * std::pow(load / kRigResolvedLoad, kSkinExponent),
+                    kRigMinEllOverR, ell);
+}
+
+double DescentOptions::EllOverR() const {
+  if (ell_over_r) return *ell_over_r;
+  return RigEllOverR(force_n /
+                     (material.c_e_n_per_mm2 * radius_mm * radius_mm));
 }
 
 double DescentOptions::VoxelMm() const {
@@ -106,10 +121,10 @@ Status DescentOptions::Validate() const {
           name, value)};
     }
   }
-  if (!std::isfinite(ell_over_r) || ell_over_r < 0.0) {
+  if (ell_over_r && (!std::isfinite(*ell_over_r) || *ell_over_r < 0.0)) {
     return Error{fmt::format(
         "ell_over_r must be zero or a positive finite number, got {}",
-        ell_over_r)};
+        *ell_over_r)};
   }
   if (!(settling_band > 0.0 && settling_band < 1.0)) {
     return Error{
@@ -330,7 +345,7 @@ Result<DescentResult> RunDescent(const DescentOptions& o) {
   model.effects = o.effects;
   model.radius_mm = radius;
   model.dt_s = o.dt_s;
-  model.ell_over_r = o.ell_over_r;
+  model.ell_over_r = o.EllOverR();
   model.sample_estimate_hold =
       false;  // the rig reads the model force through its load cell
   Result<State> state = State::Create(model, std::move(*volume), o.seed);

@@ -300,8 +300,10 @@ TEST(DescentCommand, JsonHasInputsAndResults) {
   // The rig's default at the load F / (c_e R^2) = 2 / (2.145 x 9) = 0.104:
   // 12 (0.5 / 0.104)^0.94 = 52 voxels per radius, at most 40.
   EXPECT_DOUBLE_EQ(j["voxel_mm"].get<double>(), 3.0 / 40.0);
-  EXPECT_DOUBLE_EQ(j["ell_over_r"].get<double>(), 0.3);  // the simulator's
-  EXPECT_EQ(j["velocity_definition"], "initial");        // the default
+  // And ell follows the skin: 0.3 (0.104 / 0.5)^0.94 = 0.068 of R.
+  EXPECT_NEAR(j["ell_over_r"].get<double>(),
+              0.3 * std::pow(2.0 / (2.145 * 9.0) / 0.5, 0.94), 1e-12);
+  EXPECT_EQ(j["velocity_definition"], "initial");  // the default
   // Two seconds after contact are far too short to measure anything on bone:
   // no velocity, and a warning says why and how long it would take.
   EXPECT_TRUE(j["velocity_mm_s"].is_null());

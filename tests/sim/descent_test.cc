@@ -48,6 +48,29 @@ TEST(Descent, DefaultVoxelsShrinkBelowALoadOfOneHalf) {
   EXPECT_DOUBLE_EQ(options.VoxelMm(), 0.1);
 }
 
+// ell follows the skin as the voxels do: 0.3 R from the load 0.5 up,
+// 0.3 (y / 0.5)^0.94 below, never under 0.03 R.
+TEST(Descent, EllShrinksWithTheSkinBelowTheResolvedLoad) {
+  EXPECT_EQ(RigEllOverR(5.0), 0.3);
+  EXPECT_EQ(RigEllOverR(0.5), 0.3);
+  EXPECT_NEAR(RigEllOverR(0.25), 0.3 * std::pow(0.5, 0.94), 1e-15);
+  // Bone 0.5 N at R = 2 mm: 0.040 of R.
+  EXPECT_NEAR(RigEllOverR(0.5 / (2.145 * 4.0)), 0.03978, 1e-5);
+  EXPECT_EQ(RigEllOverR(0.01), 0.03);
+  EXPECT_EQ(RigEllOverR(0.0), 0.3);
+  EXPECT_EQ(RigEllOverR(std::nan("")), 0.3);
+  DescentOptions options;
+  options.material = kBone;
+  options.radius_mm = 2.0;
+  options.force_n = 5.0;  // load 0.583
+  EXPECT_EQ(options.EllOverR(), 0.3);
+  options.force_n = 1.0;  // load 0.117
+  EXPECT_NEAR(options.EllOverR(), 0.3 * std::pow(1.0 / (2.145 * 2.0), 0.94),
+              1e-15);
+  options.ell_over_r = 0.0;  // given, even 0 (every partial block refined)
+  EXPECT_EQ(options.EllOverR(), 0.0);
+}
+
 // Physics, not memory: the sanitizer build runs the rig in the tests further
 // down. At R = 2 mm, where these loads F / (c_e R^2) cut R/3 within 100 s.
 #if !defined(__SANITIZE_ADDRESS__)

@@ -67,11 +67,12 @@ std::string_view VelocityDefinitionHelp();
 // R/12 from y = 0.5 up and refines as 12 (0.5 / y)^0.94 below, at most R/40
 // (y below about 0.14), where a run's cost stops it: within about 2 % of the
 // continuum limit down to y = 0.15 (bone 1.3 N at R = 2 mm), 2.5 % at bone
-// 1 N, 8 % at bone 0.5 N. Below y = 0.2 most of what is left is the octree's
-// accuracy scale ell (eq. 7.10), coarse against the skin: with ell = 0.03 R
-// bone 0.5 N is low by 3.3 % at R/40 and 1.8 % at R/60, 0.75 N by 1.8 % and
-// 1 N by 1.1 % at R/40 (a run costs 1.5-2.5 CPU-minutes there). The rig does
-// not yet choose ell from the load.
+// 1 N, 8 % at bone 0.5 N with ell = 0.3 R. Below y = 0.2 most of what is
+// left is the octree's accuracy scale ell (eq. 7.10), coarse against the
+// skin, so the rig also shrinks ell with the skin (RigEllOverR): at R/40 bone
+// 0.5 N is then low by 3.3 % (ell 0.04 R; R/60 would give 1.8 % at 10
+// CPU-minutes a run), 0.75 N by 2.3 %, 1 N by 1.3 %, 1.5 N by 1.1 % (5 ms
+// loop; a run costs 5, 2, 1.2 and 0.3 CPU-minutes).
 inline constexpr double kRigVoxelsPerRadius = 12.0;
 inline constexpr double kRigResolvedLoad = 0.5;
 inline constexpr double kRigMaxVoxelsPerRadius = 40.0;
@@ -79,6 +80,14 @@ inline constexpr double kRigMaxVoxelsPerRadius = 40.0;
 // number; 12 for
 // a load that is not positive and finite).
 double RigVoxelsPerRadius(double load);
+
+// The rig's default octree accuracy scale ell / R (Model::ell_over_r,
+// eq. 7.10) at the load y. Partial blocks up to ell are taken whole, so ell
+// follows the skin: the simulator's 0.3 from y = 0.5 up (where the skin is
+// about 0.3 R thick), 0.3 (y / 0.5)^0.94 below, at least kRigMinEllOverR
+// (0.3 for a load that is not positive and finite).
+inline constexpr double kRigMinEllOverR = 0.03;
+double RigEllOverR(double load);
 
 struct DescentOptions {
   Material material;       // sample material
@@ -92,8 +101,9 @@ struct DescentOptions {
   double voxel_mm = 0.0;
   // The octree's accuracy scale ell as a fraction of R (Model::ell_over_r,
   // eq. 7.10): partial blocks up to ell are taken whole; smaller is finer
-  // and slower, 0 refines every partial block to voxels.
-  double ell_over_r = Model{}.ell_over_r;
+  // and slower, 0 refines every partial block to voxels. Unset:
+  // RigEllOverR at the load force_n / (c_e R^2).
+  std::optional<double> ell_over_r;
   VelocityDefinition definition = kDefaultVelocityDefinition;
   // Longest simulated time after contact; 0 = 3600 s for the initial
   // velocity, 36000 s for the settled one.
@@ -122,6 +132,8 @@ struct DescentOptions {
   Status Validate() const;
   // voxel_mm, or its default for the radius.
   double VoxelMm() const;
+  // ell_over_r, or the rig's default at the load.
+  double EllOverR() const;
   // duration_s, or its default for the definition.
   double DurationS() const;
 };

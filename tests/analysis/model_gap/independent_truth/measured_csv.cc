@@ -90,9 +90,9 @@ std::string FormatCsv(const Design& design,
   std::string csv =
       "run,material,burr_radius_mm,force_n,velocity_mm_s,velocity_definition\n";
   for (const MeasuredRunValue& r : runs) {
-    csv += fmt::format("{},{},{},{},{:.10g},settled\n", r.run,
-                       design.material_name, design.radius_mm, r.force_n,
-                       r.velocity_mm_s);
+    csv += fmt::format("{},{},{},{},{:.10g},{}\n", r.run, design.material_name,
+                       design.radius_mm, r.force_n, r.velocity_mm_s,
+                       design.velocity_definition);
   }
   return csv;
 }

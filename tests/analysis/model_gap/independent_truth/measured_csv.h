@@ -23,6 +23,8 @@ struct Design {
   std::vector<double> loads = {0.5, 0.7, 0.9, 1.1, 1.3, 1.5};
   int replicates = 4;
   double noise_cv = 0.1;  // of the log-normal run-to-run factor
+  // The CSV's velocity_definition column (sim/descent.h's names).
+  std::string velocity_definition = "settled";
 
   std::vector<double> ForcesN() const;
   // The standard deviation of log v, sqrt(ln(1 + cv^2)).

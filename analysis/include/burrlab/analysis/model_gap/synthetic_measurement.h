@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,8 +38,9 @@ struct SyntheticMeasurementOptions {
   // it (tests/runner/sim_commands_test.cc).
   double voxel_mm = 0.0;
   double dt_s = 5e-3;
-  // The octree's accuracy scale as a fraction of R (sim::DescentOptions).
-  double ell_over_r = sim::DescentOptions{}.ell_over_r;
+  // The octree's accuracy scale as a fraction of R (unset: the rig's default
+  // for each force level, sim::RigEllOverR).
+  std::optional<double> ell_over_r;
   // Keep each level's time trace (trace_data.h): every 10 ms (100 Hz) until
   // this long after contact, at the rig's coarser trace period after.
   bool keep_traces = false;

@@ -16,6 +16,7 @@
 // runs only with BURRLAB_SLOW_TESTS set: 40 seeds x 3 materials x 2 noise
 // levels x 2 truths, 400 s wall on 2 cores. Knobs: BURRLAB_TRUTH_SEEDS
 // (default 40), BURRLAB_TRUTH_JOBS (threads sharing the seeds),
+// BURRLAB_TRUTH_FILTER (only the materials whose name contains it),
 // BURRLAB_TRUTH_MISSES (print each seed that is not `none`).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -177,6 +178,7 @@ TEST(IndependentTruth, NoiseOnlyOnTheRigTable) {
   const int seeds = seeds_text ? std::max(1, std::atoi(seeds_text)) : 40;
   const int jobs = jobs_text ? std::max(1, std::atoi(jobs_text)) : 1;
   const bool misses = std::getenv("BURRLAB_TRUTH_MISSES") != nullptr;
+  const char* filter = std::getenv("BURRLAB_TRUTH_FILTER");
   std::string table = fmt::format(
       "R = 2 mm, 9 loads, 3 replicates, noise seeds 1-{} per cell, Discover "
       "with the material as reference; `none` / named or ambiguous / "
@@ -190,6 +192,10 @@ TEST(IndependentTruth, NoiseOnlyOnTheRigTable) {
                        c["absorbed"]);
   };
   for (const RigMaterial& m : kRigMaterials) {
+    if (filter != nullptr &&
+        std::string(m.name).find(filter) == std::string::npos) {
+      continue;
+    }
     const MeasuredData rig = RigData(m);
     std::vector<double> rig_mm_s, surrogate_mm_s;
     for (const MeasuredRun& r : rig.runs) {

@@ -16,6 +16,21 @@
 namespace burrlab::runner {
 namespace {
 
+// The conversion of a flag that takes a number >= 0 into `value` (a double,
+// or an optional that stays unset when the flag is not given).
+template <typename Target>
+std::function<Status(std::string_view)> NonNegativeInto(const std::string& name,
+                                                        std::string_view unit,
+                                                        Target* value) {
+  return
+      [name, unit = std::string(unit), value](std::string_view text) -> Status {
+        Result<double> parsed = ParseNonNegative(name, text, unit);
+        if (!parsed.ok()) return parsed.error();
+        *value = *parsed;
+        return {};
+      };
+}
+
 // " of <unit>" or nothing for a plain number.
 std::string OfUnit(std::string_view unit) {
   return unit.empty() ? std::string() : fmt::format(" of {}", unit);
@@ -173,29 +188,15 @@ CLI::Option* FlagSet::AddPositive(const std::string& name,
 
 CLI::Option* FlagSet::AddNonNegative(const std::string& name,
                                      const std::string& help,
-                                     std::string_view unit,
-                                     std::optional<double>* value) {
-  return Add(
-      name, help, "X",
-      [name, unit = std::string(unit), value](std::string_view text) -> Status {
-        Result<double> parsed = ParseNonNegative(name, text, unit);
-        if (!parsed.ok()) return parsed.error();
-        *value = *parsed;
-        return {};
-      });
+                                     std::string_view unit, double* value) {
+  return Add(name, help, "X", NonNegativeInto(name, unit, value));
 }
 
 CLI::Option* FlagSet::AddNonNegative(const std::string& name,
                                      const std::string& help,
-                                     std::string_view unit, double* value) {
-  return Add(
-      name, help, "X",
-      [name, unit = std::string(unit), value](std::string_view text) -> Status {
-        Result<double> parsed = ParseNonNegative(name, text, unit);
-        if (!parsed.ok()) return parsed.error();
-        *value = *parsed;
-        return {};
-      });
+                                     std::string_view unit,
+                                     std::optional<double>* value) {
+  return Add(name, help, "X", NonNegativeInto(name, unit, value));
 }
 
 CLI::Option* FlagSet::AddInteger(const std::string& name,

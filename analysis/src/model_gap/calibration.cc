@@ -18,7 +18,7 @@
 
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/analysis/model_gap/initial_velocity.h"
-#include "model_gap/box_search.h"
+#include "model_gap/own_factor_fit.h"
 #include "non_finite.h"
 
 namespace burrlab::analysis {
@@ -47,12 +47,14 @@ class LogVelocityProblem {
       max_ln_f = std::max(max_ln_f, ln_f_.back());
     }
     // Every force must stay below the full-immersion load.
-    const double l_domain = max_ln_f - 2.0 * ln_r_ - std::log(MaxSteadyLoad());
-    l_min_ = std::max(std::log(options.c_e_min_n_per_mm2), l_domain + 1e-9);
+    l_domain_ = max_ln_f - 2.0 * ln_r_ - std::log(MaxSteadyLoad());
+    l_min_ = std::max(std::log(options.c_e_min_n_per_mm2), l_domain_ + 1e-9);
     l_max_ = std::log(options.c_e_max_n_per_mm2);
   }
 
   int size() const { return static_cast<int>(ln_v_.size()); }
+  // The full-immersion bound of log c_e (the largest force's).
+  double l_domain() const { return l_domain_; }
   double l_min() const { return l_min_; }
   double l_max() const { return l_max_; }
 
@@ -124,7 +126,7 @@ class LogVelocityProblem {
 
  private:
   std::vector<double> ln_f_, ln_v_, ln_transient_;
-  double ln_r_, radius_mm_, l_min_ = 0.0, l_max_ = 0.0;
+  double ln_r_, radius_mm_, l_domain_ = 0.0, l_min_ = 0.0, l_max_ = 0.0;
   sim::VelocityDefinition definition_;
 };
 
@@ -160,7 +162,10 @@ double MinimiseOnInterval(const std::function<double(double)>& f, double lo,
 // 1.75 at 0.42) that the held-factor refits cycle instead: then the fit is a
 // search of (log c_e, log alpha) with the factors computed at every point
 // (BOBYQA, about a hundred points of milliseconds per level), from the
-// point of the rounds that fitted best with its own factors.
+// point of the rounds that fitted best with its own factors and from the
+// best point of a scan of log c_e up from the full-immersion bound
+// (own_factor_fit.h: the search alone can stop on a flat valley far from the
+// minimum).
 void FitWithTransient(LogVelocityProblem& problem,
                       const std::function<double(double)>& profile_l,
                       double* l_hat, double* rss_min) {
@@ -178,21 +183,24 @@ void FitWithTransient(LogVelocityProblem& problem,
     *l_hat = MinimiseOnInterval(profile_l, problem.l_min(), problem.l_max(),
                                 kGridPoints, rss_min);
   }
-  detail::BoxSearch box;
-  box.lower = {problem.l_min(), best_a - 3.0};
-  box.upper = {problem.l_max(), best_a + 3.0};
-  box.initial_step = {0.05, 0.05};
-  detail::BoxMinimum found = detail::MinimiseInBox(
-      [&problem](std::span<const double> x) {
-        problem.RefreshTransient(x[0], x[1]);
-        return problem.Rss(x[0], x[1]);
-      },
-      box, {best_l, best_a});
-  if (!(found.value < best_rss)) found.x = {best_l, best_a};
+  detail::OwnFactorProblem own;
+  own.held_alpha = [&problem](double l) { return problem.BestA(l); };
+  own.own_rss = [&problem](double l, double a) {
+    problem.RefreshTransient(l, a);
+    return problem.Rss(l, a);
+  };
+  own.l_bound = problem.l_domain();
+  own.l_lower = problem.l_min();
+  own.l_upper = problem.l_max();
+  const detail::OwnFactorMinimum found =
+      detail::FitWithOwnFactors(own, {best_l, best_a});
+  const std::array<double, 2> at = found.rss < best_rss
+                                       ? std::array<double, 2>{found.l, found.a}
+                                       : std::array<double, 2>{best_l, best_a};
   // Hold the factors of the point found; alpha is then the closed form's,
   // which moves it by less than the factors' own change.
-  problem.RefreshTransient(found.x[0], found.x[1]);
-  *l_hat = found.x[0];
+  problem.RefreshTransient(at[0], at[1]);
+  *l_hat = at[0];
   *rss_min = problem.ProfileRss(*l_hat);
 }
 

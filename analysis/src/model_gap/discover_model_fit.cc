@@ -23,6 +23,7 @@
 #include "burrlab/sim/effects.h"
 #include "model_gap/box_search.h"
 #include "model_gap/discover_internal.h"
+#include "model_gap/own_factor_fit.h"
 #include "non_finite.h"
 
 namespace burrlab::analysis {
@@ -198,24 +199,29 @@ double RefreshTransient(Runs* runs, const std::vector<ActiveEffect>& active,
 }
 
 Point FitBaseWithOwnTransient(Runs* runs, const Point& start, double* rss) {
-  const auto point = [](std::span<const double> x) {
+  const auto point = [](double l, double a) {
     Point p;
-    p.ln_c_e = x[0];
-    p.ln_alpha = x[1];
+    p.ln_c_e = l;
+    p.ln_alpha = a;
     return p;
   };
-  detail::BoxSearch box;
-  box.lower = {std::log(1e-3), start.ln_alpha - 3.0};
-  box.upper = {std::log(1e3), start.ln_alpha + 3.0};
-  box.initial_step = {0.05, 0.05};
-  const detail::BoxMinimum found = detail::MinimiseInBox(
-      [&](std::span<const double> x) {
-        const Point p = point(x);
-        RefreshTransient(runs, {}, p);
-        return Rss(*runs, {}, p, {});
-      },
-      box, {start.ln_c_e, start.ln_alpha});
-  const Point best = std::isfinite(found.value) ? point(found.x) : start;
+  double max_f = 0.0;
+  for (double f : runs->force_n) max_f = std::max(max_f, f);
+  detail::OwnFactorProblem problem;
+  problem.held_alpha = [&](double l) {
+    return OffsetAlpha(*runs, {}, point(l, 0.0), {});
+  };
+  problem.own_rss = [&](double l, double a) {
+    RefreshTransient(runs, {}, point(l, a));
+    return Rss(*runs, {}, point(l, a), {});
+  };
+  problem.l_bound =
+      std::log(max_f / (runs->radius_mm * runs->radius_mm * MaxSteadyLoad()));
+  problem.l_lower = std::log(1e-3);
+  problem.l_upper = std::log(1e3);
+  const detail::OwnFactorMinimum found =
+      detail::FitWithOwnFactors(problem, {start.ln_c_e, start.ln_alpha});
+  const Point best = std::isfinite(found.rss) ? point(found.l, found.a) : start;
   RefreshTransient(runs, {}, best);
   *rss = Rss(*runs, {}, best, {});
   return best;

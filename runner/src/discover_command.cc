@@ -87,6 +87,15 @@ Json ReportJson(const analysis::DiscoverReport& r) {
               {"rmse_after", JsonNumber(r.augmented.rmse_log_v)},
               {"cv_rmse_before", JsonNumber(r.baseline.cv_rmse_log_v)},
               {"cv_rmse_after", JsonNumber(r.augmented.cv_rmse_log_v)}};
+  const auto by_level = [](const std::vector<double>& values) {
+    Json a = Json::array();
+    for (double v : values) a.push_back(JsonNumber(v));
+    return a;
+  };
+  j["gap"]["cv_rmse_by_level_before"] =
+      by_level(r.baseline.cv_level_rmse_log_v);
+  j["gap"]["cv_rmse_by_level_after"] =
+      by_level(r.augmented.cv_level_rmse_log_v);
   Json tests;
   tests["lack_of_fit_p"] = JsonNumber(r.gap_before.lack_of_fit_p);
   tests["curvature_p"] = JsonNumber(r.gap_before.curvature_p);

@@ -90,6 +90,16 @@ TEST_F(DiscoverCommand, NamesAHiddenPowerLimitAndWritesTheReport) {
   EXPECT_LT(gap["rmse_after"].get<double>(), gap["rmse_before"].get<double>());
   EXPECT_LT(gap["cv_rmse_after"].get<double>(),
             gap["cv_rmse_before"].get<double>());
+  // One held-out RMSE per force level (six in this file), lowest force
+  // first; the pooled cv_rmse lies among them.
+  for (const char* when : {"before", "after"}) {
+    const std::vector<double> levels =
+        gap[std::string("cv_rmse_by_level_") + when];
+    ASSERT_EQ(levels.size(), 6u) << when;
+    const double pooled = gap[std::string("cv_rmse_") + when];
+    EXPECT_LE(*std::min_element(levels.begin(), levels.end()), pooled) << when;
+    EXPECT_GE(*std::max_element(levels.begin(), levels.end()), pooled) << when;
+  }
   EXPECT_LT(j["tests"]["gap_holm_p"].get<double>(), 0.05);
   EXPECT_LT(j["tests"]["lr_p"].get<double>(), 0.05);
   const std::string md = Read(out / "report.md");

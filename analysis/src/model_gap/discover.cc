@@ -73,6 +73,27 @@ int ProgressTasks(const DiscoverOptions& options) {
   return 2 + library * std::max(1, options.max_effects);
 }
 
+// The held-out levels `after` predicts better than `before`, and how many
+// both predict (0 when either has no per-level errors).
+std::pair<int, int> LevelsBetter(const ModelFit& after,
+                                 const ModelFit& before) {
+  const std::vector<double>& a = after.cv_level_rmse_log_v;
+  const std::vector<double>& b = before.cv_level_rmse_log_v;
+  if (a.size() != b.size()) return {0, 0};
+  int better = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) better += a[i] < b[i];
+  return {better, static_cast<int>(a.size())};
+}
+
+std::string HeldOutFailure(const std::string& added, const ModelFit& before,
+                           const ModelFit& after) {
+  const auto [better, levels] = LevelsBetter(after, before);
+  return fmt::format(
+      "adding {} does not lower the held-out error ({:.4g} -> {:.4g}; better "
+      "at {} of {} held-out force levels)",
+      added, before.cv_rmse_log_v, after.cv_rmse_log_v, better, levels);
+}
+
 // Effects significant after the max-T correction, best AICc first.
 std::vector<std::size_t> SignificantEffects(
     const std::vector<EffectAttribution>& round, double level) {
@@ -417,12 +438,10 @@ StepwiseOutcome DiscoverStages::AddEffectsStepwise() {
     }
   }
   if (outcome.explained && held_out_deferred &&
-      report_.augmented.cv_rmse_log_v >= null_fit_.cv_rmse_log_v) {
+      !PredictsHeldOutBetter(report_.augmented, null_fit_)) {
     outcome.explained = false;
-    outcome.failure = fmt::format(
-        "adding {} does not lower the held-out error ({:.4g} -> {:.4g})",
-        Join(report_.effects), null_fit_.cv_rmse_log_v,
-        report_.augmented.cv_rmse_log_v);
+    outcome.failure =
+        HeldOutFailure(Join(report_.effects), null_fit_, report_.augmented);
   }
   return outcome;
 }
@@ -457,13 +476,8 @@ StepChoice DiscoverStages::ChooseEffect(
       continue;
     }
     pick.gap = flow_.Gap(round.fits[k]);
-    // NaN passes.
-    const bool held_out_drops =
-        !(pick.fit.cv_rmse_log_v >= before.cv_rmse_log_v);
-    if (!held_out_drops) {
-      outcome->failure = fmt::format(
-          "adding {} does not lower the held-out error ({:.4g} -> {:.4g})",
-          round.effects[k].id, before.cv_rmse_log_v, pick.fit.cv_rmse_log_v);
+    if (!PredictsHeldOutBetter(pick.fit, before)) {
+      outcome->failure = HeldOutFailure(round.effects[k].id, before, pick.fit);
       if (further_step_possible && pick.gap.detected && !provisional) {
         provisional = pick;
       }
@@ -550,6 +564,12 @@ Status DiscoverStages::AddTraceGap(const MeasuredData& data) {
 
 }  // namespace
 }  // namespace discover_internal
+
+bool PredictsHeldOutBetter(const ModelFit& after, const ModelFit& before) {
+  if (!(after.cv_rmse_log_v >= before.cv_rmse_log_v)) return true;
+  const auto [better, levels] = discover_internal::LevelsBetter(after, before);
+  return 2 * better > levels;
+}
 
 Status DiscoverOptions::Validate() const {
   if (!std::isfinite(radius_mm) || radius_mm <= 0.0) {

@@ -204,8 +204,10 @@ class Workflow {
                      const std::vector<char>& use) const;
 
   // Leave-one-force-level-out RMSE of log v for `model` (NaN with < 3
-  // levels).
-  double CrossValidate(const Model& model) const;
+  // levels); each held-out level's own RMSE goes to `per_level` when given
+  // (left empty when the result is NaN).
+  double CrossValidate(const Model& model,
+                       std::vector<double>* per_level = nullptr) const;
 
   // The report's numbers of a fitted model.
   ModelFit Describe(const Model& m) const;

@@ -579,10 +579,13 @@ Model Workflow::FitAugmented(const std::vector<ActiveEffect>& active,
   return m;
 }
 
-double Workflow::CrossValidate(const Model& model) const {
+double Workflow::CrossValidate(const Model& model,
+                               std::vector<double>* per_level) const {
+  if (per_level != nullptr) per_level->clear();
   if (runs_.levels < 3) return kNaN;
   double sum = 0.0;
   int count = 0;
+  std::vector<double> levels;
   for (int held = 0; held < runs_.levels; ++held) {
     std::vector<char> use(runs_.size());
     for (int i = 0; i < runs_.size(); ++i) use[i] = runs_.level[i] != held;
@@ -599,15 +602,23 @@ double Workflow::CrossValidate(const Model& model) const {
                         model.point, &rss);
     }
     const std::vector<double> y = Predict(runs_, model.active, p);
+    double level_sum = 0.0;
+    int level_count = 0;
     for (int i = 0; i < runs_.size(); ++i) {
       if (use[i]) continue;
       const double r =
           std::isfinite(y[i]) ? runs_.ln_v[i] - y[i] : kUnreachableResidual;
-      sum += r * r;
-      ++count;
+      level_sum += r * r;
+      ++level_count;
     }
+    sum += level_sum;
+    count += level_count;
+    levels.push_back(level_count > 0 ? std::sqrt(level_sum / level_count)
+                                     : kNaN);
   }
-  return count > 0 ? std::sqrt(sum / count) : kNaN;
+  if (count == 0) return kNaN;
+  if (per_level != nullptr) *per_level = std::move(levels);
+  return std::sqrt(sum / count);
 }
 
 ModelFit Workflow::Describe(const Model& m) const {
@@ -625,7 +636,7 @@ ModelFit Workflow::Describe(const Model& m) const {
   f.rss_log_v = m.rss;
   f.rmse_log_v = std::sqrt(m.rss / runs_.size());
   f.aicc = Aicc(m.rss, runs_.size(), f.parameters);
-  f.cv_rmse_log_v = CrossValidate(m);
+  f.cv_rmse_log_v = CrossValidate(m, &f.cv_level_rmse_log_v);
   f.fitted_log_v = Predict(runs_, m.active, m.point);
   return f;
 }

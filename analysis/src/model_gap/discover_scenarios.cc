@@ -202,6 +202,7 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
     std::vector<std::string> named;
     bool physical = false, hit = false;
     double cv_before = 0.0, cv_after = 0.0;
+    bool held_out_better = false;
   };
   std::vector<Slot> slots(std::max(seeds, 0));
   // A variant (a shape) counts as its family, which is what reports name.
@@ -248,6 +249,8 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
                                 (report->verdict == "absorbed" && first));
       slot.cv_before = report->baseline.cv_rmse_log_v;
       slot.cv_after = report->augmented.cv_rmse_log_v;
+      slot.held_out_better =
+          PredictsHeldOutBetter(report->augmented, report->baseline);
     }
   };
   std::vector<std::thread> workers;
@@ -267,6 +270,7 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
       out.mean_cv_before += slot.cv_before;
       out.mean_cv_after += slot.cv_after;
       out.cv_shrank += slot.cv_after < slot.cv_before;
+      out.held_out_better += slot.held_out_better;
     }
   }
   if (out.hits > 0) {

@@ -83,6 +83,9 @@ struct ModelFit {
   double aicc = 0.0;        // n log(rss/n) + 2k + 2k(k+1)/(n-k-1), k = p + 1
   // Leave-one-force-level-out RMSE of log v (NaN with fewer than 3 levels).
   double cv_rmse_log_v = 0.0;
+  // The same for each held-out level alone, lowest force first (empty with
+  // fewer than 3 levels).
+  std::vector<double> cv_level_rmse_log_v;
   std::vector<double> fitted_log_v;  // per run used, in file order
 };
 
@@ -168,6 +171,14 @@ struct DiscoverReport {
 // use (see calibration.h).
 Result<DiscoverReport> Discover(const MeasuredData& data,
                                 const DiscoverOptions& options);
+
+// Discover's held-out check: whether `after` predicts force levels it was not
+// fitted to better than `before` — its leave-one-level-out RMSE of log v is
+// lower, or it predicts more than half of the held-out levels better (a kink
+// such as a hard power cap: the fit that leaves out the level next to it
+// cannot place it, and that one level can lose more than all the others
+// gain). A NaN error (fewer than 3 levels) passes.
+bool PredictsHeldOutBetter(const ModelFit& after, const ModelFit& before);
 
 // The residual sum of squares of log v of the base model (c_e, alpha) fitted
 // to `data` exactly as Discover fits it.

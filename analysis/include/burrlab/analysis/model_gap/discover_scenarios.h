@@ -95,8 +95,9 @@ struct ScenarioOutcome {
   std::vector<SeedOutcome> per_seed;    // in seed order
   std::map<std::string, int> verdicts;  // count per verdict
   int hits = 0;  // expected id named, or in the alias set (named/ambiguous)
-  int named_physical = 0;  // verdict named or ambiguous (any effect)
-  int cv_shrank = 0;       // held-out RMSE after < before, among hits
+  int named_physical = 0;   // verdict named or ambiguous (any effect)
+  int cv_shrank = 0;        // held-out RMSE after < before, among hits
+  int held_out_better = 0;  // PredictsHeldOutBetter(after, before), hits
   double mean_cv_before = 0.0, mean_cv_after = 0.0;  // over the hits
 };
 

@@ -4,11 +4,13 @@
 #include "burrlab/results_schema/bids_export.h"
 
 #include <fmt/format.h>
+#include <signal.h>
 #include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +38,45 @@ std::atomic<unsigned> g_temp_counter{0};
 fs::path TempPathFor(const fs::path& path) {
   return fs::path(fmt::format("{}.tmp-{}-{}", path.string(), ::getpid(),
                               g_temp_counter.fetch_add(1)));
+}
+
+// The process id in a temporary export name "<file>.tmp-<pid>-<n>", or 0.
+pid_t TempFileOwner(std::string_view name) {
+  const std::size_t mark = name.rfind(".tmp-");
+  if (mark == std::string_view::npos || mark == 0) return 0;
+  std::string_view rest = name.substr(mark + 5);
+  const std::size_t dash = rest.find('-');
+  if (dash == std::string_view::npos || dash == 0 || dash + 1 == rest.size()) {
+    return 0;
+  }
+  const auto all_digits = [](std::string_view text) {
+    return std::all_of(text.begin(), text.end(), [](char c) {
+      return std::isdigit(static_cast<unsigned char>(c)) != 0;
+    });
+  };
+  const std::string_view pid = rest.substr(0, dash);
+  if (!all_digits(pid) || !all_digits(rest.substr(dash + 1)) ||
+      pid.size() > 9) {
+    return 0;
+  }
+  return static_cast<pid_t>(std::stol(std::string(pid)));
+}
+
+// Removes the temporary files an export killed before its rename left in
+// `folder`: those of processes that no longer exist (a live process's are
+// its export in progress).
+void RemoveStaleTempFiles(const fs::path& folder) {
+  std::error_code ec;
+  fs::directory_iterator it(folder, ec);
+  if (ec) return;
+  for (; it != fs::directory_iterator(); it.increment(ec)) {
+    if (ec) return;
+    const pid_t owner = TempFileOwner(it->path().filename().string());
+    if (owner <= 0 || owner == ::getpid()) continue;
+    if (::kill(owner, 0) == 0 || errno != ESRCH) continue;
+    std::error_code ignored;
+    fs::remove(it->path(), ignored);
+  }
 }
 
 Error WriteError(const fs::path& path, int err) {
@@ -414,6 +455,7 @@ Status Export(const fs::path& dir, std::string_view label) {
     return Error{
         fmt::format("cannot create folder {}: {}", dir.string(), ec.message())};
   }
+  RemoveStaleTempFiles(dir);
   OrderedJson description;
   description["Name"] = session->study;
   description["BIDSVersion"] = kBidsVersion;
@@ -434,6 +476,7 @@ Status Export(const fs::path& dir, std::string_view label) {
 
   const std::string subject = fmt::format("sub-{}", label);
   const fs::path beh_dir = dir / subject / "beh";
+  RemoveStaleTempFiles(beh_dir);
   fs::create_directories(beh_dir, ec);
   if (ec) {
     return Error{fmt::format("cannot create folder {}: {}", beh_dir.string(),

@@ -12,8 +12,10 @@
 #include <cerrno>
 #include <cstring>
 #include <exception>
+#include <optional>
 #include <system_error>
 
+#include "burrlab/results_schema/session_lock.h"
 #include "journal_db.h"
 #include "text.h"
 
@@ -21,6 +23,7 @@ namespace burrlab::results_schema {
 namespace fs = std::filesystem;
 
 struct Journal::Impl {
+  std::optional<SessionLock> lock;  // held while the journal is open
   db::Db db;
   fs::path dir;
   fs::path path;
@@ -31,6 +34,7 @@ namespace {
 
 constexpr std::string_view kJournalFile = "journal.sqlite";
 constexpr std::string_view kCreatingPrefix = "journal.sqlite.creating-";
+constexpr std::string_view kLockFile = "journal.sqlite.lock";
 
 std::atomic<unsigned> g_creating_counter{0};
 
@@ -38,10 +42,33 @@ Error Internal(std::string_view what, const std::exception& e) {
   return Error{fmt::format("{}: internal error: {}", what, e.what())};
 }
 
-Error AlreadyExists(const fs::path& dir, std::string_view label) {
+// The journal at `path` exists: resume it. When it holds no trial (the run
+// stopped before its first one), --resume also starts it afresh with a
+// corrected protocol or set-up.
+Error AlreadyExists(const fs::path& dir, std::string_view label,
+                    const fs::path& path) {
+  int trials = -1;
+  if (auto opened = db::OpenDb(path, /*create=*/false)) {
+    if (auto count = db::CountTrials(opened->get(), path)) trials = *count;
+  }
+  if (trials == 0) {
+    return Error{fmt::format(
+        "sub-{} already exists in {} but holds no trials (its run stopped "
+        "before the first trial); use --resume to start it again with this "
+        "protocol and set-up",
+        label, dir.string())};
+  }
   return Error{
       fmt::format("sub-{} already exists in {}; use --resume to continue it",
                   label, dir.string())};
+}
+
+Error NoJournal(const fs::path& dir, std::string_view label,
+                const fs::path& path) {
+  return Error{fmt::format(
+      "no journal for sub-{} in {} ({} does not exist); start the session "
+      "without --resume",
+      label, dir.string(), path.string())};
 }
 
 bool PathExists(const fs::path& path) {
@@ -65,8 +92,8 @@ void SyncDirectory(const fs::path& dir) {
   }
 }
 
-// Refuses a subject folder that holds anything but leftovers of an
-// interrupted Create (which are ignored).
+// Refuses a subject folder that holds anything but the session lock and
+// leftovers of an interrupted Create (which are ignored).
 Status CheckSubjectFolder(const fs::path& sub) {
   std::error_code ec;
   const fs::file_status status = fs::symlink_status(sub, ec);
@@ -86,7 +113,7 @@ Status CheckSubjectFolder(const fs::path& sub) {
   for (; it != fs::directory_iterator(); it.increment(ec)) {
     if (ec) break;
     const std::string name = it->path().filename().string();
-    if (!name.starts_with(kCreatingPrefix)) {
+    if (!name.starts_with(kCreatingPrefix) && name != kLockFile) {
       return Error{fmt::format(
           "{} exists but holds no journal; refusing to write into it (move it "
           "away or choose another output folder)",
@@ -97,6 +124,20 @@ Status CheckSubjectFolder(const fs::path& sub) {
     return Error{fmt::format("cannot list {}: {}", sub.string(), ec.message())};
   }
   return {};
+}
+
+// Removes what a Create killed before its link left behind (only the lock's
+// holder calls this, so no other process is creating one).
+void RemoveCreationLeftovers(const fs::path& sub) {
+  std::error_code ec;
+  std::vector<fs::path> leftovers;
+  for (auto it = fs::directory_iterator(sub, ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    if (it->path().filename().string().starts_with(kCreatingPrefix)) {
+      leftovers.push_back(it->path());
+    }
+  }
+  for (const fs::path& p : leftovers) fs::remove(p, ec);
 }
 
 // Builds a complete journal file at `temp` (rollback-journal mode, so the
@@ -179,14 +220,15 @@ Result<Journal> Journal::Create(const fs::path& dir,
     const std::string& label = session.subject_label;
     const fs::path path = JournalPath(dir, label);
     const fs::path sub = path.parent_path();
-    if (PathExists(path)) return AlreadyExists(dir, label);
-    if (Status s = CheckSubjectFolder(sub); !s) return s.error();
-    std::error_code ec;
-    fs::create_directories(sub, ec);
-    if (ec) {
-      return Error{fmt::format("cannot create folder {}: {}", sub.string(),
-                               ec.message())};
+    if (!PathExists(path)) {
+      if (Status s = CheckSubjectFolder(sub); !s) return s.error();
     }
+    // Taken before anything is written, so a running session is reported as
+    // in use rather than as existing.
+    Result<SessionLock> lock = SessionLock::Acquire(dir, label);
+    if (!lock) return lock.error();
+    if (PathExists(path)) return AlreadyExists(dir, label, path);
+    if (Status s = CheckSubjectFolder(sub); !s) return s.error();
     const fs::path temp =
         sub / fmt::format("{}{}-{}", kCreatingPrefix, ::getpid(),
                           g_creating_counter.fetch_add(1));
@@ -198,11 +240,11 @@ Result<Journal> Journal::Create(const fs::path& dir,
     bool exists = false;
     Status linked = LinkNoReplace(temp, path, &exists);
     RemoveDbFiles(temp);
-    if (exists) return AlreadyExists(dir, label);
+    if (exists) return AlreadyExists(dir, label, path);
     if (!linked) return linked.error();
     SyncDirectory(sub);
     SyncDirectory(sub.parent_path());
-    return Open(dir, label);
+    return OpenLocked(dir, label, std::move(lock).value());
   } catch (const std::exception& e) {
     return Internal("cannot create the journal", e);
   }
@@ -213,35 +255,41 @@ Result<Journal> Journal::Open(const fs::path& dir,
   try {
     if (Status s = ValidateSubjectLabel(subject_label); !s) return s.error();
     const fs::path path = JournalPath(dir, subject_label);
-    if (!PathExists(path)) {
-      return Error{fmt::format(
-          "no journal for sub-{} in {} ({} does not exist); start the session "
-          "without --resume",
-          subject_label, dir.string(), path.string())};
-    }
-    auto db = db::OpenDb(path, /*create=*/false);
-    if (!db) return db.error();
-    sqlite3* h = db->get();
-    if (auto version = db::CheckSchemaVersion(h, path); !version) {
-      return version.error();
-    }
-    if (Status s = db::Configure(h, path); !s) return s.error();
-    auto session = db::ReadSession(h, path);
-    if (!session) return session.error();
-    if (session->subject_label != subject_label) {
-      return Error{fmt::format("{} belongs to sub-{}, not sub-{}",
-                               path.string(), session->subject_label,
-                               subject_label)};
-    }
-    auto impl = std::make_unique<Impl>();
-    impl->db = std::move(db).value();
-    impl->dir = dir;
-    impl->path = path;
-    impl->session = std::move(session).value();
-    return Journal(std::move(impl));
+    if (!PathExists(path)) return NoJournal(dir, subject_label, path);
+    Result<SessionLock> lock = SessionLock::Acquire(dir, subject_label);
+    if (!lock) return lock.error();
+    return OpenLocked(dir, subject_label, std::move(lock).value());
   } catch (const std::exception& e) {
     return Internal("cannot open the journal", e);
   }
+}
+
+Result<Journal> Journal::OpenLocked(const fs::path& dir,
+                                    std::string_view subject_label,
+                                    SessionLock lock) {
+  const fs::path path = JournalPath(dir, subject_label);
+  if (!PathExists(path)) return NoJournal(dir, subject_label, path);
+  RemoveCreationLeftovers(path.parent_path());
+  auto db = db::OpenDb(path, /*create=*/false);
+  if (!db) return db.error();
+  sqlite3* h = db->get();
+  if (auto version = db::CheckSchemaVersion(h, path); !version) {
+    return version.error();
+  }
+  if (Status s = db::Configure(h, path); !s) return s.error();
+  auto session = db::ReadSession(h, path);
+  if (!session) return session.error();
+  if (session->subject_label != subject_label) {
+    return Error{fmt::format("{} belongs to sub-{}, not sub-{}", path.string(),
+                             session->subject_label, subject_label)};
+  }
+  auto impl = std::make_unique<Impl>();
+  impl->lock = std::move(lock);
+  impl->db = std::move(db).value();
+  impl->dir = dir;
+  impl->path = path;
+  impl->session = std::move(session).value();
+  return Journal(std::move(impl));
 }
 
 Status Journal::CheckSameSession(const SessionInfo& given) const {
@@ -265,12 +313,68 @@ Status Journal::CheckSameSession(const SessionInfo& given) const {
           "the seed differs from the journal's ({} in the journal, {} now)",
           kept.master_seed, given.master_seed));
     }
+    if (given.burrlab_version != kept.burrlab_version) {
+      differences.push_back(fmt::format(
+          "the burrlab version differs from the journal's ({} in "
+          "the journal, {} now)",
+          Quoted(kept.burrlab_version), Quoted(given.burrlab_version)));
+    }
+    // Fields the journal did not record (schema version 1) are not checked.
+    for (const SetupField& k : kept.setup) {
+      std::string now = "not given";
+      for (const SetupField& g : given.setup) {
+        if (g.name == k.name) now = Quoted(g.value);
+      }
+      if (now != Quoted(k.value)) {
+        differences.push_back(fmt::format(
+            "{} differs from the journal's ({} in the journal, {} now)", k.name,
+            Quoted(k.value), now));
+      }
+    }
     if (differences.empty()) return {};
     return Error{fmt::format("cannot resume sub-{} in {}: {}",
                              kept.subject_label, impl_->dir.string(),
                              fmt::join(differences, "; "))};
   } catch (const std::exception& e) {
     return Internal("cannot compare sessions", e);
+  }
+}
+
+Status Journal::Restart(const SessionInfo& session) {
+  try {
+    if (Status s = ValidateSession(session); !s) return s;
+    const SessionInfo& kept = impl_->session;
+    if (session.subject_label != kept.subject_label) {
+      return Error{fmt::format("cannot restart sub-{} as sub-{}",
+                               kept.subject_label, session.subject_label)};
+    }
+    sqlite3* h = impl_->db.get();
+    const fs::path& path = impl_->path;
+    const std::string what = "cannot restart the session in";
+    if (Status s = db::Exec(h, "BEGIN IMMEDIATE", what, path); !s) return s;
+    auto fail = [h](Status s) {
+      db::RollbackIfOpen(h);
+      return s;
+    };
+    Result<int> trials = db::CountTrials(h, path);
+    if (!trials) return fail(trials.error());
+    if (*trials > 0) {
+      return fail(Error{fmt::format(
+          "cannot restart sub-{} in {}: it already holds {} trial{}",
+          kept.subject_label, impl_->dir.string(), *trials,
+          *trials == 1 ? "" : "s")});
+    }
+    if (Status s = db::UpgradeSessionTable(h, path, session.burrlab_version);
+        !s) {
+      return fail(s);
+    }
+    if (Status s = db::WriteSession(h, path, session); !s) return fail(s);
+    if (Status s = db::Exec(h, "COMMIT", what, path); !s) return fail(s);
+    impl_->session = session;
+    return {};
+  } catch (const std::exception& e) {
+    db::RollbackIfOpen(impl_->db.get());
+    return Internal("cannot restart the session", e);
   }
 }
 

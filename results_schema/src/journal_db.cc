@@ -179,7 +179,8 @@ CREATE TABLE session (
   subject_label TEXT NOT NULL,
   master_seed TEXT NOT NULL,
   burrlab_version TEXT NOT NULL,
-  started_utc TEXT NOT NULL
+  started_utc TEXT NOT NULL,
+  setup TEXT NOT NULL DEFAULT '{}' CHECK (json_valid(setup))
 );
 CREATE TABLE trial (
   trial_index INTEGER PRIMARY KEY CHECK (trial_index >= 0),
@@ -300,11 +301,22 @@ Status CreateSchema(sqlite3* db, const std::filesystem::path& path,
       !s) {
     return s;
   }
+  return WriteSession(db, path, session);
+}
+
+std::string SetupJson(const std::vector<SetupField>& setup) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const SetupField& f : setup) j[f.name] = f.value;
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+Status WriteSession(sqlite3* db, const std::filesystem::path& path,
+                    const SessionInfo& session) {
   auto insert = Prepare(db,
-                        "INSERT INTO session (id, study, protocol_path, "
-                        "protocol_sha256, subject_label, master_seed, "
-                        "burrlab_version, started_utc) "
-                        "VALUES (1, ?1, ?2, ?3, ?4, ?5, ?6, ?7)",
+                        "INSERT OR REPLACE INTO session (id, study, "
+                        "protocol_path, protocol_sha256, subject_label, "
+                        "master_seed, burrlab_version, started_utc, setup) "
+                        "VALUES (1, ?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
                         "cannot write the session of", path);
   if (!insert) return insert.error();
   sqlite3_stmt* stmt = insert->get();
@@ -315,7 +327,42 @@ Status CreateSchema(sqlite3* db, const std::filesystem::path& path,
   BindText(stmt, 5, std::to_string(session.master_seed));
   BindText(stmt, 6, session.burrlab_version);
   BindText(stmt, 7, session.started_utc);
+  BindText(stmt, 8, SetupJson(session.setup));
   return StepDone(db, stmt, "cannot write the session of", path);
+}
+
+Result<bool> HasSetupColumn(sqlite3* db, const std::filesystem::path& path) {
+  auto query = Prepare(db,
+                       "SELECT COUNT(*) FROM pragma_table_info('session') "
+                       "WHERE name = 'setup'",
+                       "cannot read the session of", path);
+  if (!query) return query.error();
+  if (sqlite3_step(query->get()) != SQLITE_ROW) {
+    return SqliteError(db, "cannot read the session of", path);
+  }
+  return sqlite3_column_int(query->get(), 0) > 0;
+}
+
+Status UpgradeSessionTable(sqlite3* db, const std::filesystem::path& path,
+                           std::string_view written_by) {
+  Result<bool> has = HasSetupColumn(db, path);
+  if (!has) return has.error();
+  if (*has) return {};
+  if (Status s = Exec(db,
+                      "ALTER TABLE session ADD COLUMN setup TEXT NOT NULL "
+                      "DEFAULT '{}' CHECK (json_valid(setup))",
+                      "cannot upgrade the session table of", path);
+      !s) {
+    return s;
+  }
+  auto version = Prepare(
+      db, "INSERT INTO schema_version (version, written_by) VALUES (?1, ?2)",
+      "cannot write the schema version of", path);
+  if (!version) return version.error();
+  sqlite3_bind_int(version->get(), 1, kJournalSchemaVersion);
+  BindText(version->get(), 2, written_by);
+  return StepDone(db, version->get(), "cannot write the schema version of",
+                  path);
 }
 
 Result<int> CheckSchemaVersion(sqlite3* db, const std::filesystem::path& path) {
@@ -383,6 +430,28 @@ Result<SessionInfo> ReadSession(sqlite3* db,
   }
   session.burrlab_version = ColumnText(stmt, 5);
   session.started_utc = ColumnText(stmt, 6);
+  Result<bool> has_setup = HasSetupColumn(db, path);
+  if (!has_setup) return has_setup.error();
+  if (!*has_setup) return session;  // schema version 1
+  auto setup_query = Prepare(db, "SELECT setup FROM session WHERE id = 1",
+                             "cannot read the session of", path);
+  if (!setup_query) return setup_query.error();
+  if (sqlite3_step(setup_query->get()) != SQLITE_ROW) {
+    return SqliteError(db, "cannot read the session of", path);
+  }
+  const std::string text = ColumnText(setup_query->get(), 0);
+  const auto setup = nlohmann::ordered_json::parse(text, nullptr, false);
+  if (setup.is_discarded() || !setup.is_object()) {
+    return Error{fmt::format("{}: the session's setup {} is not a JSON object",
+                             path.string(), Quoted(text))};
+  }
+  for (const auto& [name, value] : setup.items()) {
+    if (!value.is_string()) {
+      return Error{fmt::format("{}: the session's setup field {} is not text",
+                               path.string(), Quoted(name))};
+    }
+    session.setup.push_back({name, value.get<std::string>()});
+  }
   return session;
 }
 

@@ -60,6 +60,15 @@ void RollbackIfOpen(sqlite3* db);
 Status CreateSchema(sqlite3* db, const std::filesystem::path& path,
                     const SessionInfo& session);
 
+// Writes (or replaces) the session row.
+Status WriteSession(sqlite3* db, const std::filesystem::path& path,
+                    const SessionInfo& session);
+
+// Gives a schema version 1 journal the session's setup column (and records
+// version 2); nothing when it has one.
+Status UpgradeSessionTable(sqlite3* db, const std::filesystem::path& path,
+                           std::string_view written_by);
+
 // Reads the schema version; refuses a missing table or a newer version.
 Result<int> CheckSchemaVersion(sqlite3* db, const std::filesystem::path& path);
 

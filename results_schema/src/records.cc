@@ -118,6 +118,26 @@ Status ValidateSession(const SessionInfo& session) {
   if (session.burrlab_version.empty()) {
     return Error{"session: burrlab_version is empty"};
   }
+  for (std::size_t i = 0; i < session.setup.size(); ++i) {
+    const SetupField& f = session.setup[i];
+    if (!IsSnakeCase(f.name)) {
+      return Error{fmt::format("session: setup field name {} is not snake_case",
+                               Quoted(f.name))};
+    }
+    if (!IsValidUtf8(f.value) ||
+        f.value.find_first_of("\r\n") != std::string::npos) {
+      return Error{fmt::format(
+          "session: setup field {} has the value {}, which is not one line "
+          "of UTF-8",
+          f.name, Quoted(f.value))};
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (session.setup[j].name == f.name) {
+        return Error{
+            fmt::format("session: setup field {} appears twice", f.name)};
+      }
+    }
+  }
   return {};
 }
 
@@ -245,6 +265,11 @@ std::string SessionToJson(const SessionInfo& session) {
   j["master_seed"] = std::to_string(session.master_seed);
   j["burrlab_version"] = session.burrlab_version;
   j["started_utc"] = session.started_utc;
+  if (!session.setup.empty()) {
+    OrderedJson setup = OrderedJson::object();
+    for (const SetupField& f : session.setup) setup[f.name] = f.value;
+    j["setup"] = std::move(setup);
+  }
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

@@ -536,6 +536,43 @@ Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
   return loaded;
 }
 
+std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
+  auto or_none = [](const std::string& text) {
+    return text.empty() ? std::string("none") : text;
+  };
+  std::string responder;
+  switch (options.responder) {
+    case Responder::kTerminal:
+      responder = "typed";
+      break;
+    case Responder::kStation:
+      responder = "station";
+      break;
+    case Responder::kSimulated: {
+      const protocols::ObserverParams& o = options.observer;
+      responder = fmt::format(
+          "simulated weber_stiffness={} weber_removal={} lapse={} "
+          "criterion={} rt_median_s={} rt_log_sd={} match_tolerance={}",
+          o.weber_stiffness, o.weber_removal, o.lapse, o.criterion,
+          o.rt_median_s, o.rt_log_sd, o.match_tolerance);
+      break;
+    }
+  }
+  return {
+      {"radius_mm", fmt::format("{}", options.radius_mm)},
+      {"voxel_mm", fmt::format("{}", stimuli::IntervalOptions{}.voxel_mm)},
+      {"subject_index", fmt::format("{}", options.subject_index)},
+      {"responder", responder},
+      {"device", or_none(options.device)},
+      {"station_file_sha256", or_none(options.station_file_sha256)},
+      {"script_sha256", or_none(options.script_sha256)},
+      {"renderings", options.renderings != nullptr
+                         ? fmt::format("pool of {} per stimulus",
+                                       options.renderings->renderings())
+                         : std::string("fresh")},
+  };
+}
+
 Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
                                   const SessionOptions& options) {
   rs::SessionInfo info;
@@ -546,6 +583,7 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
   info.master_seed = options.seed;
   info.burrlab_version = BURRLAB_VERSION;
   info.started_utc = UtcNow();
+  info.setup = SessionSetup(options);
   if (rs::Status s = rs::ValidateSubjectLabel(options.subject); !s.ok()) {
     return Error{s.error().message};
   }
@@ -562,9 +600,12 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
     rs::Result<rs::Journal> opened =
         rs::Journal::Open(options.out_dir, options.subject);
     if (!opened.ok()) return opened;
-    if (rs::Status s = opened->CheckSameSession(info); !s.ok()) {
-      return s.error();
-    }
+    rs::Result<int> stored = opened->NextTrialIndex();
+    if (!stored.ok()) return stored.error();
+    // A run that stopped before its first trial starts again as given now.
+    rs::Status same =
+        *stored == 0 ? opened->Restart(info) : opened->CheckSameSession(info);
+    if (!same.ok()) return same.error();
     return opened;
   }();
   if (!journal.ok()) return Error{journal.error().message};
@@ -588,6 +629,8 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
   if (Status s = runner.Replay(records); !s.ok()) return s.error();
   Result<SessionSummary> summary = runner.Run();
   if (!summary.ok()) return summary;
+  // The journal (and with it the session's lock) stays open through the
+  // export, so no other run writes the session meanwhile.
   if (options.export_bids) {
     if (rs::Status s = rs::ExportBids(options.out_dir, options.subject);
         !s.ok()) {

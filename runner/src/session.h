@@ -125,7 +125,13 @@ struct SessionOptions {
   std::istream* in = nullptr;          // kTerminal: answers
   std::ostream* prompt = nullptr;      // kTerminal: trial descriptions
   LiveStation* station = nullptr;      // kStation: the station
-  bool export_bids = true;             // write the BIDS files at the end
+  // kStation: the device backend ("mouse", "hid", ...) and the SHA-256 of the
+  // station file and station script (empty when none); recorded in the
+  // journal's setup.
+  std::string device;
+  std::string station_file_sha256;
+  std::string script_sha256;
+  bool export_bids = true;  // write the BIDS files at the end
   // Non-null: intervals come from this shared pool of renderings (picked by
   // each interval's erosion seed) instead of being rendered afresh; trials
   // record the pool's size in their `extra` ("rendering_pool").
@@ -148,7 +154,17 @@ struct SessionSummary {
                                 // answer key, when any
 };
 
-// Runs (or resumes) one subject's session.
+// What shapes a session's results besides its protocol and seed, as the
+// journal records it and --resume checks it: radius_mm, voxel_mm,
+// subject_index, responder ("typed", "station" or "simulated" with every
+// observer parameter), device, station_file_sha256, script_sha256 and
+// renderings ("fresh" or the shared pool's size); "none" where not used.
+std::vector<results_schema::SetupField> SessionSetup(
+    const SessionOptions& options);
+
+// Runs (or resumes) one subject's session. The session's lock is held from
+// the journal's opening to the end of the export; a --resume of a journal
+// with no trial starts it again with the protocol and set-up given now.
 Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
                                   const SessionOptions& options);
 

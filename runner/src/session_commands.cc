@@ -319,6 +319,7 @@ int RunAtStation(const LoadedProtocol& loaded, SessionOptions options,
   if (!f.station_path.empty()) {
     Result<std::string> text = ReadSmallFile(f.station_path, "station file");
     if (!text.ok()) return Fail(err, text.error().message);
+    options.station_file_sha256 = Sha256Hex(*text);
     StationParseOutcome parsed = ParseStation(f.station_path, *text);
     if (!parsed.station.has_value()) {
       err << Diagnostics(f.station_path, *text, parsed.diagnostics) << '\n';
@@ -336,6 +337,7 @@ int RunAtStation(const LoadedProtocol& loaded, SessionOptions options,
   if (!f.script_path.empty()) {
     Result<std::string> text = ReadSmallFile(f.script_path, "station script");
     if (!text.ok()) return Fail(err, text.error().message);
+    options.script_sha256 = Sha256Hex(*text);
     StationScriptParseOutcome parsed = ParseStationScript(f.script_path, *text);
     if (!parsed.script.has_value()) {
       err << Diagnostics(f.script_path, *text, parsed.diagnostics) << '\n';
@@ -397,6 +399,7 @@ int RunAtStation(const LoadedProtocol& loaded, SessionOptions options,
   StationSession session(std::move(so));
   options.responder = Responder::kStation;
   options.station = &session;
+  options.device = backend;
   Result<SessionSummary> summary = RunSession(loaded, options);
   if (!summary.ok()) return Fail(err, summary.error().message);
   const SessionSummary& s = summary.value();

@@ -124,6 +124,7 @@ TEST_F(BidsExport, WritesTheBidsFileSet) {
       "sub-01/beh/sub-01_task-sameDifferentMain_physio.json",
       "sub-01/beh/sub-01_task-sameDifferentMain_physio.tsv.gz",
       "sub-01/journal.sqlite",
+      "sub-01/journal.sqlite.lock",
   };
   // The journal's -wal/-shm files are gone once every connection closed.
   EXPECT_EQ(files, expected);

@@ -187,6 +187,7 @@ TEST(Journal, FailureInsideAppendLeavesNoPartialTrial) {
   EXPECT_TRUE(journal->Traces(1)->empty());
   EXPECT_TRUE(journal->CheckIntegrity().ok());
   // Also after reopening, and the same trial can then be appended whole.
+  journal = Error{"closed"};
   auto reopened = Journal::Open(dir.path(), "01");
   ASSERT_TRUE(reopened.ok()) << reopened.error().message;
   EXPECT_EQ(reopened->Trials()->size(), 1u);
@@ -358,17 +359,112 @@ TEST(Journal, ResumeWithAnotherSeedOrProtocolNamesTheDifference) {
                 "(18446744073709551557 in the journal, 42 now)");
 }
 
+TEST(Journal, ResumeChecksTheVersionAndEverySetupFieldByName) {
+  TempDir dir;
+  SessionInfo kept = MakeSession("01");
+  kept.setup = {{"radius_mm", "2"},        {"voxel_mm", "0.3"},
+                {"subject_index", "0"},    {"responder", "typed"},
+                {"device", "none"},        {"station_file_sha256", "none"},
+                {"script_sha256", "none"}, {"renderings", "fresh"}};
+  ASSERT_TRUE(Journal::Create(dir.path(), kept).ok());
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  EXPECT_EQ(journal->session(), kept);
+  EXPECT_TRUE(journal->CheckSameSession(kept).ok());
+  const std::string prefix =
+      "cannot resume sub-01 in " + dir.path().string() + ": ";
+  for (std::size_t i = 0; i < kept.setup.size(); ++i) {
+    SessionInfo given = kept;
+    given.setup[i].value = "other";
+    Status s = journal->CheckSameSession(given);
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().message,
+              prefix + kept.setup[i].name + " differs from the journal's (\"" +
+                  kept.setup[i].value + "\" in the journal, \"other\" now)");
+    given.setup.erase(given.setup.begin() + static_cast<std::ptrdiff_t>(i));
+    s = journal->CheckSameSession(given);
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().message,
+              prefix + kept.setup[i].name + " differs from the journal's (\"" +
+                  kept.setup[i].value + "\" in the journal, not given now)");
+  }
+  SessionInfo version = kept;
+  version.burrlab_version = "0.2.0";
+  Status s = journal->CheckSameSession(version);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            prefix +
+                "the burrlab version differs from the journal's "
+                "(\"0.1.0\" in the journal, \"0.2.0\" now)");
+}
+
+TEST(Journal, ASecondOpenOfALiveSessionIsRefusedUntilTheFirstCloses) {
+  TempDir dir;
+  auto first = Journal::Create(dir.path(), MakeSession("01"));
+  ASSERT_TRUE(first.ok()) << first.error().message;
+  const std::string lock_file =
+      (dir.path() / "sub-01" / "journal.sqlite.lock").string();
+  std::ifstream lock(lock_file);
+  std::string holder;
+  std::getline(lock, holder);
+  EXPECT_TRUE(holder.starts_with("pid " + std::to_string(::getpid()) + " on "))
+      << holder;
+  const std::string refused =
+      "sub-01 in " + dir.path().string() + " is in use by another burrlab (" +
+      holder +
+      "); wait for that run to end, or stop it, before starting another on "
+      "this session";
+  auto second = Journal::Open(dir.path(), "01");
+  ASSERT_FALSE(second.ok());
+  EXPECT_EQ(second.error().message, refused);
+  auto again = Journal::Create(dir.path(), MakeSession("01"));
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(again.error().message, refused);
+  first = Error{"closed"};
+  EXPECT_TRUE(Journal::Open(dir.path(), "01").ok());
+}
+
+TEST(Journal, ReadsASchemaVersion1JournalAndRestartsIt) {
+  TempDir dir;
+  SessionInfo session = MakeSession("01");
+  session.setup = {{"radius_mm", "2"}};
+  ASSERT_TRUE(Journal::Create(dir.path(), session).ok());
+  const fs::path path = JournalPath(dir.path(), "01");
+  // A journal as burrlab wrote it before the setup column existed.
+  RawSql(path, "ALTER TABLE session DROP COLUMN setup");
+  RawSql(path, "UPDATE schema_version SET version = 1");
+  {
+    auto journal = Journal::Open(dir.path(), "01");
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    EXPECT_TRUE(journal->session().setup.empty());
+    // What it did not record is not checked.
+    EXPECT_TRUE(journal->CheckSameSession(session).ok());
+    // With no trial it starts again, and records the setup from now on.
+    ASSERT_TRUE(journal->Restart(session).ok());
+    EXPECT_EQ(journal->Settings()->schema_version, kJournalSchemaVersion);
+  }
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  EXPECT_EQ(journal->session(), session);
+  ASSERT_TRUE(journal->Append(MakeTrial(0), MakeTraces(0)).ok());
+  const Status refused = journal->Restart(session);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().message, "cannot restart sub-01 in " +
+                                         dir.path().string() +
+                                         ": it already holds 1 trial");
+}
+
 TEST(Journal, RefusesANewerSchemaVersion) {
   TempDir dir;
   ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
   const fs::path path = JournalPath(dir.path(), "01");
-  RawSql(path, "UPDATE schema_version SET version = 2");
+  RawSql(path, "UPDATE schema_version SET version = 3");
   auto journal = Journal::Open(dir.path(), "01");
   ASSERT_FALSE(journal.ok());
   EXPECT_EQ(journal.error().message,
             path.string() +
-                " was written by a newer burrlab (journal schema version 2; "
-                "this burrlab reads up to version 1); use a newer burrlab to "
+                " was written by a newer burrlab (journal schema version 3; "
+                "this burrlab reads up to version 2); use a newer burrlab to "
                 "resume or export it");
 }
 

@@ -1,8 +1,13 @@
-// Crash safety of `burrlab run`: the real executable is SIGKILLed at random
-// points of a 40-trial simulated session at least 20 times and resumed each
-// time; the final journal and exports equal those of an uninterrupted run with
-// the same seed, with no completed trial lost or duplicated.
+// Crash safety of `burrlab run` and one process per session. The real
+// executable is SIGKILLed at random points of a 40-trial simulated session at
+// least 20 times and resumed each time; the final journal and exports equal
+// those of an uninterrupted run with the same seed, with no completed trial
+// lost or duplicated; kills during the export leave temporary files that the
+// next run removes. A second process on a live session is refused and the lock
+// of a killed one is taken over.
 #include <fcntl.h>
+#include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -73,10 +78,13 @@ max_trials = 28
 const std::string kBurrlab =
     std::string(BURRLAB_BINARY_DIR) + "/runner/burrlab";
 
-// Starts `burrlab args...` with output to `log`; returns the pid.
-pid_t Start(const std::vector<std::string>& args, const fs::path& log) {
+// Starts `burrlab args...` with output to `log` (and input from `in` when
+// it is not -1); returns the pid.
+pid_t Start(const std::vector<std::string>& args, const fs::path& log,
+            int in = -1) {
   const pid_t pid = fork();
   if (pid == 0) {
+    if (in >= 0) dup2(in, 0);
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     if (fd >= 0) {
       dup2(fd, 1);
@@ -101,11 +109,37 @@ int Wait(pid_t pid) {
   return WEXITSTATUS(status);
 }
 
+// Waits up to 60 s for `text` to appear in `log`.
+bool WaitForText(const fs::path& log, const std::string& text) {
+  for (int i = 0; i < 6000; ++i) {
+    if (burrlab::runner::ReadFile(log).find(text) != std::string::npos) {
+      return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
 int StoredTrials(const fs::path& out) {
   auto journal = rs::Journal::Open(out, "01");
   if (!journal.ok()) return -1;
   auto next = journal->NextTrialIndex();
   return next.ok() ? next.value() : -1;
+}
+
+// Temporary files under `out`: exports and journal creations cut short.
+std::vector<std::string> TempFiles(const fs::path& out) {
+  std::vector<std::string> found;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(out, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.find(".tmp-") != std::string::npos ||
+        name.find(".creating-") != std::string::npos) {
+      found.push_back(name);
+    }
+  }
+  return found;
 }
 
 using burrlab::runner::ReadFile;
@@ -134,43 +168,57 @@ TEST(SessionCrash, TwentyKillsAndResumesGiveTheUninterruptedResults) {
           .count();
   ASSERT_EQ(StoredTrials(reference), 40);
 
-  // Kill at uniform random delays in (0, full/10]; each restart resumes.
+  // A resume of the finished session replays it and rewrites the exports;
+  // timed to choose the kill delays once the session is complete.
+  const auto t1 = std::chrono::steady_clock::now();
+  ASSERT_EQ(Wait(Start(args(reference, true), log)), 0) << ReadFile(log);
+  const double resume_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t1)
+          .count();
+
+  // Kill at uniform random delays in (0, full/10] while trials remain, then
+  // in (0, resume] while the finished session is replayed and exported; each
+  // restart resumes. Go on until 20 kills landed and at least 2 of them cut
+  // an export short (a temporary export file was left behind).
   const fs::path out = dir / "killed";
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> delay(0.0, full_s / 10.0);
+  std::uniform_real_distribution<double> delay_at_end(0.0, resume_s);
   int kills = 0;
+  int kills_in_export = 0;
   std::set<int> trials_at_kill;
   bool started = false;
-  for (int attempt = 0; attempt < 400 && kills < 20; ++attempt) {
-    const bool resume = started && StoredTrials(out) >= 0;
-    const pid_t pid = Start(args(out, resume), log);
-    std::this_thread::sleep_for(std::chrono::duration<double>(delay(rng)));
+  for (int attempt = 0; attempt < 600 && (kills < 20 || kills_in_export < 2);
+       ++attempt) {
+    const int stored = started ? StoredTrials(out) : -1;
+    const pid_t pid = Start(args(out, stored >= 0), log);
+    std::this_thread::sleep_for(std::chrono::duration<double>(
+        stored == 40 ? delay_at_end(rng) : delay(rng)));
     ::kill(pid, SIGKILL);
     const int code = Wait(pid);
     started = true;
     if (code == -SIGKILL) {
       ++kills;
       trials_at_kill.insert(StoredTrials(out));
+      if (!TempFiles(out).empty()) ++kills_in_export;
     } else {
       ASSERT_EQ(code, 0) << ReadFile(log);  // finished before the kill
-      break;
     }
   }
   EXPECT_GE(kills, 20);
+  EXPECT_GE(kills_in_export, 2);
   std::string points;
   for (int n : trials_at_kill) points += std::to_string(n) + " ";
   ::testing::Test::RecordProperty("kills", kills);
+  ::testing::Test::RecordProperty("kills_in_export", kills_in_export);
   ::testing::Test::RecordProperty("trials_stored_at_kills", points);
   // The kills landed at several points of the session, not all at start-up.
   EXPECT_GE(trials_at_kill.size(), 5u);
-  // Resume to the end.
-  if (StoredTrials(out) < 40) {
-    ASSERT_EQ(Wait(Start(args(out, StoredTrials(out) >= 0), log)), 0)
-        << ReadFile(log);
-  } else {
-    // Finished journal; the export may have been killed: resume re-exports.
-    ASSERT_EQ(Wait(Start(args(out, true), log)), 0) << ReadFile(log);
-  }
+  // Resume to the end (or re-export a finished journal); nothing temporary
+  // is left.
+  ASSERT_EQ(Wait(Start(args(out, StoredTrials(out) >= 0), log)), 0)
+      << ReadFile(log);
+  EXPECT_EQ(TempFiles(out), std::vector<std::string>{});
 
   auto a = rs::Journal::Open(reference, "01");
   auto b = rs::Journal::Open(out, "01");
@@ -184,13 +232,91 @@ TEST(SessionCrash, TwentyKillsAndResumesGiveTheUninterruptedResults) {
     EXPECT_EQ(ta[i], tb[i]) << "trial " << i;
     EXPECT_EQ(a->Traces(i).value(), b->Traces(i).value()) << "trial " << i;
   }
-  for (const char* file :
-       {"sub-01_task-sd_beh.tsv", "sub-01_task-stairs_beh.tsv",
-        "sub-01_task-sd_physio.tsv.gz", "sub-01_task-stairs_physio.tsv.gz"}) {
-    EXPECT_EQ(ReadFile(reference / "sub-01" / "beh" / file),
-              ReadFile(out / "sub-01" / "beh" / file))
-        << file;
+  // Every export file, byte for byte.
+  std::vector<std::string> exported;
+  for (const auto& entry : fs::recursive_directory_iterator(reference)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && !name.starts_with("journal.sqlite")) {
+      exported.push_back(fs::relative(entry.path(), reference).string());
+    }
   }
+  EXPECT_EQ(exported.size(), 10u);  // 8 in beh/, 2 at the root
+  for (const std::string& file : exported) {
+    EXPECT_EQ(ReadFile(reference / file), ReadFile(out / file)) << file;
+  }
+}
+
+TEST(SessionLock, ASecondRunIsRefusedAndAKilledRunsLockIsTakenOver) {
+  const fs::path dir = fs::path(BURRLAB_BINARY_DIR) / "test_tmp" / "lock";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string protocol = (dir / "protocol.toml").string();
+  std::ofstream(protocol) << kProtocol;
+  const fs::path out = dir / "out";
+  const std::vector<std::string> typed = {
+      "run", protocol, "--subject", "01", "--out", out.string(), "--seed", "7"};
+
+  // A person types three answers and then pauses at the fourth trial.
+  int answers[2];
+  ASSERT_EQ(::pipe(answers), 0);
+  const fs::path first_log = dir / "first.txt";
+  const pid_t first = Start(typed, first_log, answers[0]);
+  ::close(answers[0]);
+  const std::string three = "same\ndifferent\nsame\n";
+  ASSERT_EQ(::write(answers[1], three.data(), three.size()),
+            static_cast<ssize_t>(three.size()));
+  ASSERT_TRUE(WaitForText(first_log, "trial 4 - block")) << ReadFile(first_log);
+
+  // A second run on the same session, simulated or typed, resumed or not,
+  // is refused and names the first.
+  const std::string holder = ReadFile(out / "sub-01" / "journal.sqlite.lock");
+  char host[256] = {};
+  ::gethostname(host, sizeof(host) - 1);
+  EXPECT_TRUE(
+      holder.starts_with(fmt::format("pid {} on {} since 20", first, host)))
+      << holder;
+  const std::string refused = fmt::format(
+      "burrlab: sub-01 in {} is in use by another burrlab ({}); wait for that "
+      "run to end, or stop it, before starting another on this session\n",
+      out.string(), holder.substr(0, holder.find('\n')));
+  std::vector<std::string> simulated = typed;
+  simulated.insert(simulated.end(), {"--observer", "simulated", "--resume"});
+  for (const auto& args : {simulated, typed}) {
+    const fs::path second_log = dir / "second.txt";
+    fs::remove(second_log);
+    EXPECT_EQ(Wait(Start(args, second_log)), 1);
+    EXPECT_EQ(ReadFile(second_log), refused);
+  }
+
+  // The first is killed; its lock is free and a resume takes it over. The
+  // journal holds the first's three answers, typed, and nothing else.
+  ::kill(first, SIGKILL);
+  EXPECT_EQ(Wait(first), -SIGKILL);
+  ::close(answers[1]);
+  {
+    auto journal = rs::Journal::Open(out, "01");
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    const auto trials = journal->Trials().value();
+    ASSERT_EQ(trials.size(), 3u);
+    EXPECT_EQ(trials[0].response, "same");
+    EXPECT_EQ(trials[1].response, "different");
+    EXPECT_EQ(trials[2].response, "same");
+  }
+  const fs::path rest = dir / "rest.txt";
+  {
+    std::ofstream answers_file(rest);
+    // Trials 4-12 of the same-different block, then the 28 of the staircase.
+    for (int i = 3; i < 40; ++i) answers_file << (i < 12 ? "same\n" : "1\n");
+  }
+  const int rest_fd = ::open(rest.c_str(), O_RDONLY);
+  std::vector<std::string> resume = typed;
+  resume.push_back("--resume");
+  const fs::path third_log = dir / "third.txt";
+  const pid_t third = Start(resume, third_log, rest_fd);
+  ::close(rest_fd);
+  EXPECT_EQ(Wait(third), 0) << ReadFile(third_log);
+  EXPECT_THAT(ReadFile(third_log), ::testing::HasSubstr("3 resumed"));
+  EXPECT_EQ(StoredTrials(out), 40);
 }
 
 }  // namespace

@@ -1,12 +1,13 @@
 // Sessions as users meet them: `burrlab plan`, `run` (simulated observer and
 // typed answers), `study`, resuming, and bad input (existing subject, folder
-// that cannot be written, a write that fails, a resume with another protocol
-// or seed) — each a clear error, exit 1, nothing lost.
+// that cannot be written, a write that fails, a resume with another protocol,
+// seed or set-up) — each a clear error, exit 1, nothing lost.
 #include "session.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -185,36 +186,113 @@ TEST_F(SessionTest, UnwritableFolderIsAClearError) {
   EXPECT_THAT(run.err, HasSubstr("Not a directory"));
 }
 
-TEST_F(SessionTest, ResumeRefusesAnotherProtocolOrSeed) {
+TEST_F(SessionTest, ResumeRefusesEveryChangedFieldByName) {
   const fs::path out = dir_ / "out";
-  ASSERT_EQ(RunBurrlab({"run", protocol_, "--subject", "02", "--out",
-                        out.string(), "--seed", "5", "--observer", "simulated"})
-                .code,
-            0);
-  const CliRun seed =
-      RunBurrlab({"run", protocol_, "--subject", "02", "--out", out.string(),
-                  "--seed", "6", "--observer", "simulated", "--resume"});
-  EXPECT_EQ(seed.code, 1);
-  EXPECT_EQ(seed.err, "burrlab: cannot resume sub-02 in " + out.string() +
-                          ": the seed differs from the journal's (5 in the "
-                          "journal, 6 now)\n");
+  const std::vector<std::string> base = {
+      "run",        protocol_,    "--subject",   "02",
+      "--out",      out.string(), "--seed",      "5",
+      "--observer", "simulated",  "--radius-mm", "2"};
+  ASSERT_EQ(RunBurrlab(base).code, 0);
+  // `base` with flag `name` set to `value` (or added), resumed.
+  auto with = [&](const std::string& name, const std::string& value) {
+    std::vector<std::string> args = base;
+    auto it = std::find(args.begin(), args.end(), name);
+    if (it != args.end()) {
+      *(it + 1) = value;
+    } else {
+      args.insert(args.end(), {name, value});
+    }
+    args.push_back("--resume");
+    return args;
+  };
+  const std::string prefix =
+      "burrlab: cannot resume sub-02 in " + out.string() + ": ";
+  const std::string simulated =
+      "\"simulated weber_stiffness=0.2 weber_removal=0.3 lapse=0.02 "
+      "criterion=1 rt_median_s=1 rt_log_sd=0.35 match_tolerance=0.5\"";
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;
+  };
   std::string changed(kProtocol);
   changed.replace(changed.find("trials = 12"), 11, "trials = 16");
   const std::string other = (dir_ / "other.toml").string();
   Write(other, changed);
-  const CliRun protocol =
-      RunBurrlab({"run", other, "--subject", "02", "--out", out.string(),
-                  "--seed", "5", "--observer", "simulated", "--resume"});
-  EXPECT_EQ(protocol.code, 1);
-  EXPECT_THAT(protocol.err,
-              HasSubstr("burrlab: cannot resume sub-02 in " + out.string() +
-                        ": the protocol differs from the journal's (sha256 "));
+  std::vector<std::string> other_protocol = with("--seed", "5");
+  other_protocol[1] = other;
+  std::vector<std::string> typed = with("--seed", "5");
+  typed.erase(std::find(typed.begin(), typed.end(), "--observer"),
+              std::find(typed.begin(), typed.end(), "--observer") + 2);
+  const std::vector<Case> cases = {
+      {with("--seed", "6"),
+       "the seed differs from the journal's (5 in the journal, 6 now)"},
+      {other_protocol, "the protocol differs from the journal's (sha256 " +
+                           Sha256Hex(kProtocol) + " in the journal, " +
+                           Sha256Hex(changed) + " now)"},
+      {with("--radius-mm", "1.5"),
+       "radius_mm differs from the journal's (\"2\" in the journal, \"1.5\" "
+       "now)"},
+      {with("--subject-index", "3"),
+       "subject_index differs from the journal's (\"1\" in the journal, \"3\" "
+       "now)"},
+      {with("--observer", "simulated:weber=0.25"),
+       "responder differs from the journal's (" + simulated +
+           " in the journal, \"simulated weber_stiffness=0.25 "
+           "weber_removal=0.25 lapse=0.02 criterion=1 rt_median_s=1 "
+           "rt_log_sd=0.35 match_tolerance=0.5\" now)"},
+      {typed, "responder differs from the journal's (" + simulated +
+                  " in the journal, \"typed\" now)"},
+  };
+  for (const Case& c : cases) {
+    const CliRun run = RunBurrlab(c.args);
+    EXPECT_EQ(run.code, 1);
+    EXPECT_EQ(run.err, prefix + c.message + "\n");
+  }
   EXPECT_EQ(Trials(out, "02").size(), 20u);
+  // Unchanged, the resume is accepted (nothing left to run).
+  const CliRun same = RunBurrlab(with("--seed", "5"));
+  EXPECT_EQ(same.code, 0) << same.err;
   const CliRun missing =
       RunBurrlab({"run", protocol_, "--subject", "09", "--out", out.string(),
                   "--observer", "simulated", "--resume"});
   EXPECT_EQ(missing.code, 1);
   EXPECT_THAT(missing.err, HasSubstr("no journal for sub-09 in"));
+}
+
+TEST_F(SessionTest, ARunThatStoppedBeforeItsFirstTrialStartsAgainOnResume) {
+  const fs::path out = dir_ / "out";
+  // What a run leaves when it fails before its first trial: a journal of
+  // another protocol and set-up, with no trial.
+  rs::SessionInfo old;
+  old.study = "first try";
+  old.protocol_path = "old.toml";
+  old.protocol_sha256 = std::string(64, 'c');
+  old.subject_label = "03";
+  old.master_seed = 99;
+  old.burrlab_version = "0.0.1";
+  old.started_utc = "2026-01-01T00:00:00Z";
+  old.setup = {{"radius_mm", "4"}};
+  ASSERT_TRUE(rs::Journal::Create(out, old).ok());
+  const std::vector<std::string> args = {"run",        protocol_,  "--subject",
+                                         "03",         "--out",    out.string(),
+                                         "--observer", "simulated"};
+  const CliRun plain = RunBurrlab(args);
+  EXPECT_EQ(plain.code, 1);
+  EXPECT_EQ(plain.err, "burrlab: sub-03 already exists in " + out.string() +
+                           " but holds no trials (its run stopped before the "
+                           "first trial); use --resume to start it again "
+                           "with this protocol and set-up\n");
+  std::vector<std::string> resume = args;
+  resume.push_back("--resume");
+  const CliRun resumed = RunBurrlab(resume);
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  auto journal = rs::Journal::Open(out, "03");
+  ASSERT_TRUE(journal.ok());
+  EXPECT_EQ(journal->session().protocol_sha256, Sha256Hex(kProtocol));
+  EXPECT_EQ(journal->session().master_seed, 1u);
+  EXPECT_EQ(journal->session().setup[0].name, "radius_mm");
+  EXPECT_EQ(journal->session().setup[0].value, "2");
+  EXPECT_EQ(journal->Trials()->size(), 20u);
 }
 
 TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
@@ -229,10 +307,13 @@ TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
   ASSERT_FALSE(failed.ok());
   EXPECT_THAT(failed.error().message, HasSubstr("cannot save trial "));
   EXPECT_THAT(failed.error().message, HasSubstr("run again with --resume"));
-  auto journal = rs::Journal::Open(options.out_dir, "04");
-  ASSERT_TRUE(journal.ok());
-  EXPECT_TRUE(journal->CheckIntegrity().ok());
-  const int saved = journal->NextTrialIndex().value();
+  int saved = 0;
+  {
+    auto journal = rs::Journal::Open(options.out_dir, "04");
+    ASSERT_TRUE(journal.ok());
+    EXPECT_TRUE(journal->CheckIntegrity().ok());
+    saved = journal->NextTrialIndex().value();
+  }
   EXPECT_GT(saved, 0);
   EXPECT_LT(saved, 20);
 

@@ -8,7 +8,9 @@
 //   DIR/sub-<id>/beh/sub-<id>_task-<task>_physio.tsv.gz + _physio.json
 // with one <task> per protocol block (see TaskLabel). Exports are derived from
 // the journal and are rewritten whole (temporary file, then rename) on every
-// export; they carry no wall-clock time, so the same protocol, seed and
+// export (temporary files that an export killed before its rename left behind
+// are removed by the next export, once their process is gone); they carry no
+// wall-clock time, so the same protocol, seed and
 // responses give byte-identical files.
 #ifndef BURRLAB_RESULTS_SCHEMA_BIDS_EXPORT_H_
 #define BURRLAB_RESULTS_SCHEMA_BIDS_EXPORT_H_

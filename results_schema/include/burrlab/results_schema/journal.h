@@ -2,13 +2,16 @@
 // DIR/sub-<label>/journal.sqlite (WAL, synchronous=FULL, foreign keys on), one
 // transaction per completed trial. A crash or SIGKILL loses at most the trial
 // being appended, never half a trial; `burrlab run --resume` reopens the
-// journal, checks it belongs to the same protocol and seed, and continues from
-// Trials().size() with the last trial's rng_state.
+// journal, checks it belongs to the same protocol, seed, burrlab version and
+// set-up, and continues from Trials().size() with the last trial's rng_state.
+// An open journal holds the session's lock (session_lock.h): one process per
+// session.
 //
-// Tables (schema version 1; every statement is parametrized):
-//   schema_version(version, written_by)          one row
+// Tables (schema version 2; every statement is parametrized):
+//   schema_version(version, written_by)          one row per version written
 //   session(id = 1, study, protocol_path, protocol_sha256, subject_label,
-//           master_seed TEXT (decimal), burrlab_version, started_utc)
+//           master_seed TEXT (decimal), burrlab_version, started_utc,
+//           setup TEXT (a JSON object of text values; version 2 added it))
 //   trial(trial_index PRIMARY KEY, the TrialRecord fields, interval_materials
 //         and extra as JSON text, committed_utc)
 //   trace(trial_index REFERENCES trial, interval_index, sampling_frequency_hz,
@@ -27,12 +30,13 @@
 #include <vector>
 
 #include "burrlab/results_schema/records.h"
+#include "burrlab/results_schema/session_lock.h"
 #include "burrlab/results_schema/status.h"
 
 namespace burrlab::results_schema {
 
 // Journal schema version this burrlab writes and the newest it reads.
-inline constexpr int kJournalSchemaVersion = 1;
+inline constexpr int kJournalSchemaVersion = 2;
 
 // DIR/sub-<label>/journal.sqlite.
 std::filesystem::path JournalPath(const std::filesystem::path& dir,
@@ -50,17 +54,20 @@ struct JournalSettings {
 // An open journal. Move-only; closing is the destructor.
 class Journal {
  public:
-  // Creates DIR/sub-<label>/journal.sqlite for a new session. Refuses with
-  // "sub-<label> already exists in DIR; use --resume to continue it" when the
-  // journal exists, and refuses a DIR/sub-<label> folder that exists without
-  // a journal. The file appears complete or not at all (built under a
-  // temporary name and hard-linked into place, which never replaces a file).
+  // Creates DIR/sub-<label>/journal.sqlite for a new session, taking the
+  // session's lock first (refused with SessionLock's message when another
+  // process holds it). Refuses with "sub-<label> already exists in DIR; use
+  // --resume to continue it" when the journal exists (saying it holds no
+  // trials and --resume starts it again when that is so), and refuses a
+  // DIR/sub-<label> folder that holds files other than a journal. The file
+  // appears complete or not at all (built under a temporary name and
+  // hard-linked into place, which never replaces a file).
   static Result<Journal> Create(const std::filesystem::path& dir,
                                 const SessionInfo& session);
 
-  // Opens an existing journal to resume it; fails with "no journal for
-  // sub-<label> in DIR ..." when there is none and refuses journals written by
-  // a newer schema version.
+  // Opens an existing journal to resume it, taking the session's lock (see
+  // Create); fails with "no journal for sub-<label> in DIR ..." when there is
+  // none and refuses journals written by a newer schema version.
   static Result<Journal> Open(const std::filesystem::path& dir,
                               std::string_view subject_label);
 
@@ -78,11 +85,18 @@ class Journal {
   const std::filesystem::path& path() const;
 
   // OK when `given` (from the command line and protocol file of a resume) has
-  // the journal's protocol hash and master seed; otherwise names which differs:
-  // "cannot resume sub-01 in DIR: the protocol differs from the journal's
-  // (sha256 J in the journal, G now)" and/or "the seed differs from the
-  // journal's (J in the journal, G now)", joined with "; ".
+  // the journal's protocol hash, master seed, burrlab version and every setup
+  // field the journal recorded; otherwise names each that differs: "cannot
+  // resume sub-01 in DIR: the protocol differs from the journal's (sha256 J
+  // in the journal, G now)", "the seed differs ...", "the burrlab version
+  // differs ...", "radius_mm differs from the journal's ("2" in the journal,
+  // "1.5" now)", joined with "; ".
   Status CheckSameSession(const SessionInfo& given) const;
+
+  // Replaces the session row with `session` (same subject) when the journal
+  // holds no trial: a run that stopped before its first trial starts again
+  // with a corrected protocol or set-up. Refused once a trial is stored.
+  Status Restart(const SessionInfo& session);
 
   // Appends one completed trial and its traces in one transaction, durable
   // when this returns OK. trial.trial_index must be the next index
@@ -113,6 +127,9 @@ class Journal {
  private:
   struct Impl;
   explicit Journal(std::unique_ptr<Impl> impl);
+  static Result<Journal> OpenLocked(const std::filesystem::path& dir,
+                                    std::string_view subject_label,
+                                    SessionLock lock);
   std::unique_ptr<Impl> impl_;
 };
 

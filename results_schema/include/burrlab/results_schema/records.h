@@ -23,6 +23,15 @@ inline constexpr std::size_t kMaxSubjectLabelLength = 64;
 // doubles stays under SQLite's default 1e9-byte blob limit).
 inline constexpr std::uint64_t kMaxTraceValues = 120'000'000;
 
+// One named part of a session's set-up: e.g. {"radius_mm", "2"}.
+struct SetupField {
+  std::string name;   // snake_case
+  std::string value;  // text, no line breaks
+
+  // Field-by-field equality.
+  bool operator==(const SetupField&) const = default;
+};
+
 // Who and what one session runs; written once when the journal is created.
 struct SessionInfo {
   std::string study;            // study name from the protocol file
@@ -32,6 +41,10 @@ struct SessionInfo {
   std::uint64_t master_seed = 0;  // every random stream derives from this
   std::string burrlab_version;    // version of the burrlab that created it
   std::string started_utc;        // ISO 8601 UTC, e.g. 2024-05-01T09:30:00Z
+  // Everything else that shapes the results (burr radius, voxel size, who
+  // answers, the device, the station file, ...), in the order the runner
+  // gives it; names are distinct. Journals of schema version 1 have none.
+  std::vector<SetupField> setup;
 
   // Field-by-field equality.
   bool operator==(const SessionInfo&) const = default;

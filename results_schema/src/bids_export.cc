@@ -227,6 +227,7 @@ Result<std::vector<std::string>> BehRow(const TrialRecord& t,
       OrNa(t.response),
       OrNa(t.correct),
       OrNa(t.response_time_s),
+      OrNa(t.source),
       OrNa(t.staircase_id),
       OrNa(t.reversal),
       OrNa(t.step_size),
@@ -286,6 +287,10 @@ std::string BehSidecar(const std::string& block,
   j["response_time"] =
       Column("Time from the response prompt to the answer (n/a when missed)");
   j["response_time"]["Units"] = "s";
+  j["source"] = Column(
+      "Who answered: typed (at the prompt), station <device> (a person at a "
+      "station with that haptic device) or simulated observer (n/a when the "
+      "journal did not record it)");
   j["staircase_id"] = Column(
       "Which interleaved staircase the trial belongs to, 0-based (n/a for "
       "other methods)");
@@ -545,11 +550,11 @@ Status Export(const fs::path& dir, std::string_view label) {
 
 const std::vector<std::string>& BehColumns() {
   static const std::vector<std::string> kColumns = {
-      "trial_index",    "block",      "method",    "task",
-      "trial_type",     "stim_level", "stim_unit", "interval_materials",
-      "correct_answer", "response",   "correct",   "response_time",
-      "staircase_id",   "reversal",   "step_size", "estimate",
-      "seed",           "extra"};
+      "trial_index",    "block",        "method",    "task",
+      "trial_type",     "stim_level",   "stim_unit", "interval_materials",
+      "correct_answer", "response",     "correct",   "response_time",
+      "source",         "staircase_id", "reversal",  "step_size",
+      "estimate",       "seed",         "extra"};
   return kColumns;
 }
 

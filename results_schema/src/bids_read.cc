@@ -144,9 +144,16 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
   for (std::size_t k = 0; k < header.size(); ++k) {
     index.emplace(std::string(header[k].text), k);
   }
-  std::vector<std::size_t> at;  // BehColumns() position -> file column
+  // BehColumns() position -> file column (kAbsent: an optional column the
+  // file does not have).
+  constexpr std::size_t kAbsent = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> at;
   for (const std::string& name : BehColumns()) {
     const auto it = index.find(name);
+    if (it == index.end() && name == "source") {
+      at.push_back(kAbsent);  // exports written before it existed
+      continue;
+    }
     if (it == index.end()) {
       return fail(1, 0,
                   fmt::format("the header has no column '{}' (a burrlab "
@@ -168,6 +175,7 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
     kResponse,
     kCorrect,
     kResponseTime,
+    kSource,
     kStaircaseId,
     kReversal,
     kStepSize,
@@ -234,6 +242,7 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
     t.correct_answer = text_of(kCorrectAnswer);
     t.response = text_of(kResponse);
     if (!flag(kCorrect, &t.correct)) return bad(kCorrect, "is not 1, 0 or n/a");
+    if (at[kSource] != kAbsent) t.source = text_of(kSource);
     if (!number(kResponseTime, &t.response_time_s) ||
         (t.response_time_s && *t.response_time_s < 0.0)) {
       return bad(kResponseTime, "is not a time of at least 0 s or n/a");

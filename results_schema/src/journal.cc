@@ -277,6 +277,20 @@ Result<Journal> Journal::OpenLocked(const fs::path& dir,
     return version.error();
   }
   if (Status s = db::Configure(h, path); !s) return s.error();
+  // An older journal gets the newer columns before anything is appended.
+  auto old = db::ReadSession(h, path);
+  if (!old) return old.error();
+  if (Status s = db::Exec(h, "BEGIN IMMEDIATE", "cannot upgrade", path); !s) {
+    return s.error();
+  }
+  if (Status s = db::UpgradeSchema(h, path, "an upgrade from version 1"); !s) {
+    db::RollbackIfOpen(h);
+    return s.error();
+  }
+  if (Status s = db::Exec(h, "COMMIT", "cannot upgrade", path); !s) {
+    db::RollbackIfOpen(h);
+    return s.error();
+  }
   auto session = db::ReadSession(h, path);
   if (!session) return session.error();
   if (session->subject_label != subject_label) {
@@ -363,10 +377,6 @@ Status Journal::Restart(const SessionInfo& session) {
           "cannot restart sub-{} in {}: it already holds {} trial{}",
           kept.subject_label, impl_->dir.string(), *trials,
           *trials == 1 ? "" : "s")});
-    }
-    if (Status s = db::UpgradeSessionTable(h, path, session.burrlab_version);
-        !s) {
-      return fail(s);
     }
     if (Status s = db::WriteSession(h, path, session); !s) return fail(s);
     if (Status s = db::Exec(h, "COMMIT", what, path); !s) return fail(s);

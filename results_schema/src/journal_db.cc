@@ -200,6 +200,7 @@ CREATE TABLE trial (
   step_size REAL,
   estimate REAL,
   rng_state TEXT NOT NULL,
+  source TEXT NOT NULL DEFAULT '',
   extra TEXT NOT NULL CHECK (json_valid(extra)),
   committed_utc TEXT NOT NULL
 );
@@ -331,29 +332,45 @@ Status WriteSession(sqlite3* db, const std::filesystem::path& path,
   return StepDone(db, stmt, "cannot write the session of", path);
 }
 
-Result<bool> HasSetupColumn(sqlite3* db, const std::filesystem::path& path) {
+Result<bool> HasColumn(sqlite3* db, const std::filesystem::path& path,
+                       std::string_view table, std::string_view column) {
   auto query = Prepare(db,
-                       "SELECT COUNT(*) FROM pragma_table_info('session') "
-                       "WHERE name = 'setup'",
-                       "cannot read the session of", path);
+                       "SELECT COUNT(*) FROM pragma_table_info(?1) "
+                       "WHERE name = ?2",
+                       "cannot read the tables of", path);
   if (!query) return query.error();
+  BindText(query->get(), 1, table);
+  BindText(query->get(), 2, column);
   if (sqlite3_step(query->get()) != SQLITE_ROW) {
-    return SqliteError(db, "cannot read the session of", path);
+    return SqliteError(db, "cannot read the tables of", path);
   }
   return sqlite3_column_int(query->get(), 0) > 0;
 }
 
-Status UpgradeSessionTable(sqlite3* db, const std::filesystem::path& path,
-                           std::string_view written_by) {
-  Result<bool> has = HasSetupColumn(db, path);
-  if (!has) return has.error();
-  if (*has) return {};
-  if (Status s = Exec(db,
-                      "ALTER TABLE session ADD COLUMN setup TEXT NOT NULL "
-                      "DEFAULT '{}' CHECK (json_valid(setup))",
-                      "cannot upgrade the session table of", path);
-      !s) {
-    return s;
+Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,
+                     std::string_view written_by) {
+  Result<bool> has_setup = HasColumn(db, path, "session", "setup");
+  if (!has_setup) return has_setup.error();
+  Result<bool> has_source = HasColumn(db, path, "trial", "source");
+  if (!has_source) return has_source.error();
+  if (*has_setup && *has_source) return {};
+  if (!*has_setup) {
+    if (Status s = Exec(db,
+                        "ALTER TABLE session ADD COLUMN setup TEXT NOT NULL "
+                        "DEFAULT '{}' CHECK (json_valid(setup))",
+                        "cannot upgrade the journal", path);
+        !s) {
+      return s;
+    }
+  }
+  if (!*has_source) {
+    if (Status s = Exec(db,
+                        "ALTER TABLE trial ADD COLUMN source TEXT NOT NULL "
+                        "DEFAULT ''",
+                        "cannot upgrade the journal", path);
+        !s) {
+      return s;
+    }
   }
   auto version = Prepare(
       db, "INSERT INTO schema_version (version, written_by) VALUES (?1, ?2)",
@@ -430,7 +447,7 @@ Result<SessionInfo> ReadSession(sqlite3* db,
   }
   session.burrlab_version = ColumnText(stmt, 5);
   session.started_utc = ColumnText(stmt, 6);
-  Result<bool> has_setup = HasSetupColumn(db, path);
+  Result<bool> has_setup = HasColumn(db, path, "session", "setup");
   if (!has_setup) return has_setup.error();
   if (!*has_setup) return session;  // schema version 1
   auto setup_query = Prepare(db, "SELECT setup FROM session WHERE id = 1",
@@ -467,12 +484,19 @@ Result<int> CountTrials(sqlite3* db, const std::filesystem::path& path) {
 
 Result<std::vector<TrialRecord>> ReadTrials(sqlite3* db,
                                             const std::filesystem::path& path) {
+  Result<bool> has_source = HasColumn(db, path, "trial", "source");
+  if (!has_source) return has_source.error();
   auto query = Prepare(
       db,
-      "SELECT trial_index, block, method, task, trial_type, stim_level, "
-      "stim_unit, interval_materials, correct_answer, response, correct, "
-      "response_time_s, staircase_id, reversal, step_size, estimate, "
-      "rng_state, extra FROM trial ORDER BY trial_index",
+      *has_source
+          ? "SELECT trial_index, block, method, task, trial_type, stim_level, "
+            "stim_unit, interval_materials, correct_answer, response, correct, "
+            "response_time_s, staircase_id, reversal, step_size, estimate, "
+            "rng_state, extra, source FROM trial ORDER BY trial_index"
+          : "SELECT trial_index, block, method, task, trial_type, stim_level, "
+            "stim_unit, interval_materials, correct_answer, response, correct, "
+            "response_time_s, staircase_id, reversal, step_size, estimate, "
+            "rng_state, extra, '' FROM trial ORDER BY trial_index",
       "cannot read the trials of", path);
   if (!query) return query.error();
   sqlite3_stmt* stmt = query->get();
@@ -502,6 +526,7 @@ Result<std::vector<TrialRecord>> ReadTrials(sqlite3* db,
     t.estimate = ColumnOptionalDouble(stmt, 15);
     t.rng_state = ColumnText(stmt, 16);
     t.extra = ColumnText(stmt, 17);
+    t.source = ColumnText(stmt, 18);
     trials.push_back(std::move(t));
   }
   if (rc != SQLITE_DONE)
@@ -593,8 +618,8 @@ Status InsertTrial(sqlite3* db, const std::filesystem::path& path,
       "INSERT INTO trial (trial_index, block, method, task, trial_type, "
       "stim_level, stim_unit, interval_materials, correct_answer, response, "
       "correct, response_time_s, staircase_id, reversal, step_size, estimate, "
-      "rng_state, extra, committed_utc) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, "
-      "?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19)",
+      "rng_state, extra, committed_utc, source) VALUES (?1, ?2, ?3, ?4, ?5, "
+      "?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)",
       what, path);
   if (!insert) return insert.error();
   sqlite3_stmt* stmt = insert->get();
@@ -617,6 +642,7 @@ Status InsertTrial(sqlite3* db, const std::filesystem::path& path,
   BindText(stmt, 17, t.rng_state);
   BindText(stmt, 18, t.extra);
   BindText(stmt, 19, NowUtc());
+  BindText(stmt, 20, t.source);
   return StepDone(db, stmt, what, path);
 }
 

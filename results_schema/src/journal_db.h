@@ -64,10 +64,15 @@ Status CreateSchema(sqlite3* db, const std::filesystem::path& path,
 Status WriteSession(sqlite3* db, const std::filesystem::path& path,
                     const SessionInfo& session);
 
-// Gives a schema version 1 journal the session's setup column (and records
-// version 2); nothing when it has one.
-Status UpgradeSessionTable(sqlite3* db, const std::filesystem::path& path,
-                           std::string_view written_by);
+// True when `table` has `column`.
+Result<bool> HasColumn(sqlite3* db, const std::filesystem::path& path,
+                       std::string_view table, std::string_view column);
+
+// Gives a schema version 1 journal what version 2 added (the session's setup,
+// the trials' source) and records version 2; nothing when it has them. In
+// the caller's transaction.
+Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,
+                     std::string_view written_by);
 
 // Reads the schema version; refuses a missing table or a newer version.
 Result<int> CheckSchemaVersion(sqlite3* db, const std::filesystem::path& path);

@@ -160,7 +160,8 @@ Status ValidateTrial(const TrialRecord& trial) {
       {"trial_type", &trial.trial_type},
       {"stim_unit", &trial.stim_unit},
       {"correct_answer", &trial.correct_answer},
-      {"response", &trial.response}};
+      {"response", &trial.response},
+      {"source", &trial.source}};
   for (const auto& [field, value] : cells) {
     if (Status s = CheckCell(t, field, *value); !s) return s;
   }
@@ -298,6 +299,7 @@ Result<std::string> TrialToJson(const TrialRecord& trial) {
     j["step_size"] = OptionalJson(trial.step_size);
     j["estimate"] = OptionalJson(trial.estimate);
     j["rng_state"] = trial.rng_state;
+    j["source"] = trial.source;
     j["extra"] = OrderedJson::parse(extra.dump());
     return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
   } catch (const std::exception& e) {

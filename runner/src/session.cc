@@ -118,6 +118,19 @@ class SessionRunner {
   Result<double> StandardCue(const TrialSpec& trial);
   Result<protocols::Response> SimulatedResponse(const TrialSpec& trial,
                                                 Presented& presented);
+  // The trial record's `source`: who answered.
+  std::string SourceName() const {
+    switch (options_.responder) {
+      case Responder::kSimulated:
+        return "simulated observer";
+      case Responder::kTerminal:
+        return "typed";
+      case Responder::kStation:
+        return options_.device.empty() ? "station"
+                                       : "station " + options_.device;
+    }
+    return "";
+  }
   Result<protocols::Response> TerminalResponse(const TrialSpec& trial);
   rs::TraceSamples ToTrace(const TrialSpec& trial, int interval,
                            stimuli::IntervalResult&& result);
@@ -351,7 +364,12 @@ Result<protocols::Response> SessionRunner::TerminalResponse(
                            : std::find(trial.response_options.begin(),
                                        trial.response_options.end(),
                                        line) != trial.response_options.end();
-    if (known) return protocols::Response{line, rt};
+    if (known) {
+      // Answers from a pipe or a file were not timed by a person.
+      return protocols::Response{line, options_.answers_timed
+                                           ? std::optional<double>(rt)
+                                           : std::nullopt};
+    }
     out << "  please answer one of " << options << '\n';
   }
 }
@@ -419,6 +437,7 @@ Result<SessionSummary> SessionRunner::Run() {
     r.response = response->answer;
     r.correct = outcome->correct;
     r.response_time_s = response->response_time_s;
+    r.source = SourceName();
     r.staircase_id = trial.staircase_id;
     r.reversal = outcome->reversal;
     r.step_size = outcome->step_size;
@@ -565,7 +584,6 @@ std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
       {"responder", responder},
       {"device", or_none(options.device)},
       {"station_file_sha256", or_none(options.station_file_sha256)},
-      {"script_sha256", or_none(options.script_sha256)},
       {"renderings", options.renderings != nullptr
                          ? fmt::format("pool of {} per stimulus",
                                        options.renderings->renderings())

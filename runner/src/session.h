@@ -124,13 +124,15 @@ struct SessionOptions {
   double radius_mm = 2.0;              // burr radius of every interval
   std::istream* in = nullptr;          // kTerminal: answers
   std::ostream* prompt = nullptr;      // kTerminal: trial descriptions
-  LiveStation* station = nullptr;      // kStation: the station
+  // kTerminal: false when the answers come from a pipe or a file, not a
+  // person at a terminal; their response times are then not recorded (n/a).
+  bool answers_timed = true;
+  LiveStation* station = nullptr;  // kStation: the station
   // kStation: the device backend ("mouse", "hid", ...) and the SHA-256 of the
-  // station file and station script (empty when none); recorded in the
-  // journal's setup.
+  // station file (empty when none); recorded in the journal's setup. (A
+  // simulated device's script stands for the person and may change.)
   std::string device;
   std::string station_file_sha256;
-  std::string script_sha256;
   bool export_bids = true;  // write the BIDS files at the end
   // Non-null: intervals come from this shared pool of renderings (picked by
   // each interval's erosion seed) instead of being rendered afresh; trials
@@ -157,8 +159,8 @@ struct SessionSummary {
 // What shapes a session's results besides its protocol and seed, as the
 // journal records it and --resume checks it: radius_mm, voxel_mm,
 // subject_index, responder ("typed", "station" or "simulated" with every
-// observer parameter), device, station_file_sha256, script_sha256 and
-// renderings ("fresh" or the shared pool's size); "none" where not used.
+// observer parameter), device, station_file_sha256 and renderings ("fresh" or
+// the shared pool's size); "none" where not used.
 std::vector<results_schema::SetupField> SessionSetup(
     const SessionOptions& options);
 

@@ -2,6 +2,7 @@
 #include "session_commands.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <atomic>
@@ -337,7 +338,6 @@ int RunAtStation(const LoadedProtocol& loaded, SessionOptions options,
   if (!f.script_path.empty()) {
     Result<std::string> text = ReadSmallFile(f.script_path, "station script");
     if (!text.ok()) return Fail(err, text.error().message);
-    options.script_sha256 = Sha256Hex(*text);
     StationScriptParseOutcome parsed = ParseStationScript(f.script_path, *text);
     if (!parsed.script.has_value()) {
       err << Diagnostics(f.script_path, *text, parsed.diagnostics) << '\n';
@@ -499,6 +499,7 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
     options.responder = Responder::kTerminal;
     options.in = &std::cin;
     options.prompt = &out;
+    options.answers_timed = ::isatty(STDIN_FILENO) != 0;
   } else {
     Result<protocols::ObserverParams> params =
         ObserverFor(loaded->protocol, observer);

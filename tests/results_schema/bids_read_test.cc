@@ -158,6 +158,8 @@ TEST(BidsRead, MalformedTablesNameFileLineAndColumn) {
       ParseBehTsv("b.tsv", std::string(kHeader) + Row("1.5", "1"));
   ASSERT_TRUE(ok.ok());
   EXPECT_EQ(ok->trials[0].stim_level, 1.5);
+  // kHeader is an export from before the source column: still read.
+  EXPECT_EQ(ok->trials[0].source, "");
   EXPECT_EQ(ok->trials[0].interval_materials,
             (std::vector<std::string>{"x", "y"}));
   EXPECT_EQ(ok->trials[0].extra, "{}");

@@ -58,6 +58,7 @@ inline TrialRecord FixtureTrial(int i) {
     t.response_time_s = 0.5 + 0.25 * i;
   }
   t.rng_state = "state " + std::to_string(i);
+  t.source = "typed";
   return t;
 }
 

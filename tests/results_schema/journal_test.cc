@@ -362,10 +362,10 @@ TEST(Journal, ResumeWithAnotherSeedOrProtocolNamesTheDifference) {
 TEST(Journal, ResumeChecksTheVersionAndEverySetupFieldByName) {
   TempDir dir;
   SessionInfo kept = MakeSession("01");
-  kept.setup = {{"radius_mm", "2"},        {"voxel_mm", "0.3"},
-                {"subject_index", "0"},    {"responder", "typed"},
-                {"device", "none"},        {"station_file_sha256", "none"},
-                {"script_sha256", "none"}, {"renderings", "fresh"}};
+  kept.setup = {{"radius_mm", "2"},     {"voxel_mm", "0.3"},
+                {"subject_index", "0"}, {"responder", "typed"},
+                {"device", "none"},     {"station_file_sha256", "none"},
+                {"renderings", "fresh"}};
   ASSERT_TRUE(Journal::Create(dir.path(), kept).ok());
   auto journal = Journal::Open(dir.path(), "01");
   ASSERT_TRUE(journal.ok()) << journal.error().message;

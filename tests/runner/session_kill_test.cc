@@ -301,6 +301,11 @@ TEST(SessionLock, ASecondRunIsRefusedAndAKilledRunsLockIsTakenOver) {
     EXPECT_EQ(trials[0].response, "same");
     EXPECT_EQ(trials[1].response, "different");
     EXPECT_EQ(trials[2].response, "same");
+    // Answers from a pipe: typed, but not timed by a person.
+    for (const auto& t : trials) {
+      EXPECT_EQ(t.source, "typed");
+      EXPECT_EQ(t.response_time_s, std::nullopt);
+    }
   }
   const fs::path rest = dir / "rest.txt";
   {

@@ -114,6 +114,7 @@ TEST_F(SessionTest, SimulatedRunWritesJournalAndBidsExport) {
   ASSERT_EQ(trials.size(), 20u);
   for (int i = 0; i < 12; ++i) {
     EXPECT_EQ(trials[i].method, "same_different");
+    EXPECT_EQ(trials[i].source, "simulated observer");
     EXPECT_EQ(trials[i].task, "probe");
     EXPECT_TRUE(trials[i].response == "same" ||
                 trials[i].response == "different");
@@ -355,6 +356,7 @@ TEST_F(SessionTest, TypedAnswersAtThePromptAreRecorded) {
   EXPECT_EQ(trials[0].response, "same");
   EXPECT_EQ(trials[1].response, "different");
   EXPECT_TRUE(trials[0].response_time_s.has_value());
+  EXPECT_EQ(trials[0].source, "typed");
 }
 
 TEST_F(SessionTest, PlanPrintsTheTrialSequenceAsJson) {

@@ -201,6 +201,7 @@ TEST_F(StationRunTest, RunsTheProtocolAndStoresLoopStatisticsPerInterval) {
   const double stiff_c_e = MaxRenderableCe(2.0, 1.5, 3.0);  // 1.633 N/mm^2
   for (const rs::TrialRecord& t : trials) {
     SCOPED_TRACE(t.trial_index);
+    EXPECT_EQ(t.source, "station simulated");
     ASSERT_TRUE(t.response_time_s.has_value());
     EXPECT_GE(*t.response_time_s, 0.1);  // the script's response delay
     EXPECT_LT(*t.response_time_s, 1.0);

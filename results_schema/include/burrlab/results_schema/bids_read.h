@@ -23,7 +23,8 @@ namespace burrlab::results_schema {
 inline constexpr std::uintmax_t kMaxBehBytes = 512ull << 20;
 
 // The trials of one _beh.tsv (header = BehColumns(), in any order; other
-// columns are ignored). rng_state is not exported and stays empty; extra is
+// columns are ignored; "source" may be absent, as in exports before it
+// existed). rng_state is not exported and stays empty; extra is
 // "{}" where the file says n/a.
 struct BehTable {
   std::uint64_t seed = 0;  // the seed column (the same on every row)

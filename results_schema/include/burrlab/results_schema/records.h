@@ -72,6 +72,10 @@ struct TrialRecord {
   std::optional<double> estimate;   // adaptive methods: threshold estimate now
   std::string rng_state;  // serialized random engines needed to resume (opaque)
   std::string extra = "{}";  // JSON object with method-specific fields
+  // Who answered: "typed" (at the prompt), "station <device>" (a person at a
+  // station, e.g. "station falcon") or "simulated observer"; empty = not
+  // recorded (journals of schema version 1).
+  std::string source;
 
   // Field-by-field equality (extra compared as text).
   bool operator==(const TrialRecord&) const = default;

@@ -42,12 +42,14 @@ std::vector<Line> SplitLines(std::string_view text) {
   std::size_t start = 0;
   int number = 1;
   while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
+    // LF (Unix), CR LF (Windows) or a lone CR (old Mac spreadsheets).
+    std::size_t end = text.find_first_of("\r\n", start);
     if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back({line, number++});
+    lines.push_back({text.substr(start, end - start), number++});
     start = end + 1;
+    if (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n') {
+      ++start;
+    }
   }
   return lines;
 }

@@ -21,7 +21,7 @@ struct Cell {
 // The cells of `line` split at `delimiter`.
 std::vector<Cell> SplitRow(std::string_view line, char delimiter);
 
-// A line of a file without its line break (and CR).
+// A line of a file without its line break: LF, CR LF or a lone CR.
 struct Line {
   std::string_view text;
   int number = 0;  // 1-based

@@ -22,6 +22,38 @@ TEST(ParsePsychometricData, ReadsCountsCsvInFileOrder) {
   EXPECT_EQ(f->lines, (std::vector<int>{2, 3, 5}));
 }
 
+// Line endings from any spreadsheet: LF, CR LF, a lone CR (old Mac exports),
+// with or without a byte-order mark, give the same blocks, and a bad cell is
+// placed on the same line and column. Truth: the LF file, read as before.
+TEST(ParsePsychometricData, ReadsEveryLineEndingAlike) {
+  const std::string lf = "level,n_correct,n_total\n1,21,40\n2.5,30,40\n";
+  const std::string bad = "level,n_correct,n_total\n1,21,40\n2,abc,40\n";
+  const auto with = [](std::string text, const std::string& ending) {
+    std::string out;
+    for (char c : text) out += c == '\n' ? ending : std::string(1, c);
+    return out;
+  };
+  Result<PsychometricDataFile> expected = ParsePsychometricData("d.csv", lf);
+  ASSERT_TRUE(expected.ok());
+  for (const std::string ending : {"\r\n", "\r"}) {
+    for (const std::string bom : {"", "\xEF\xBB\xBF"}) {
+      SCOPED_TRACE(ending == "\r" ? "CR" : "CRLF");
+      Result<PsychometricDataFile> f =
+          ParsePsychometricData("d.csv", bom + with(lf, ending));
+      ASSERT_TRUE(f.ok()) << f.error().message;
+      ASSERT_EQ(f->blocks.size(), 2u);
+      EXPECT_EQ(f->blocks[1].level, expected->blocks[1].level);
+      EXPECT_EQ(f->blocks[1].n_correct, expected->blocks[1].n_correct);
+      EXPECT_EQ(f->lines, expected->lines);
+      EXPECT_EQ(ParsePsychometricData("d.csv", bom + with(bad, ending))
+                    .error()
+                    .message,
+                "d.csv:3:3: error: n_correct 'abc' is not a whole number of at "
+                "least 0\n2,abc,40\n  ^");
+    }
+  }
+}
+
 TEST(ParsePsychometricData, ReadsTsvWithColumnsInAnyOrder) {
   Result<PsychometricDataFile> f = ParsePsychometricData(
       "d.tsv", "\xEF\xBB\xBFn_total\tlevel\tnote\tn_correct\n40\t1\tx\t21\n");

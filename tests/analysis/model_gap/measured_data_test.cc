@@ -42,6 +42,17 @@ TEST(ParseMeasuredData, NeedsOnlyForceAndVelocity) {
   EXPECT_EQ(d->runs[2].run, "");
 }
 
+TEST(ParseMeasuredData, ReadsCrOnlyLineEndings) {
+  Result<MeasuredData> d =
+      ParseMeasuredData("m.csv",
+                        "\xEF\xBB\xBF"
+                        "force_n,velocity_mm_s\r1,0.1\r2,0.4\r3,0.9\r");
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  ASSERT_EQ(d->runs.size(), 3u);
+  EXPECT_EQ(d->runs[2].force_n, 3.0);
+  EXPECT_EQ(d->runs[2].line, 4);
+}
+
 TEST(ParseMeasuredData, RefusesAnEmptyFile) {
   EXPECT_EQ(ErrorOf(" \n\n"),
             "m.csv: error: the file is empty; expected a header line with "
@@ -66,6 +77,10 @@ TEST(ParseMeasuredData, RefusesADuplicateColumn) {
 }
 
 TEST(ParseMeasuredData, RefusesNonPositiveOrNonFiniteForces) {
+  // A lone CR (old Mac spreadsheets) ends a line like LF and CR LF do.
+  EXPECT_EQ(ErrorOf("force_n,velocity_mm_s\r1,0.1\r-2,0.4\r"),
+            "m.csv:3:1: error: force_n '-2' is not a positive finite number "
+            "of N\n-2,0.4\n^");
   EXPECT_EQ(ErrorOf("force_n,velocity_mm_s\n1,0.1\n-2,0.4\n"),
             "m.csv:3:1: error: force_n '-2' is not a positive finite number "
             "of N\n-2,0.4\n^");

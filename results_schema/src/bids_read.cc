@@ -19,6 +19,8 @@
 #include <sstream>
 
 #include "burrlab/results_schema/bids_export.h"
+#include "burrlab/results_schema/journal.h"
+#include "journal_db.h"
 #include "text.h"
 
 namespace burrlab::results_schema {
@@ -398,6 +400,38 @@ Status ForEachPhysioRow(
                     errnum == Z_ERRNO ? std::strerror(errno) : message)};
   }
   return {};
+}
+
+std::vector<UnexportedTrials> FindUnexportedTrials(
+    const fs::path& dir, const std::vector<BehFile>& files) {
+  std::map<std::string, int> exported;
+  for (const BehFile& f : files) {
+    exported[f.subject] += static_cast<int>(f.table.trials.size());
+  }
+  std::vector<UnexportedTrials> found;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!name.starts_with("sub-")) continue;
+    const std::string label = name.substr(4);
+    const fs::path journal = JournalPath(dir, label);
+    std::error_code exists_ec;
+    if (!fs::is_regular_file(journal, exists_ec)) continue;
+    int trials = -1;
+    if (auto db = db::OpenDb(journal, /*create=*/false)) {
+      if (auto count = db::CountTrials(db->get(), journal)) trials = *count;
+    }
+    const int in_exports = exported.contains(label) ? exported[label] : 0;
+    if (trials < 0 || trials > in_exports) {
+      found.push_back({label, trials, in_exports});
+    }
+  }
+  std::sort(found.begin(), found.end(),
+            [](const UnexportedTrials& a, const UnexportedTrials& b) {
+              return a.subject < b.subject;
+            });
+  return found;
 }
 
 Result<std::vector<BehFile>> ReadBidsDataset(const fs::path& dir) {

@@ -35,11 +35,26 @@ Json Optional(const std::optional<double>& value) {
   return value.has_value() ? JsonNumber(*value) : Json(nullptr);
 }
 
-// The study's exports, or one error line.
-Result<std::vector<results_schema::BehFile>> ReadResults(
-    const std::string& dir) {
+// The study's exports, or one error line. First warns on `err` of every
+// subject whose journal holds trials its exports do not, so no subject is
+// left out silently.
+Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
+                                                         std::ostream& err) {
   results_schema::Result<std::vector<results_schema::BehFile>> files =
       results_schema::ReadBidsDataset(dir);
+  const std::vector<results_schema::BehFile> none;
+  for (const results_schema::UnexportedTrials& u :
+       results_schema::FindUnexportedTrials(dir, files.ok() ? *files : none)) {
+    err << fmt::format(
+        "burrlab: warning: sub-{}'s journal holds {} trials but its exports "
+        "only {}, and analyses read the exports; `burrlab run PROTOCOL "
+        "--subject {} --out {} --resume` exports them (and finishes the "
+        "session if it can)\n",
+        u.subject,
+        u.journal_trials < 0 ? std::string("unreadable")
+                             : std::to_string(u.journal_trials),
+        u.exported_trials, u.subject, dir);
+  }
   if (!files.ok()) return Error{files.error().message};
   return std::move(files.value());
 }
@@ -198,7 +213,7 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
       ->type_name("DIR");
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
-  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir);
+  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
   if (!files.ok()) return Fail(err, files.error().message);
   Result<std::vector<analysis::BlockScores>> blocks =
       analysis::ScoreBlocks(*files);
@@ -272,7 +287,7 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
   options.sigmoid = *analysis::SigmoidFromName(
       std::vector<std::string>{"logistic", "cumnorm", "weibull",
                                "gumbel"}[static_cast<std::size_t>(sigmoid)]);
-  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir);
+  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
   if (!files.ok()) return Fail(err, files.error().message);
   Result<std::vector<analysis::ThresholdEstimate>> estimates =
       analysis::EstimateThresholds(*files, options);
@@ -364,7 +379,7 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
       ->type_name("DIR");
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
-  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir);
+  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
   if (!files.ok()) return Fail(err, files.error().message);
   Result<std::vector<analysis::KinematicsSummary>> summaries =
       analysis::SummarizeKinematics(*files, options);

@@ -646,7 +646,15 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
                        std::move(journal.value()));
   if (Status s = runner.Replay(records); !s.ok()) return s.error();
   Result<SessionSummary> summary = runner.Run();
-  if (!summary.ok()) return summary;
+  if (!summary.ok()) {
+    // What the journal holds is exported even so, for analyses to find.
+    if (options.export_bids &&
+        rs::ExportBids(options.out_dir, options.subject).ok()) {
+      return Error{summary.error().message +
+                   " (the trials saved so far are exported)"};
+    }
+    return summary;
+  }
   // The journal (and with it the session's lock) stays open through the
   // export, so no other run writes the session meanwhile.
   if (options.export_bids) {

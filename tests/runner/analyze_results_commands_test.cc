@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "burrlab/results_schema/bids_read.h"
+#include "burrlab/results_schema/journal.h"
 #include "run_cli.h"
 
 namespace burrlab::runner {
@@ -104,6 +105,41 @@ TEST_F(AnalyzeResults, ScoresJsonHasTheTestsAndTheHistogram) {
   EXPECT_NEAR(k["kinematics"][0]["duration_s"].get<double>(), 120.0, 1e-6);
   EXPECT_NEAR(k["kinematics"][0]["removal_rate_mm3_per_s"].get<double>(), 0.0,
               1e-12);  // probing removes nothing
+}
+
+// A subject whose run stopped before its export (here: its exports
+// removed) is named on every analysis, never left out silently. Truth: the
+// journal's own trial count.
+TEST_F(AnalyzeResults, SubjectsWithTrialsMissingFromTheExportsAreNamed) {
+  const std::string results = Study("staircase_1up3down.toml", 2, "stairs");
+  fs::remove_all(fs::path(results) / "sub-02" / "beh");
+  int journal_trials = 0;
+  {
+    auto journal = results_schema::Journal::Open(results, "02");
+    ASSERT_TRUE(journal.ok());
+    journal_trials = journal->NextTrialIndex().value();
+  }
+  ASSERT_GT(journal_trials, 0);
+  const std::string warning =
+      "burrlab: warning: sub-02's journal holds " +
+      std::to_string(journal_trials) +
+      " trials but its exports only 0, and analyses read the exports; "
+      "`burrlab run PROTOCOL --subject 02 --out " +
+      results +
+      " --resume` exports them (and finishes the session if it can)\n";
+  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+    const CliRun run = RunBurrlab({"analyze", command, results});
+    EXPECT_EQ(run.code, 0) << command << run.err;
+    EXPECT_EQ(run.err, warning) << command;
+  }
+  fs::remove_all(fs::path(results) / "sub-01" / "beh");
+  const CliRun none = RunBurrlab({"analyze", "thresholds", results});
+  EXPECT_EQ(none.code, 1);
+  EXPECT_TRUE(none.err.starts_with("burrlab: warning: sub-01's journal holds"))
+      << none.err;
+  EXPECT_NE(none.err.find(warning + "burrlab: " + results + " holds no "),
+            std::string::npos)
+      << none.err;
 }
 
 TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {

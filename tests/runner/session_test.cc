@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/journal.h"
 #include "run_cli.h"
 #include "session_commands.h"
@@ -308,6 +309,8 @@ TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
   ASSERT_FALSE(failed.ok());
   EXPECT_THAT(failed.error().message, HasSubstr("cannot save trial "));
   EXPECT_THAT(failed.error().message, HasSubstr("run again with --resume"));
+  EXPECT_THAT(failed.error().message,
+              HasSubstr("(the trials saved so far are exported)"));
   int saved = 0;
   {
     auto journal = rs::Journal::Open(options.out_dir, "04");
@@ -317,6 +320,12 @@ TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
   }
   EXPECT_GT(saved, 0);
   EXPECT_LT(saved, 20);
+  // The saved trials are in the exports, for analyses to find.
+  auto exported = rs::ReadBidsDataset(options.out_dir);
+  ASSERT_TRUE(exported.ok()) << exported.error().message;
+  std::size_t rows = 0;
+  for (const rs::BehFile& f : *exported) rows += f.table.trials.size();
+  EXPECT_EQ(rows, static_cast<std::size_t>(saved));
 
   options.journal_limit_bytes_for_testing = 0;
   options.resume = true;

@@ -56,6 +56,20 @@ struct BehFile {
 // file is an error naming it. A folder without any is an error.
 Result<std::vector<BehFile>> ReadBidsDataset(const std::filesystem::path& dir);
 
+// A subject whose journal holds trials its exports do not (its run stopped
+// before the export, or an export failed).
+struct UnexportedTrials {
+  std::string subject;  // label without "sub-"
+  int journal_trials = 0;
+  int exported_trials = 0;  // rows of its _beh.tsv files in `files`
+};
+
+// Every DIR/sub-*/journal.sqlite with more trials than the subject's rows in
+// `files` (ReadBidsDataset's answer for DIR, or empty), sorted by label. A
+// journal that cannot be read counts as holding trials (-1).
+std::vector<UnexportedTrials> FindUnexportedTrials(
+    const std::filesystem::path& dir, const std::vector<BehFile>& files);
+
 // Reads a _physio.json sidecar; data_path is the .tsv.gz beside it.
 Result<PhysioFile> ReadPhysioSidecar(const std::filesystem::path& json_path);
 

@@ -87,12 +87,6 @@ std::string StringArrayJson(const std::vector<std::string>& items) {
                                     nlohmann::json::error_handler_t::replace);
 }
 
-std::string NowUtc() {
-  const std::time_t now =
-      std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(now));
-}
-
 // Steps a statement that returns no rows.
 Status StepDone(sqlite3* db, sqlite3_stmt* stmt, std::string_view what,
                 const std::filesystem::path& path) {
@@ -219,6 +213,12 @@ CREATE TABLE trace (
 
 }  // namespace
 
+std::string NowUtc() {
+  const std::time_t now =
+      std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  return fmt::format("{:%Y-%m-%dT%H:%M:%SZ}", fmt::gmtime(now));
+}
+
 Error SqliteError(sqlite3* db, std::string_view what,
                   const std::filesystem::path& path) {
   const char* message =
@@ -284,6 +284,19 @@ Status Configure(sqlite3* db, const std::filesystem::path& path) {
               path);
 }
 
+// Records that this burrlab's schema version was written, by `written_by`.
+Status InsertSchemaVersion(sqlite3* db, const std::filesystem::path& path,
+                           std::string_view written_by) {
+  auto version = Prepare(
+      db, "INSERT INTO schema_version (version, written_by) VALUES (?1, ?2)",
+      "cannot write the schema version of", path);
+  if (!version) return version.error();
+  sqlite3_bind_int(version->get(), 1, kJournalSchemaVersion);
+  BindText(version->get(), 2, written_by);
+  return StepDone(db, version->get(), "cannot write the schema version of",
+                  path);
+}
+
 Status CreateSchema(sqlite3* db, const std::filesystem::path& path,
                     const SessionInfo& session) {
   if (Status s =
@@ -291,15 +304,7 @@ Status CreateSchema(sqlite3* db, const std::filesystem::path& path,
       !s) {
     return s;
   }
-  auto version = Prepare(
-      db, "INSERT INTO schema_version (version, written_by) VALUES (?1, ?2)",
-      "cannot write the schema version of", path);
-  if (!version) return version.error();
-  sqlite3_bind_int(version->get(), 1, kJournalSchemaVersion);
-  BindText(version->get(), 2, session.burrlab_version);
-  if (Status s = StepDone(db, version->get(),
-                          "cannot write the schema version of", path);
-      !s) {
+  if (Status s = InsertSchemaVersion(db, path, session.burrlab_version); !s) {
     return s;
   }
   return WriteSession(db, path, session);
@@ -372,14 +377,7 @@ Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,
       return s;
     }
   }
-  auto version = Prepare(
-      db, "INSERT INTO schema_version (version, written_by) VALUES (?1, ?2)",
-      "cannot write the schema version of", path);
-  if (!version) return version.error();
-  sqlite3_bind_int(version->get(), 1, kJournalSchemaVersion);
-  BindText(version->get(), 2, written_by);
-  return StepDone(db, version->get(), "cannot write the schema version of",
-                  path);
+  return InsertSchemaVersion(db, path, written_by);
 }
 
 Result<int> CheckSchemaVersion(sqlite3* db, const std::filesystem::path& path) {

@@ -52,6 +52,9 @@ Status Exec(sqlite3* db, const char* sql, std::string_view what,
 Result<Stmt> Prepare(sqlite3* db, const char* sql, std::string_view what,
                      const std::filesystem::path& path);
 
+// The time now, ISO 8601 UTC ("2026-11-27T09:30:00Z").
+std::string NowUtc();
+
 // Rolls back if a transaction is open; keeps the first error.
 void RollbackIfOpen(sqlite3* db);
 

@@ -7,12 +7,11 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <chrono>
 #include <cstring>
-#include <ctime>
 #include <system_error>
 #include <utility>
 
+#include "journal_db.h"
 #include "text.h"
 
 namespace burrlab::results_schema {
@@ -21,16 +20,6 @@ namespace {
 
 // Longest holder line read back from a lock file.
 constexpr std::size_t kMaxHolderBytes = 512;
-
-std::string UtcNow() {
-  const std::time_t now =
-      std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
-}
 
 std::string HostName() {
   char name[256] = {};
@@ -90,8 +79,8 @@ Result<SessionLock> SessionLock::Acquire(const fs::path& dir,
     ::close(fd);
     return Error{std::move(message)};
   }
-  std::string holder =
-      fmt::format("pid {} on {} since {}", ::getpid(), HostName(), UtcNow());
+  std::string holder = fmt::format("pid {} on {} since {}", ::getpid(),
+                                   HostName(), db::NowUtc());
   const std::string line = holder + "\n";
   if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, line.data(), line.size(), 0) !=
                                      static_cast<ssize_t>(line.size())) {

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <set>
 
 #include "burrlab/analysis/bootstrap.h"
@@ -50,6 +51,9 @@ constexpr double kTinyProbability = 1e-300;
 constexpr double kParameterTolerance = 1e-8;
 constexpr double kLogLikelihoodTolerance = 1e-12;  // per trial
 constexpr int kMaxBootstrapSamples = 1000000;
+// Step starts go into at most this many gaps between neighbouring levels:
+// every gap of a design of up to 33 levels.
+constexpr std::size_t kMaxStepGaps = 32;
 
 const char* const kParamNames[4] = {"alpha", "beta", "gamma", "lambda"};
 
@@ -175,8 +179,8 @@ class Fitter {
   // Starting points for the optimiser, with gamma and lambda at psignifit's
   // initial guesses: for each of 10 scales, the best of 21 locations (a
   // likelihood can have one maximum at a moderate slope and another at a
-  // steep one, so every scale gets its own start), and the best 2 steps
-  // placed between neighbouring levels.
+  // steep one, so every scale gets its own start), and the best 2 of the
+  // steps placed between neighbouring levels (Steps()).
   std::vector<Internal> Starts() {
     std::vector<std::pair<double, Internal>> profile, steps;
     const double log_low = std::log(SteepestStart());
@@ -336,21 +340,76 @@ class Fitter {
 
  private:
   // (m, ln s) of steep functions centred between neighbouring levels, at
-  // two steepnesses relative to the gap.
-  const std::vector<std::pair<double, double>>& Steps() {
-    if (steps_.empty()) {
-      std::vector<double> u = problem_.u;
-      std::sort(u.begin(), u.end());
-      u.erase(std::unique(u.begin(), u.end()), u.end());
-      for (std::size_t i = 0; i + 1 < u.size(); ++i) {
-        const double gap = u[i + 1] - u[i];
-        for (double fraction : {0.25, 0.5}) {
-          steps_.emplace_back(0.5 * (u[i] + u[i + 1]),
-                              std::log(std::max(kScaleMin, fraction * gap)));
-        }
+  // two steepnesses relative to the gap, for every gap when there are at
+  // most kMaxStepGaps, else for the kMaxStepGaps gaps where a sharp step
+  // fits best, in increasing order of level. The screen scores a step by
+  // its log-likelihood with psi = gamma below the gap and 1 - lambda above
+  // it (the starting gamma and lambda), one pass over running sums; scoring
+  // every gap's start with the full likelihood instead costs a pass over the
+  // levels per gap, quadratic in the number of levels.
+  std::vector<std::pair<double, double>> Steps() const {
+    std::vector<std::size_t> order(problem_.u.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return problem_.u[a] < problem_.u[b];
+    });
+    // The distinct levels, increasing, with their pooled counts.
+    std::vector<double> u, correct, wrong;
+    for (std::size_t i : order) {
+      if (u.empty() || problem_.u[i] != u.back()) {
+        u.push_back(problem_.u[i]);
+        correct.push_back(0.0);
+        wrong.push_back(0.0);
+      }
+      correct.back() += problem_.r[i];
+      wrong.back() += problem_.n[i] - problem_.r[i];
+    }
+    const std::size_t gaps = u.empty() ? 0 : u.size() - 1;
+    std::vector<std::size_t> chosen(gaps);
+    std::iota(chosen.begin(), chosen.end(), std::size_t{0});
+    if (gaps > kMaxStepGaps) {
+      // log L of the step in gap i (levels 0..i below it): the logs are
+      // clamped as Objective clamps them at F = 0 and F = 1.
+      const double gamma =
+          problem_.gamma_free ? StartGamma() : problem_.gamma_fixed;
+      const double lambda = problem_.lambda_free ? StartLambda() : 0.0;
+      const double w = 1.0 - gamma - lambda;
+      const double below_yes = std::log(std::max(gamma, kTinyProbability));
+      const double below_no = std::log(std::max(lambda + w, kTinyProbability));
+      const double above_yes = std::log(std::max(gamma + w, kTinyProbability));
+      const double above_no = std::log(std::max(lambda, kTinyProbability));
+      double correct_above = 0.0, wrong_above = 0.0;
+      for (std::size_t i = 0; i < u.size(); ++i) {
+        correct_above += correct[i];
+        wrong_above += wrong[i];
+      }
+      double correct_below = 0.0, wrong_below = 0.0;
+      std::vector<double> log_l(gaps);
+      for (std::size_t i = 0; i < gaps; ++i) {
+        correct_below += correct[i];
+        wrong_below += wrong[i];
+        correct_above -= correct[i];
+        wrong_above -= wrong[i];
+        log_l[i] = correct_below * below_yes + wrong_below * below_no +
+                   correct_above * above_yes + wrong_above * above_no;
+      }
+      const auto better = [&](std::size_t a, std::size_t b) {
+        return log_l[a] > log_l[b] || (log_l[a] == log_l[b] && a < b);
+      };
+      std::nth_element(chosen.begin(), chosen.begin() + kMaxStepGaps,
+                       chosen.end(), better);
+      chosen.resize(kMaxStepGaps);
+      std::sort(chosen.begin(), chosen.end());
+    }
+    std::vector<std::pair<double, double>> steps;
+    for (std::size_t i : chosen) {
+      const double gap = u[i + 1] - u[i];
+      for (double fraction : {0.25, 0.5}) {
+        steps.emplace_back(0.5 * (u[i] + u[i + 1]),
+                           std::log(std::max(kScaleMin, fraction * gap)));
       }
     }
-    return steps_;
+    return steps;
   }
 
   double StartGamma() const {
@@ -401,7 +460,6 @@ class Fitter {
   unsigned dimension_ = 2;
   Internal lower_{}, upper_{};
   double middle_ = 0.0, span_ = 1.0;
-  std::vector<std::pair<double, double>> steps_;
   double steepest_ = 0.0;
   detail::NloptPtr opt_;
 };

@@ -599,6 +599,46 @@ TEST(AnalyzePsychometric, ReportsAFitAtABoundWithAWarning) {
       << a->FullReport();
 }
 
+TEST(FitPsychometric, FindsAStepBetweenNeighbouringLevelsAmongManyLevels) {
+  // 200 levels, at chance up to 137 and all correct from 138: the perfect
+  // fit is a step in one of 199 gaps, more gaps than get a step start of
+  // their own (the rest are screened out in one pass).
+  std::vector<DataBlock> d;
+  for (int x = 1; x <= 200; ++x) d.push_back({1.0 * x, x <= 137 ? 20 : 40, 40});
+  PsychometricOptions o;
+  o.lambda_max = 0.0;
+  Result<PsychometricFit> fit = FitPsychometric(d, o);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_TRUE(fit->converged);
+  EXPECT_NEAR(fit->deviance, 0.0, 1e-6);
+  EXPECT_GT(fit->params.alpha, 137.0);
+  EXPECT_LT(fit->params.alpha, 138.0);
+}
+
+TEST(FitPsychometric, RecoversTheFunctionFromOneTrialPerLevel) {
+  // 5000 trials, each at a level of its own (as adaptive methods log them).
+  const PsychometricParams truth{3.0, 0.6, 0.5, 0.02};
+  std::mt19937_64 rng(19);
+  const auto uniform = [&] {
+    return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+  };
+  std::vector<DataBlock> d;
+  for (int k = 0; k < 5000; ++k) {
+    const double x = 0.5 + 5.0 * uniform();
+    d.push_back({x, uniform() < Psi(Sigmoid::kLogistic, truth, x) ? 1 : 0, 1});
+  }
+  PsychometricOptions o;
+  Result<PsychometricFit> fit = FitPsychometric(d, o);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_TRUE(fit->converged);
+  const auto covariance = ParameterCovariance(d, o, fit->params);
+  ASSERT_TRUE(covariance.has_value());
+  EXPECT_NEAR(fit->params.alpha, truth.alpha,
+              4.0 * std::sqrt((*covariance)[0][0]));
+  EXPECT_NEAR(fit->params.beta, truth.beta,
+              4.0 * std::sqrt((*covariance)[1][1]));
+}
+
 TEST(AnalyzePsychometric, WithoutBootstrapHasNoIntervals) {
   PsychometricOptions o;
   o.bootstrap_samples = 0;

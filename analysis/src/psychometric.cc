@@ -18,10 +18,13 @@
 #include <boost/random/binomial_distribution.hpp>
 #include <boost/random/mersenne_twister.hpp>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numeric>
 #include <set>
+#include <system_error>
+#include <thread>
 
 #include "burrlab/analysis/bootstrap.h"
 #include "nlopt_ptr.h"
@@ -54,6 +57,10 @@ constexpr int kMaxBootstrapSamples = 1000000;
 // Step starts go into at most this many gaps between neighbouring levels:
 // every gap of a design of up to 33 levels.
 constexpr std::size_t kMaxStepGaps = 32;
+// A likelihood evaluation shares its levels between threads, each taking
+// at least this many (starting a thread costs about as much as 500 levels),
+// so from twice as many levels on.
+constexpr std::size_t kLevelsPerThread = 4096;
 
 const char* const kParamNames[4] = {"alpha", "beta", "gamma", "lambda"};
 
@@ -68,6 +75,10 @@ struct Problem {
   std::vector<double> n;  // trials
   std::vector<double> r;  // correct responses of the data set being fitted
   double scale = 1.0;     // 1 / total trials: the objective is per trial
+  int threads = 1;        // threads an evaluation of many levels may use
+  // Scratch, one per level: the level's log L term, then its d log L /
+  // d(m, ln s, gamma, lambda).
+  std::vector<std::array<double, 5>> terms;
   int evaluations = 0;
 };
 
@@ -86,33 +97,70 @@ Psi4 Unpack(const Problem& problem, const double* v) {
   return p;
 }
 
-// Negative log-likelihood per trial and its gradient (NLopt minimises; per
-// trial keeps the objective's size and tolerances independent of the number
-// of trials).
-double Objective(unsigned /*dim*/, const double* v, double* gradient,
-                 void* data) {
-  Problem& problem = *static_cast<Problem*>(data);
-  ++problem.evaluations;
-  const Psi4 p = Unpack(problem, v);
+// Each level's log-likelihood term and, with `gradient`, its d log L /
+// d(m, ln s, gamma, lambda), for the levels [begin, end), into
+// problem.terms.
+void LevelTerms(Problem& problem, const Psi4& p, bool gradient,
+                std::size_t begin, std::size_t end) {
   const double w = 1.0 - p.gamma - p.lambda;
-  double log_l = 0.0, d_m = 0.0, d_log_s = 0.0, d_gamma = 0.0, d_lambda = 0.0;
-  for (std::size_t i = 0; i < problem.u.size(); ++i) {
+  for (std::size_t i = begin; i < end; ++i) {
     const double z = (problem.u[i] - p.m) / p.s;
     const StandardPoint f = Standard(problem.sigmoid, z);
     const double yes = std::max(p.gamma + w * f.f, kTinyProbability);
     const double no = std::max(p.lambda + w * f.fc, kTinyProbability);
     const double r = problem.r[i], wrong = problem.n[i] - r;
-    log_l += (r > 0.0 ? r * std::log(yes) : 0.0) +
-             (wrong > 0.0 ? wrong * std::log(no) : 0.0);
-    if (gradient != nullptr) {
+    std::array<double, 5>& t = problem.terms[i];
+    t[0] = (r > 0.0 ? r * std::log(yes) : 0.0) +
+           (wrong > 0.0 ? wrong * std::log(no) : 0.0);
+    if (gradient) {
       const double e = r / yes - wrong / no;  // d log L / d psi
-      d_m += e * (-w * f.density / p.s);
-      d_log_s += e * (-w * f.density * z);
-      d_gamma += e * f.fc;
-      d_lambda += e * (-f.f);
+      t[1] = e * (-w * f.density / p.s);
+      t[2] = e * (-w * f.density * z);
+      t[3] = e * f.fc;
+      t[4] = e * (-f.f);
     }
   }
-  if (gradient != nullptr) {
+}
+
+// Negative log-likelihood per trial and its gradient (NLopt minimises; per
+// trial keeps the objective's size and tolerances independent of the number
+// of trials). The levels' terms are computed in up to problem.threads
+// threads of at least kLevelsPerThread levels each, then summed in one
+// thread in the order of the levels, so the result does not depend on the
+// threads.
+double Objective(unsigned /*dim*/, const double* v, double* gradient,
+                 void* data) {
+  Problem& problem = *static_cast<Problem*>(data);
+  ++problem.evaluations;
+  const Psi4 p = Unpack(problem, v);
+  const bool with_gradient = gradient != nullptr;
+  const std::size_t levels = problem.u.size();
+  const std::size_t parts = std::clamp<std::size_t>(
+      levels / kLevelsPerThread, 1, static_cast<std::size_t>(problem.threads));
+  std::vector<std::thread> helpers;
+  for (std::size_t k = 1; k < parts; ++k) {
+    const std::size_t begin = levels * k / parts;
+    const std::size_t end = levels * (k + 1) / parts;
+    try {
+      helpers.emplace_back(LevelTerms, std::ref(problem), std::cref(p),
+                           with_gradient, begin, end);
+    } catch (const std::system_error&) {  // no thread to be had: do it here
+      LevelTerms(problem, p, with_gradient, begin, end);
+    }
+  }
+  LevelTerms(problem, p, with_gradient, 0, levels / parts);
+  for (std::thread& helper : helpers) helper.join();
+  double log_l = 0.0, d_m = 0.0, d_log_s = 0.0, d_gamma = 0.0, d_lambda = 0.0;
+  for (const std::array<double, 5>& t : problem.terms) {
+    log_l += t[0];
+    if (with_gradient) {
+      d_m += t[1];
+      d_log_s += t[2];
+      d_gamma += t[3];
+      d_lambda += t[4];
+    }
+  }
+  if (with_gradient) {
     std::size_t k = 0;
     gradient[k++] = -d_m * problem.scale;
     gradient[k++] = -d_log_s * problem.scale;
@@ -152,6 +200,11 @@ class Fitter {
       trials += block.n_total;
     }
     problem_.scale = 1.0 / trials;
+    problem_.threads = options.threads > 0
+                           ? options.threads
+                           : static_cast<int>(std::clamp(
+                                 std::thread::hardware_concurrency(), 1u, 64u));
+    problem_.terms.resize(data.size());
     middle_ = 0.5 * (low + high);
     span_ = high - low;
     for (double x : u) problem_.u.push_back((x - middle_) / span_);
@@ -587,6 +640,10 @@ Status PsychometricOptions::Validate() const {
   if (max_evaluations < 1) {
     return Error{fmt::format("max_evaluations must be at least 1, got {}",
                              max_evaluations)};
+  }
+  if (threads < 0 || threads > 64) {
+    return Error{fmt::format(
+        "threads must be 0 (one per core) or 1 to 64, got {}", threads)};
   }
   for (std::size_t k = 0; k < cuts.size(); ++k) {
     if (!(cuts[k] > 0.0 && cuts[k] < 1.0)) {

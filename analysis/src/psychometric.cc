@@ -18,9 +18,13 @@
 #include <boost/random/binomial_distribution.hpp>
 #include <boost/random/mersenne_twister.hpp>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <set>
+#include <system_error>
+#include <thread>
 
 #include "burrlab/analysis/bootstrap.h"
 #include "nlopt_ptr.h"
@@ -50,6 +54,13 @@ constexpr double kTinyProbability = 1e-300;
 constexpr double kParameterTolerance = 1e-8;
 constexpr double kLogLikelihoodTolerance = 1e-12;  // per trial
 constexpr int kMaxBootstrapSamples = 1000000;
+// Step starts go into at most this many gaps between neighbouring levels:
+// every gap of a design of up to 33 levels.
+constexpr std::size_t kMaxStepGaps = 32;
+// A likelihood evaluation shares its levels between threads, each taking
+// at least this many (starting a thread costs about as much as 500 levels),
+// so from twice as many levels on.
+constexpr std::size_t kLevelsPerThread = 4096;
 
 const char* const kParamNames[4] = {"alpha", "beta", "gamma", "lambda"};
 
@@ -64,6 +75,10 @@ struct Problem {
   std::vector<double> n;  // trials
   std::vector<double> r;  // correct responses of the data set being fitted
   double scale = 1.0;     // 1 / total trials: the objective is per trial
+  int threads = 1;        // threads an evaluation of many levels may use
+  // Scratch, one per level: the level's log L term, then its d log L /
+  // d(m, ln s, gamma, lambda).
+  std::vector<std::array<double, 5>> terms;
   int evaluations = 0;
 };
 
@@ -82,33 +97,70 @@ Psi4 Unpack(const Problem& problem, const double* v) {
   return p;
 }
 
-// Negative log-likelihood per trial and its gradient (NLopt minimises; per
-// trial keeps the objective's size and tolerances independent of the number
-// of trials).
-double Objective(unsigned /*dim*/, const double* v, double* gradient,
-                 void* data) {
-  Problem& problem = *static_cast<Problem*>(data);
-  ++problem.evaluations;
-  const Psi4 p = Unpack(problem, v);
+// Each level's log-likelihood term and, with `gradient`, its d log L /
+// d(m, ln s, gamma, lambda), for the levels [begin, end), into
+// problem.terms.
+void LevelTerms(Problem& problem, const Psi4& p, bool gradient,
+                std::size_t begin, std::size_t end) {
   const double w = 1.0 - p.gamma - p.lambda;
-  double log_l = 0.0, d_m = 0.0, d_log_s = 0.0, d_gamma = 0.0, d_lambda = 0.0;
-  for (std::size_t i = 0; i < problem.u.size(); ++i) {
+  for (std::size_t i = begin; i < end; ++i) {
     const double z = (problem.u[i] - p.m) / p.s;
     const StandardPoint f = Standard(problem.sigmoid, z);
     const double yes = std::max(p.gamma + w * f.f, kTinyProbability);
     const double no = std::max(p.lambda + w * f.fc, kTinyProbability);
     const double r = problem.r[i], wrong = problem.n[i] - r;
-    log_l += (r > 0.0 ? r * std::log(yes) : 0.0) +
-             (wrong > 0.0 ? wrong * std::log(no) : 0.0);
-    if (gradient != nullptr) {
+    std::array<double, 5>& t = problem.terms[i];
+    t[0] = (r > 0.0 ? r * std::log(yes) : 0.0) +
+           (wrong > 0.0 ? wrong * std::log(no) : 0.0);
+    if (gradient) {
       const double e = r / yes - wrong / no;  // d log L / d psi
-      d_m += e * (-w * f.density / p.s);
-      d_log_s += e * (-w * f.density * z);
-      d_gamma += e * f.fc;
-      d_lambda += e * (-f.f);
+      t[1] = e * (-w * f.density / p.s);
+      t[2] = e * (-w * f.density * z);
+      t[3] = e * f.fc;
+      t[4] = e * (-f.f);
     }
   }
-  if (gradient != nullptr) {
+}
+
+// Negative log-likelihood per trial and its gradient (NLopt minimises; per
+// trial keeps the objective's size and tolerances independent of the number
+// of trials). The levels' terms are computed in up to problem.threads
+// threads of at least kLevelsPerThread levels each, then summed in one
+// thread in the order of the levels, so the result does not depend on the
+// threads.
+double Objective(unsigned /*dim*/, const double* v, double* gradient,
+                 void* data) {
+  Problem& problem = *static_cast<Problem*>(data);
+  ++problem.evaluations;
+  const Psi4 p = Unpack(problem, v);
+  const bool with_gradient = gradient != nullptr;
+  const std::size_t levels = problem.u.size();
+  const std::size_t parts = std::clamp<std::size_t>(
+      levels / kLevelsPerThread, 1, static_cast<std::size_t>(problem.threads));
+  std::vector<std::thread> helpers;
+  for (std::size_t k = 1; k < parts; ++k) {
+    const std::size_t begin = levels * k / parts;
+    const std::size_t end = levels * (k + 1) / parts;
+    try {
+      helpers.emplace_back(LevelTerms, std::ref(problem), std::cref(p),
+                           with_gradient, begin, end);
+    } catch (const std::system_error&) {  // no thread to be had: do it here
+      LevelTerms(problem, p, with_gradient, begin, end);
+    }
+  }
+  LevelTerms(problem, p, with_gradient, 0, levels / parts);
+  for (std::thread& helper : helpers) helper.join();
+  double log_l = 0.0, d_m = 0.0, d_log_s = 0.0, d_gamma = 0.0, d_lambda = 0.0;
+  for (const std::array<double, 5>& t : problem.terms) {
+    log_l += t[0];
+    if (with_gradient) {
+      d_m += t[1];
+      d_log_s += t[2];
+      d_gamma += t[3];
+      d_lambda += t[4];
+    }
+  }
+  if (with_gradient) {
     std::size_t k = 0;
     gradient[k++] = -d_m * problem.scale;
     gradient[k++] = -d_log_s * problem.scale;
@@ -148,6 +200,11 @@ class Fitter {
       trials += block.n_total;
     }
     problem_.scale = 1.0 / trials;
+    problem_.threads = options.threads > 0
+                           ? options.threads
+                           : static_cast<int>(std::clamp(
+                                 std::thread::hardware_concurrency(), 1u, 64u));
+    problem_.terms.resize(data.size());
     middle_ = 0.5 * (low + high);
     span_ = high - low;
     for (double x : u) problem_.u.push_back((x - middle_) / span_);
@@ -175,8 +232,8 @@ class Fitter {
   // Starting points for the optimiser, with gamma and lambda at psignifit's
   // initial guesses: for each of 10 scales, the best of 21 locations (a
   // likelihood can have one maximum at a moderate slope and another at a
-  // steep one, so every scale gets its own start), and the best 2 steps
-  // placed between neighbouring levels.
+  // steep one, so every scale gets its own start), and the best 2 of the
+  // steps placed between neighbouring levels (Steps()).
   std::vector<Internal> Starts() {
     std::vector<std::pair<double, Internal>> profile, steps;
     const double log_low = std::log(SteepestStart());
@@ -336,21 +393,76 @@ class Fitter {
 
  private:
   // (m, ln s) of steep functions centred between neighbouring levels, at
-  // two steepnesses relative to the gap.
-  const std::vector<std::pair<double, double>>& Steps() {
-    if (steps_.empty()) {
-      std::vector<double> u = problem_.u;
-      std::sort(u.begin(), u.end());
-      u.erase(std::unique(u.begin(), u.end()), u.end());
-      for (std::size_t i = 0; i + 1 < u.size(); ++i) {
-        const double gap = u[i + 1] - u[i];
-        for (double fraction : {0.25, 0.5}) {
-          steps_.emplace_back(0.5 * (u[i] + u[i + 1]),
-                              std::log(std::max(kScaleMin, fraction * gap)));
-        }
+  // two steepnesses relative to the gap, for every gap when there are at
+  // most kMaxStepGaps, else for the kMaxStepGaps gaps where a sharp step
+  // fits best, in increasing order of level. The screen scores a step by
+  // its log-likelihood with psi = gamma below the gap and 1 - lambda above
+  // it (the starting gamma and lambda), one pass over running sums; scoring
+  // every gap's start with the full likelihood instead costs a pass over the
+  // levels per gap, quadratic in the number of levels.
+  std::vector<std::pair<double, double>> Steps() const {
+    std::vector<std::size_t> order(problem_.u.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return problem_.u[a] < problem_.u[b];
+    });
+    // The distinct levels, increasing, with their pooled counts.
+    std::vector<double> u, correct, wrong;
+    for (std::size_t i : order) {
+      if (u.empty() || problem_.u[i] != u.back()) {
+        u.push_back(problem_.u[i]);
+        correct.push_back(0.0);
+        wrong.push_back(0.0);
+      }
+      correct.back() += problem_.r[i];
+      wrong.back() += problem_.n[i] - problem_.r[i];
+    }
+    const std::size_t gaps = u.empty() ? 0 : u.size() - 1;
+    std::vector<std::size_t> chosen(gaps);
+    std::iota(chosen.begin(), chosen.end(), std::size_t{0});
+    if (gaps > kMaxStepGaps) {
+      // log L of the step in gap i (levels 0..i below it): the logs are
+      // clamped as Objective clamps them at F = 0 and F = 1.
+      const double gamma =
+          problem_.gamma_free ? StartGamma() : problem_.gamma_fixed;
+      const double lambda = problem_.lambda_free ? StartLambda() : 0.0;
+      const double w = 1.0 - gamma - lambda;
+      const double below_yes = std::log(std::max(gamma, kTinyProbability));
+      const double below_no = std::log(std::max(lambda + w, kTinyProbability));
+      const double above_yes = std::log(std::max(gamma + w, kTinyProbability));
+      const double above_no = std::log(std::max(lambda, kTinyProbability));
+      double correct_above = 0.0, wrong_above = 0.0;
+      for (std::size_t i = 0; i < u.size(); ++i) {
+        correct_above += correct[i];
+        wrong_above += wrong[i];
+      }
+      double correct_below = 0.0, wrong_below = 0.0;
+      std::vector<double> log_l(gaps);
+      for (std::size_t i = 0; i < gaps; ++i) {
+        correct_below += correct[i];
+        wrong_below += wrong[i];
+        correct_above -= correct[i];
+        wrong_above -= wrong[i];
+        log_l[i] = correct_below * below_yes + wrong_below * below_no +
+                   correct_above * above_yes + wrong_above * above_no;
+      }
+      const auto better = [&](std::size_t a, std::size_t b) {
+        return log_l[a] > log_l[b] || (log_l[a] == log_l[b] && a < b);
+      };
+      std::nth_element(chosen.begin(), chosen.begin() + kMaxStepGaps,
+                       chosen.end(), better);
+      chosen.resize(kMaxStepGaps);
+      std::sort(chosen.begin(), chosen.end());
+    }
+    std::vector<std::pair<double, double>> steps;
+    for (std::size_t i : chosen) {
+      const double gap = u[i + 1] - u[i];
+      for (double fraction : {0.25, 0.5}) {
+        steps.emplace_back(0.5 * (u[i] + u[i + 1]),
+                           std::log(std::max(kScaleMin, fraction * gap)));
       }
     }
-    return steps_;
+    return steps;
   }
 
   double StartGamma() const {
@@ -401,7 +513,6 @@ class Fitter {
   unsigned dimension_ = 2;
   Internal lower_{}, upper_{};
   double middle_ = 0.0, span_ = 1.0;
-  std::vector<std::pair<double, double>> steps_;
   double steepest_ = 0.0;
   detail::NloptPtr opt_;
 };
@@ -529,6 +640,10 @@ Status PsychometricOptions::Validate() const {
   if (max_evaluations < 1) {
     return Error{fmt::format("max_evaluations must be at least 1, got {}",
                              max_evaluations)};
+  }
+  if (threads < 0 || threads > 64) {
+    return Error{fmt::format(
+        "threads must be 0 (one per core) or 1 to 64, got {}", threads)};
   }
   for (std::size_t k = 0; k < cuts.size(); ++k) {
     if (!(cuts[k] > 0.0 && cuts[k] < 1.0)) {

@@ -8,9 +8,11 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -21,6 +23,15 @@ namespace burrlab::analysis {
 namespace {
 
 constexpr std::string_view kNa = "n/a";
+// The most trials a level can pool (DataBlock counts are int).
+constexpr std::int64_t kMaxTrialsPerLevel = std::numeric_limits<int>::max();
+
+// The rows of one level so far.
+struct Pool {
+  std::int64_t n_correct = 0;
+  std::int64_t n_total = 0;
+  int first_line = 0;  // 1-based line of the level's first row
+};
 
 std::optional<int> ParseWhole(std::string_view text) {
   int value = 0;
@@ -92,7 +103,25 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
                             "columns are separated by {}",
                             delimiter == '\t' ? "tabs" : "commas"));
   }
-  std::map<double, DataBlock> pooled;
+  // Rows pooled by level: the order of the rows cannot change the fit (the
+  // bootstrap draws level by level, in increasing order), and the work after
+  // parsing depends on the number of levels, not of rows.
+  std::map<double, Pool> pooled;
+  const auto add = [&](double x, int n_correct, int n_total, const Line& line,
+                       const Cell& at) -> std::optional<Error> {
+    Pool& pool = pooled[x];
+    if (pool.n_total == 0) pool.first_line = line.number;
+    pool.n_correct += n_correct;
+    pool.n_total += n_total;
+    ++file.rows;
+    if (pool.n_total > kMaxTrialsPerLevel) {
+      return fail(line.number, at.column,
+                  fmt::format("the rows with level {} add up to more than {} "
+                              "trials",
+                              x, kMaxTrialsPerLevel));
+    }
+    return std::nullopt;
+  };
   for (std::size_t n = 1; n < lines.size(); ++n) {
     const Line& line = lines[n];
     const std::vector<Cell> cells = SplitRow(line.text, delimiter);
@@ -130,8 +159,9 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
                     fmt::format("n_correct = {} exceeds n_total = {}",
                                 *n_correct, *n_total));
       }
-      file.blocks.push_back({*x, *n_correct, *n_total});
-      file.lines.push_back(line.number);
+      if (std::optional<Error> e = add(*x, *n_correct, *n_total, line, total)) {
+        return *e;
+      }
       continue;
     }
     const Cell level = cell(stim_at), correct = cell(trial_at);
@@ -150,12 +180,18 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
           line.number, correct.column,
           fmt::format("correct '{}' must be 1, 0 or n/a", correct.text));
     }
-    DataBlock& block = pooled[*x];
-    block.level = *x;
-    block.n_correct += correct.text == "1" ? 1 : 0;
-    block.n_total += 1;
+    if (std::optional<Error> e =
+            add(*x, correct.text == "1" ? 1 : 0, 1, line, level)) {
+      return *e;
+    }
   }
-  for (const auto& [level, block] : pooled) file.blocks.push_back(block);
+  for (const auto& [level, pool] : pooled) {
+    file.blocks.push_back({level, static_cast<int>(pool.n_correct),
+                           static_cast<int>(pool.n_total)});
+    if (file.format == PsychometricDataFile::Format::kCounts) {
+      file.lines.push_back(pool.first_line);
+    }
+  }
   if (file.blocks.empty()) {
     return fail(0, 0,
                 file.format == PsychometricDataFile::Format::kCounts

@@ -150,6 +150,7 @@ Json AnalysisJson(const analysis::PsychometricAnalysis& a,
                      ? "counts"
                      : "trials"},
       {"levels", file.blocks.size()},
+      {"rows", file.rows},
       {"skipped_rows", file.skipped_rows}};
   return j;
 }
@@ -161,8 +162,8 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
       "slopes dF/dx there, parametric-bootstrap BCa and percentile "
       "intervals, and the deviance with its bootstrap p-value. DATA is a "
       "CSV/TSV with the header level,n_correct,n_total, or a burrlab "
-      "_beh.tsv (stim_level and correct, pooled by level). Exit code 2: the "
-      "fit did not converge (results still printed).",
+      "_beh.tsv (stim_level and correct); rows at one level are pooled. Exit "
+      "code 2: the fit did not converge (results still printed).",
       "burrlab analyze fit"};
   PsychometricOptions options;
   std::string data_path, task_text, plot_path, cuts_text = "0.2,0.5,0.8";
@@ -301,6 +302,10 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
         file->skipped_rows > 0
             ? fmt::format(", {} rows with n/a skipped", file->skipped_rows)
             : std::string());
+    if (file->rows > file->blocks.size()) {
+      out << fmt::format("pooled     {} rows into {} levels\n", file->rows,
+                         file->blocks.size());
+    }
     out << a.FullReport(/*with_warnings=*/false);  // they went to stderr
     if (!plot_path.empty()) out << "plot       " << plot_path << '\n';
   }

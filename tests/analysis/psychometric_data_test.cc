@@ -9,17 +9,69 @@
 namespace burrlab::analysis {
 namespace {
 
-TEST(ParsePsychometricData, ReadsCountsCsvInFileOrder) {
+TEST(ParsePsychometricData, PoolsCountRowsByLevelInIncreasingOrder) {
   Result<PsychometricDataFile> f = ParsePsychometricData(
       "d.csv",
-      "level,n_correct,n_total\n1,21,40\n2.5, 30 ,40\r\n\n0.5,20,40\n");
+      "level,n_correct,n_total\n1,21,40\n2.5, 30 ,40\r\n\n0.5,20,40\n"
+      "1,5,10\n");
   ASSERT_TRUE(f.ok()) << f.error().message;
   EXPECT_EQ(f->format, PsychometricDataFile::Format::kCounts);
+  EXPECT_EQ(f->rows, 4u);
   ASSERT_EQ(f->blocks.size(), 3u);
-  EXPECT_EQ(f->blocks[1].level, 2.5);
-  EXPECT_EQ(f->blocks[1].n_correct, 30);
-  EXPECT_EQ(f->blocks[2].level, 0.5);
-  EXPECT_EQ(f->lines, (std::vector<int>{2, 3, 5}));
+  EXPECT_EQ(f->blocks[0].level, 0.5);
+  EXPECT_EQ(f->blocks[1].level, 1.0);
+  EXPECT_EQ(f->blocks[1].n_correct, 26);
+  EXPECT_EQ(f->blocks[1].n_total, 50);
+  EXPECT_EQ(f->blocks[2].level, 2.5);
+  EXPECT_EQ(f->blocks[2].n_correct, 30);
+  // The line of each level's first row, for diagnostics.
+  EXPECT_EQ(f->lines, (std::vector<int>{5, 2, 3}));
+}
+
+TEST(ParsePsychometricData, OneRowPerTrialAndPooledCountsGiveTheSameBlocks) {
+  // 6 levels with 40 trials each, as pooled counts, as one count row per
+  // trial and as a _beh.tsv, both in a scrambled order.
+  const int correct[6] = {26, 19, 25, 32, 40, 39};
+  std::string counts = "level,n_correct,n_total\n";
+  for (int k = 0; k < 6; ++k) {
+    counts +=
+        std::to_string(k + 1) + "," + std::to_string(correct[k]) + ",40\n";
+  }
+  std::string rows = "level,n_correct,n_total\n";
+  std::string beh = "trial_index\tstim_level\tcorrect\n";
+  for (int t = 0; t < 240; ++t) {
+    const int scrambled = (t * 37) % 240;
+    const int k = scrambled / 40, i = scrambled % 40;
+    const int answer = i < correct[k] ? 1 : 0;
+    const std::string level = std::to_string(k + 1);
+    rows += level + "," + std::to_string(answer) + ",1\n";
+    beh +=
+        std::to_string(t) + "\t" + level + "\t" + std::to_string(answer) + "\n";
+  }
+  Result<PsychometricDataFile> pooled = ParsePsychometricData("c.csv", counts);
+  Result<PsychometricDataFile> per_row = ParsePsychometricData("r.csv", rows);
+  Result<PsychometricDataFile> trials = ParsePsychometricData("t.tsv", beh);
+  ASSERT_TRUE(pooled.ok() && per_row.ok() && trials.ok());
+  EXPECT_EQ(pooled->rows, 6u);
+  EXPECT_EQ(per_row->rows, 240u);
+  EXPECT_EQ(trials->rows, 240u);
+  for (const PsychometricDataFile* f : {&*per_row, &*trials}) {
+    ASSERT_EQ(f->blocks.size(), 6u);
+    for (std::size_t k = 0; k < 6; ++k) {
+      EXPECT_EQ(f->blocks[k].level, pooled->blocks[k].level);
+      EXPECT_EQ(f->blocks[k].n_correct, pooled->blocks[k].n_correct);
+      EXPECT_EQ(f->blocks[k].n_total, pooled->blocks[k].n_total);
+    }
+  }
+}
+
+TEST(ParsePsychometricData, RefusesALevelOfMoreTrialsThanItCanCount) {
+  EXPECT_EQ(ParsePsychometricData(
+                "d.csv", "level,n_correct,n_total\n1,0,2147483647\n1,0,1\n")
+                .error()
+                .message,
+            "d.csv:3:5: error: the rows with level 1 add up to more than "
+            "2147483647 trials\n1,0,1\n    ^");
 }
 
 // Line endings from any spreadsheet: LF, CR LF, a lone CR (old Mac exports),
@@ -77,6 +129,7 @@ TEST(ParsePsychometricData, PoolsBehTsvTrialsByLevelSkippingNa) {
   ASSERT_TRUE(f.ok()) << f.error().message;
   EXPECT_EQ(f->format, PsychometricDataFile::Format::kTrials);
   EXPECT_EQ(f->skipped_rows, 2);
+  EXPECT_EQ(f->rows, 4u);
   ASSERT_EQ(f->blocks.size(), 2u);
   EXPECT_EQ(f->blocks[0].level, 1.0);
   EXPECT_EQ(f->blocks[0].n_correct, 0);

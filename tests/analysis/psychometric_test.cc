@@ -502,6 +502,10 @@ TEST(PsychometricOptions, ValidateNamesFieldValueAndRule) {
   o.bootstrap_samples = -1;
   EXPECT_EQ(o.Validate().error().message,
             "bootstrap_samples must be in [0, 1000000], got -1");
+  o = {};
+  o.threads = 65;
+  EXPECT_EQ(o.Validate().error().message,
+            "threads must be 0 (one per core) or 1 to 64, got 65");
 }
 
 TEST(ValidateData, RejectsWhatCannotBeFittedNamingTheBlock) {
@@ -597,6 +601,75 @@ TEST(AnalyzePsychometric, ReportsAFitAtABoundWithAWarning) {
             "information is singular at the fit, e.g. for a step between two "
             "neighbouring levels); BCa intervals are unavailable")
       << a->FullReport();
+}
+
+TEST(FitPsychometric, FindsAStepBetweenNeighbouringLevelsAmongManyLevels) {
+  // 200 levels, at chance up to 137 and all correct from 138: the perfect
+  // fit is a step in one of 199 gaps, more gaps than get a step start of
+  // their own (the rest are screened out in one pass).
+  std::vector<DataBlock> d;
+  for (int x = 1; x <= 200; ++x) d.push_back({1.0 * x, x <= 137 ? 20 : 40, 40});
+  PsychometricOptions o;
+  o.lambda_max = 0.0;
+  Result<PsychometricFit> fit = FitPsychometric(d, o);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_TRUE(fit->converged);
+  EXPECT_NEAR(fit->deviance, 0.0, 1e-6);
+  EXPECT_GT(fit->params.alpha, 137.0);
+  EXPECT_LT(fit->params.alpha, 138.0);
+}
+
+TEST(FitPsychometric, RecoversTheFunctionFromOneTrialPerLevel) {
+  // 5000 trials, each at a level of its own (as adaptive methods log them).
+  const PsychometricParams truth{3.0, 0.6, 0.5, 0.02};
+  std::mt19937_64 rng(19);
+  const auto uniform = [&] {
+    return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+  };
+  std::vector<DataBlock> d;
+  for (int k = 0; k < 5000; ++k) {
+    const double x = 0.5 + 5.0 * uniform();
+    d.push_back({x, uniform() < Psi(Sigmoid::kLogistic, truth, x) ? 1 : 0, 1});
+  }
+  PsychometricOptions o;
+  Result<PsychometricFit> fit = FitPsychometric(d, o);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_TRUE(fit->converged);
+  const auto covariance = ParameterCovariance(d, o, fit->params);
+  ASSERT_TRUE(covariance.has_value());
+  EXPECT_NEAR(fit->params.alpha, truth.alpha,
+              4.0 * std::sqrt((*covariance)[0][0]));
+  EXPECT_NEAR(fit->params.beta, truth.beta,
+              4.0 * std::sqrt((*covariance)[1][1]));
+}
+
+TEST(AnalyzePsychometric, TheThreadsDoNotChangeTheResults) {
+  // 12,289 single-trial levels: enough for three threads.
+  const PsychometricParams truth{3.0, 0.6, 0.5, 0.02};
+  std::mt19937_64 rng(7);
+  const auto uniform = [&] {
+    return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+  };
+  std::vector<DataBlock> d;
+  for (int k = 0; k < 12289; ++k) {
+    const double x = 0.5 + 5.0 * uniform();
+    d.push_back({x, uniform() < Psi(Sigmoid::kLogistic, truth, x) ? 1 : 0, 1});
+  }
+  PsychometricOptions o;
+  o.bootstrap_samples = 3;
+  o.threads = 1;
+  Result<PsychometricAnalysis> one = AnalyzePsychometric(d, o);
+  o.threads = 3;  // shares of 4096, 4096 and 4097 levels
+  Result<PsychometricAnalysis> more = AnalyzePsychometric(d, o);
+  ASSERT_TRUE(one.ok() && more.ok());
+  EXPECT_EQ(more->fit.params.alpha, one->fit.params.alpha);
+  EXPECT_EQ(more->fit.params.beta, one->fit.params.beta);
+  EXPECT_EQ(more->fit.params.lambda, one->fit.params.lambda);
+  EXPECT_EQ(more->fit.log_likelihood, one->fit.log_likelihood);
+  EXPECT_EQ(more->fit.evaluations, one->fit.evaluations);
+  EXPECT_EQ(more->thresholds[1].replicates, one->thresholds[1].replicates);
+  EXPECT_EQ(more->slopes[1].replicates, one->slopes[1].replicates);
+  EXPECT_EQ(more->deviance_p, one->deviance_p);
 }
 
 TEST(AnalyzePsychometric, WithoutBootstrapHasNoIntervals) {

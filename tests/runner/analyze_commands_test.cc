@@ -7,11 +7,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "run_cli.h"
@@ -107,12 +109,67 @@ TEST_F(AnalyzeCommand, FitPoolsABehTsvAndWritesThePlot) {
   const nlohmann::json j = nlohmann::json::parse(run.out);
   EXPECT_EQ(j["data"]["format"], "trials");
   EXPECT_EQ(j["data"]["levels"], 4);
+  EXPECT_EQ(j["data"]["rows"], 80);
   EXPECT_EQ(j["data"]["skipped_rows"], 1);
   EXPECT_EQ(j["task"], "yesno");
   std::ifstream file(png, std::ios::binary);
   std::string magic(8, '\0');
   file.read(magic.data(), 8);
   EXPECT_EQ(magic, "\x89PNG\r\n\x1a\n");
+}
+
+TEST_F(AnalyzeCommand, FitOfOneRowPerTrialIsTheFitOfThePooledCounts) {
+  // kCounts' 240 trials as one row per trial and as a _beh.tsv, both in a
+  // scrambled order, and as two rows per level, last level first.
+  const int correct[6] = {26, 19, 25, 32, 40, 39};
+  std::string rows = "level,n_correct,n_total\n";
+  std::string beh = "trial_index\tstim_level\tcorrect\n";
+  for (int t = 0; t < 240; ++t) {
+    const int scrambled = (t * 37) % 240;
+    const int k = scrambled / 40, i = scrambled % 40;
+    const std::string level = std::to_string(k + 1);
+    const std::string answer = i < correct[k] ? "1" : "0";
+    rows += level + "," + answer + ",1\n";
+    beh += std::to_string(t) + "\t" + level + "\t" + answer + "\n";
+  }
+  std::string split = "level,n_correct,n_total\n";
+  for (int k = 5; k >= 0; --k) {
+    const int first = std::min(correct[k], 15);
+    split += std::to_string(k + 1) + "," + std::to_string(first) + ",15\n" +
+             std::to_string(k + 1) + "," + std::to_string(correct[k] - first) +
+             ",25\n";
+  }
+  const auto fit = [&](const std::string& path, bool json) {
+    std::vector<std::string> args = {
+        "analyze",   "fit",      "--data",      path,  "--task", "2afc",
+        "--sigmoid", "logistic", "--bootstrap", "199", "--seed", "3"};
+    if (json) args.push_back("--json");
+    const CliRun run = RunBurrlab(args);
+    EXPECT_EQ(run.code, 0) << run.err;
+    return run.out;
+  };
+  const std::string counts = Write("counts.csv", kCounts);
+  const std::string text = fit(counts, false);
+  const std::string data_line = "data       " + counts + " (6 levels)\n";
+  ASSERT_TRUE(text.starts_with(data_line)) << text;
+  const std::string report = text.substr(data_line.size());
+  nlohmann::json expected = nlohmann::json::parse(fit(counts, true));
+  EXPECT_EQ(expected["data"]["rows"], 6);
+  expected.erase("data");
+  for (const auto& [name, contents, pooled_rows] :
+       {std::tuple{"rows.csv", rows, 240}, std::tuple{"split.csv", split, 12},
+        std::tuple{"sub-01_task-x_beh.tsv", beh, 240}}) {
+    SCOPED_TRACE(name);
+    const std::string path = Write(name, contents);
+    EXPECT_EQ(fit(path, false), "data       " + path +
+                                    " (6 levels)\npooled     " +
+                                    std::to_string(pooled_rows) +
+                                    " rows into 6 levels\n" + report);
+    nlohmann::json j = nlohmann::json::parse(fit(path, true));
+    EXPECT_EQ(j["data"]["rows"], pooled_rows);
+    j.erase("data");
+    EXPECT_EQ(j.dump(), expected.dump());
+  }
 }
 
 TEST_F(AnalyzeCommand, FitReportsABoundWithAWarningOnStderr) {

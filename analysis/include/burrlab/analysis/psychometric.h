@@ -81,6 +81,9 @@ struct PsychometricOptions {
   // Likelihood evaluations allowed per optimiser start (as Palamedes'
   // MaxFunEvals); a start that needs more is not converged.
   int max_evaluations = 2000;
+  // Threads a likelihood evaluation shares the levels between, 4096 or
+  // more each (1 to 64; 0: one per core). The results do not depend on it.
+  int threads = 0;
 
   // Names the first bad field, its value and the rule it breaks.
   Status Validate() const;

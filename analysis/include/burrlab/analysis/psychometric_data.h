@@ -1,11 +1,12 @@
 // Psychometric data files for `burrlab analyze fit`: a CSV or TSV of counts
 // with the header level,n_correct,n_total, or a burrlab/BIDS _beh.tsv with
-// one trial per row (columns stim_level and correct), pooled by level.
+// one trial per row (columns stim_level and correct), either pooled by level.
 // Parsers take (path, text) so tests need no files; errors read
 // "path:line:col: error: message", then the source line and a caret.
 #ifndef BURRLAB_ANALYSIS_PSYCHOMETRIC_DATA_H_
 #define BURRLAB_ANALYSIS_PSYCHOMETRIC_DATA_H_
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,13 +18,17 @@ namespace burrlab::analysis {
 
 struct PsychometricDataFile {
   enum class Format {
-    kCounts,  // level,n_correct,n_total: one block per row, in file order
-    kTrials,  // _beh.tsv: stim_level and correct per trial, pooled by level
+    kCounts,  // level,n_correct,n_total: counts per row
+    kTrials,  // _beh.tsv: stim_level and correct per trial
   };
   Format format = Format::kCounts;
-  std::vector<DataBlock> blocks;  // kTrials: sorted by level
-  // kCounts: the 1-based line of each block (for diagnostics); kTrials: 0.
+  // One block per distinct level, the rows at that level pooled, in
+  // increasing order of level.
+  std::vector<DataBlock> blocks;
+  // kCounts: the 1-based line of each block's first row (for diagnostics);
+  // kTrials: empty.
   std::vector<int> lines;
+  std::size_t rows = 0;  // data rows pooled into blocks (kTrials: trials)
   int skipped_rows = 0;  // kTrials: rows with n/a in stim_level or correct
 };
 
@@ -32,7 +37,8 @@ struct PsychometricDataFile {
 // UTF-8 byte-order mark are accepted; other columns are ignored. Counts:
 // level a finite number, n_total a whole number >= 1, n_correct a whole
 // number in [0, n_total]. Trials: stim_level a finite number or n/a, correct
-// 1, 0 or n/a. The error is a formatted diagnostic (up to three lines).
+// 1, 0 or n/a. The rows of one level may add up to at most INT_MAX trials.
+// The error is a formatted diagnostic (up to three lines).
 Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
                                                    std::string_view text);
 

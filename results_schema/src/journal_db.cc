@@ -354,29 +354,29 @@ Result<bool> HasColumn(sqlite3* db, const std::filesystem::path& path,
 
 Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,
                      std::string_view written_by) {
-  Result<bool> has_setup = HasColumn(db, path, "session", "setup");
-  if (!has_setup) return has_setup.error();
-  Result<bool> has_source = HasColumn(db, path, "trial", "source");
-  if (!has_source) return has_source.error();
-  if (*has_setup && *has_source) return {};
-  if (!*has_setup) {
-    if (Status s = Exec(db,
-                        "ALTER TABLE session ADD COLUMN setup TEXT NOT NULL "
-                        "DEFAULT '{}' CHECK (json_valid(setup))",
-                        "cannot upgrade the journal", path);
+  struct Added {
+    const char* table;
+    const char* column;
+    const char* sql;
+  };
+  static constexpr Added kVersion2[] = {
+      {"session", "setup",
+       "ALTER TABLE session ADD COLUMN setup TEXT NOT NULL DEFAULT '{}' CHECK "
+       "(json_valid(setup))"},
+      {"trial", "source",
+       "ALTER TABLE trial ADD COLUMN source TEXT NOT NULL DEFAULT ''"}};
+  bool upgraded = false;
+  for (const Added& added : kVersion2) {
+    Result<bool> has = HasColumn(db, path, added.table, added.column);
+    if (!has) return has.error();
+    if (*has) continue;
+    if (Status s = Exec(db, added.sql, "cannot upgrade the journal", path);
         !s) {
       return s;
     }
+    upgraded = true;
   }
-  if (!*has_source) {
-    if (Status s = Exec(db,
-                        "ALTER TABLE trial ADD COLUMN source TEXT NOT NULL "
-                        "DEFAULT ''",
-                        "cannot upgrade the journal", path);
-        !s) {
-      return s;
-    }
-  }
+  if (!upgraded) return {};
   return InsertSchemaVersion(db, path, written_by);
 }
 

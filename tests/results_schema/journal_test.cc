@@ -432,6 +432,7 @@ TEST(Journal, ReadsASchemaVersion1JournalAndRestartsIt) {
   const fs::path path = JournalPath(dir.path(), "01");
   // A journal as burrlab wrote it before the setup column existed.
   RawSql(path, "ALTER TABLE session DROP COLUMN setup");
+  RawSql(path, "ALTER TABLE trial DROP COLUMN source");
   RawSql(path, "UPDATE schema_version SET version = 1");
   {
     auto journal = Journal::Open(dir.path(), "01");
@@ -446,7 +447,10 @@ TEST(Journal, ReadsASchemaVersion1JournalAndRestartsIt) {
   auto journal = Journal::Open(dir.path(), "01");
   ASSERT_TRUE(journal.ok()) << journal.error().message;
   EXPECT_EQ(journal->session(), session);
-  ASSERT_TRUE(journal->Append(MakeTrial(0), MakeTraces(0)).ok());
+  TrialRecord typed = MakeTrial(0);
+  typed.source = "typed";
+  ASSERT_TRUE(journal->Append(typed, MakeTraces(0)).ok());
+  EXPECT_EQ(journal->Trials()->at(0).source, "typed");
   const Status refused = journal->Restart(session);
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().message, "cannot restart sub-01 in " +

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "burrlab/results_schema/journal.h"
+#include "session.h"
 #include "sim_force_source.h"
 
 namespace burrlab::runner {
@@ -320,6 +321,24 @@ TEST_F(StationRunTest, UnplugMidTrialPausesStopsAndResumeLosesNothing) {
   ASSERT_EQ(trials.size(), 1u);
   const rs::TrialRecord first = trials[0];
   EXPECT_EQ(first.response, "1");
+
+  // A resume with another station file (a lower force limit) is refused by
+  // name, and adds nothing. Truth: the SHA-256 of the two files' bytes.
+  std::string lower(kStation);
+  lower.replace(lower.find("max_force_n = 1.5"), 17, "max_force_n = 1.2");
+  Write(dir_ / "station.toml", lower);
+  const ProcessRun other = RunWith("answers = [\"2\"]\n", true);
+  EXPECT_EQ(other.code, 1);
+  EXPECT_NE(other.err.find("burrlab: cannot resume sub-01 in " +
+                           (dir_ / "out").string() +
+                           ": station_file_sha256 differs from the journal's "
+                           "(\"" +
+                           Sha256Hex(kStation) + "\" in the journal, \"" +
+                           Sha256Hex(lower) + "\" now)\n"),
+            std::string::npos)
+      << other.err;
+  EXPECT_EQ(Trials().size(), 1u);
+  Write(dir_ / "station.toml", kStation);
 
   // Resumed with the device back: trial 2 runs from its start.
   const ProcessRun resumed = RunWith("answers = [\"2\"]\n", true);

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -111,7 +112,52 @@ TEST_F(AnalyzeResults, ScoresJsonHasTheTestsAndTheHistogram) {
 // removed) is named on every analysis, never left out silently. Truth: the
 // journal's own trial count.
 TEST_F(AnalyzeResults, SubjectsWithTrialsMissingFromTheExportsAreNamed) {
-  const std::string results = Study("staircase_1up3down.toml", 2, "stairs");
+  // Two subjects of a 10-trial protocol with 0.5 s intervals (a fraction of
+  // a second to run); sub-02's exports are then lost.
+  const std::string protocol = (dir_ / "protocol.toml").string();
+  std::ofstream(protocol) << R"(format = "burrlab-protocol/1"
+[study]
+name = "left out"
+[recording]
+trace_hz = 100
+[materials.pvc]
+builtin = "pvc_k70"
+[materials.bone]
+builtin = "human_temporal_bone"
+[axes.ce]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+[[blocks]]
+name = "sd"
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+trials = 4
+interval_s = 0.5
+[[blocks]]
+name = "stairs"
+method = "staircase"
+task = "drill"
+axis = "ce"
+interval_s = 0.5
+n_down = 2
+start_level = 0.5
+step_scale = "log10"
+step_down = 0.1
+step_up = 0.1
+floor = 0.01
+ceiling = 2
+max_trials = 6
+)";
+  const std::string results = (dir_ / "out").string();
+  for (const std::string subject : {"01", "02"}) {
+    ASSERT_EQ(RunBurrlab({"run", protocol, "--subject", subject, "--out",
+                          results, "--observer", "simulated"})
+                  .code,
+              0);
+  }
   fs::remove_all(fs::path(results) / "sub-02" / "beh");
   int journal_trials = 0;
   {

@@ -16,6 +16,7 @@
 #include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/journal.h"
 #include "run_cli.h"
+#include "two_block_protocol.h"
 
 namespace burrlab::runner {
 namespace {
@@ -115,42 +116,7 @@ TEST_F(AnalyzeResults, SubjectsWithTrialsMissingFromTheExportsAreNamed) {
   // Two subjects of a 10-trial protocol with 0.5 s intervals (a fraction of
   // a second to run); sub-02's exports are then lost.
   const std::string protocol = (dir_ / "protocol.toml").string();
-  std::ofstream(protocol) << R"(format = "burrlab-protocol/1"
-[study]
-name = "left out"
-[recording]
-trace_hz = 100
-[materials.pvc]
-builtin = "pvc_k70"
-[materials.bone]
-builtin = "human_temporal_bone"
-[axes.ce]
-kind = "increment"
-parameter = "c_e"
-reference = "bone"
-[[blocks]]
-name = "sd"
-method = "same_different"
-task = "probe"
-a = "pvc"
-b = "bone"
-trials = 4
-interval_s = 0.5
-[[blocks]]
-name = "stairs"
-method = "staircase"
-task = "drill"
-axis = "ce"
-interval_s = 0.5
-n_down = 2
-start_level = 0.5
-step_scale = "log10"
-step_down = 0.1
-step_up = 0.1
-floor = 0.01
-ceiling = 2
-max_trials = 6
-)";
+  std::ofstream(protocol) << TwoBlockProtocol("left out", 4, 6, 0.5);
   const std::string results = (dir_ / "out").string();
   for (const std::string subject : {"01", "02"}) {
     ASSERT_EQ(RunBurrlab({"run", protocol, "--subject", subject, "--out",

@@ -25,55 +25,15 @@
 
 #include "burrlab/results_schema/journal.h"
 #include "read_file.h"
+#include "two_block_protocol.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 namespace rs = burrlab::results_schema;
 
-constexpr std::string_view kProtocol = R"(format = "burrlab-protocol/1"
-
-[study]
-name = "kill test"
-
-[recording]
-trace_hz = 100
-
-[materials.pvc]
-builtin = "pvc_k70"
-
-[materials.bone]
-builtin = "human_temporal_bone"
-
-[axes.ce]
-kind = "increment"
-parameter = "c_e"
-reference = "bone"
-
-[[blocks]]
-name = "sd"
-method = "same_different"
-task = "probe"
-a = "pvc"
-b = "bone"
-trials = 12
-interval_s = 1
-
-[[blocks]]
-name = "stairs"
-method = "staircase"
-task = "drill"
-axis = "ce"
-interval_s = 1
-n_down = 2
-start_level = 0.5
-step_scale = "log10"
-step_down = 0.1
-step_up = 0.1
-floor = 0.01
-ceiling = 2
-max_trials = 28
-)";
+const std::string kProtocol =
+    burrlab::runner::TwoBlockProtocol("kill test", 12, 28, 1.0);
 
 const std::string kBurrlab =
     std::string(BURRLAB_BINARY_DIR) + "/runner/burrlab";

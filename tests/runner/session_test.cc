@@ -19,6 +19,7 @@
 #include "burrlab/results_schema/journal.h"
 #include "run_cli.h"
 #include "session_commands.h"
+#include "two_block_protocol.h"
 
 namespace burrlab::runner {
 namespace {
@@ -29,49 +30,7 @@ using ::testing::HasSubstr;
 
 // Twelve same-different probe trials, then a 2-down/1-up staircase of eight
 // drill trials on the c_e increment over bone: 20 trials of 0.5 s intervals.
-constexpr std::string_view kProtocol = R"(format = "burrlab-protocol/1"
-
-[study]
-name = "session test"
-
-[recording]
-trace_hz = 100
-
-[materials.pvc]
-builtin = "pvc_k70"
-
-[materials.bone]
-builtin = "human_temporal_bone"
-
-[axes.ce]
-kind = "increment"
-parameter = "c_e"
-reference = "bone"
-
-[[blocks]]
-name = "sd"
-method = "same_different"
-task = "probe"
-a = "pvc"
-b = "bone"
-trials = 12
-interval_s = 0.5
-
-[[blocks]]
-name = "stairs"
-method = "staircase"
-task = "drill"
-axis = "ce"
-interval_s = 0.5
-n_down = 2
-start_level = 0.5
-step_scale = "log10"
-step_down = 0.1
-step_up = 0.1
-floor = 0.01
-ceiling = 2
-max_trials = 8
-)";
+const std::string kProtocol = TwoBlockProtocol("session test", 12, 8, 0.5);
 
 class SessionTest : public ::testing::Test {
  protected:

@@ -101,6 +101,11 @@ class SessionRunner {
 
   Status Replay(const std::vector<rs::TrialRecord>& records);
   Result<SessionSummary> Run();
+  // Trials in the journal now (0 when it cannot be read).
+  int StoredTrials() const {
+    rs::Result<int> n = journal_.NextTrialIndex();
+    return n.ok() ? n.value() : 0;
+  }
 
  private:
   Result<stimuli::IntervalResult> Present(const TrialSpec& trial,
@@ -648,7 +653,7 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
   Result<SessionSummary> summary = runner.Run();
   if (!summary.ok()) {
     // What the journal holds is exported even so, for analyses to find.
-    if (options.export_bids &&
+    if (options.export_bids && runner.StoredTrials() > 0 &&
         rs::ExportBids(options.out_dir, options.subject).ok()) {
       return Error{summary.error().message +
                    " (the trials saved so far are exported)"};

@@ -7,18 +7,41 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
+
+#include "burrlab/sim/printable.h"
 
 namespace burrlab::protocols {
 
+namespace {
+
+// The line of `text` starting at byte `start`, without its line break.
+std::string_view LineAt(std::string_view text, std::size_t start) {
+  std::size_t end = text.find('\n', start);
+  if (end == std::string_view::npos) end = text.size();
+  std::string_view line = text.substr(start, end - start);
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  return line;
+}
+
+// The diagnostic's first line, then (with a location) `source` quoted with a
+// caret under the column.
+std::string Format(std::string_view path, const Diagnostic& diagnostic,
+                   std::string_view source) {
+  const std::string message = PrintableText(diagnostic.message);
+  if (diagnostic.where.line <= 0) {
+    return fmt::format("{}: error: {}\n", path, message);
+  }
+  return fmt::format("{}:{}:{}: error: {}\n{}\n", path, diagnostic.where.line,
+                     diagnostic.where.column, message,
+                     QuoteLineWithCaret(source, diagnostic.where.column));
+}
+
+}  // namespace
+
 std::string FormatDiagnostic(std::string_view path, std::string_view text,
                              const Diagnostic& diagnostic) {
-  if (diagnostic.where.line <= 0) {
-    return fmt::format("{}: error: {}\n", path, diagnostic.message);
-  }
-  std::string out =
-      fmt::format("{}:{}:{}: error: {}\n", path, diagnostic.where.line,
-                  diagnostic.where.column, diagnostic.message);
-  // The source line (1-based), without its line break.
+  // The source line (1-based).
   std::size_t start = 0;
   for (int line = 1; line < diagnostic.where.line && start < text.size();
        ++line) {
@@ -29,19 +52,39 @@ std::string FormatDiagnostic(std::string_view path, std::string_view text,
     }
     start = next + 1;
   }
-  std::size_t end = text.find('\n', start);
-  if (end == std::string_view::npos) end = text.size();
-  std::string_view source = text.substr(start, end - start);
-  if (!source.empty() && source.back() == '\r') source.remove_suffix(1);
-  out += std::string(source) + "\n";
-  // Caret under the column; tabs copied so it lines up in a terminal.
-  const int column = std::max(1, diagnostic.where.column);
-  for (int i = 0; i + 1 < column; ++i) {
-    out += static_cast<std::size_t>(i) < source.size() && source[i] == '\t'
-               ? '\t'
-               : ' ';
+  return Format(path, diagnostic, LineAt(text, start));
+}
+
+std::string FormatDiagnostics(std::string_view path, std::string_view text,
+                              std::span<const Diagnostic> diagnostics) {
+  const std::size_t shown =
+      std::min(diagnostics.size(), kMaxPrintedDiagnostics);
+  // Where each line starts, found once (not once per diagnostic), and only as
+  // far as the last line shown.
+  int last_line = 0;
+  for (std::size_t i = 0; i < shown; ++i) {
+    last_line = std::max(last_line, diagnostics[i].where.line);
   }
-  out += "^\n";
+  std::vector<std::size_t> line_starts = {0};
+  for (std::size_t i = 0;
+       static_cast<int>(line_starts.size()) < last_line && i < text.size();
+       ++i) {
+    if (text[i] == '\n') line_starts.push_back(i + 1);
+  }
+  std::string out;
+  for (std::size_t i = 0; i < shown; ++i) {
+    const Diagnostic& d = diagnostics[i];
+    const std::size_t line =
+        static_cast<std::size_t>(std::max(d.where.line, 1));
+    const std::size_t start =
+        line <= line_starts.size() ? line_starts[line - 1] : text.size();
+    out += Format(path, d, LineAt(text, start));
+  }
+  if (diagnostics.size() > shown) {
+    const std::size_t more = diagnostics.size() - shown;
+    out += fmt::format("{}: ... and {} more error{}\n", path, more,
+                       more == 1 ? "" : "s");
+  }
   return out;
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/sim/printable.h"
 #include "burrlab/sim/spelling.h"
 #include "burrlab/stimuli/toml_guard.h"
 
@@ -28,6 +29,7 @@ using Keys = std::span<const std::string_view>;
 // with long level lists has a few hundred '.' in numbers.
 constexpr std::size_t kMaxDots = 4096;
 constexpr int kMaxTrialsPerBlock = 10000;
+constexpr std::size_t kMaxScheduleEntries = 100;
 
 constexpr std::string_view kRootKeys[] = {
     "format",         "study",     "recording", "observer",
@@ -86,6 +88,15 @@ std::string Join(Keys keys) {
   return out;
 }
 
+// At most kMaxListed ids joined by ", ", then how many there are in all: a
+// message names a few of the declared ids, not all of a hostile file's.
+std::string JoinDeclared(Keys ids) {
+  constexpr std::size_t kMaxListed = 20;
+  if (ids.size() <= kMaxListed) return Join(ids);
+  return fmt::format("{}, ... ({} in all)", Join(ids.first(kMaxListed)),
+                     ids.size());
+}
+
 // Text of a TOML value's type for messages.
 std::string_view TypeName(const toml::node& node) {
   switch (node.type()) {
@@ -106,19 +117,16 @@ std::string_view TypeName(const toml::node& node) {
   }
 }
 
-// Echo of user text in one line (control characters escaped, long text cut).
+// Echo of user text in one line: at most 60 bytes (cut on a UTF-8 boundary)
+// with control characters and bytes that are not UTF-8 escaped.
 std::string Echo(std::string_view text) {
-  std::string out;
-  for (char c : text.substr(0, 60)) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      out += fmt::format("\\x{:02x}", u);
-    } else {
-      out += c;
-    }
+  constexpr std::size_t kMaxEcho = 60;
+  if (text.size() <= kMaxEcho) return PrintableText(text);
+  std::size_t cut = kMaxEcho;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xc0) == 0x80) {
+    --cut;
   }
-  if (text.size() > 60) out += "...";
-  return out;
+  return PrintableText(text.substr(0, cut)) + "...";
 }
 
 SourceLocation Where(const toml::node& node) {
@@ -192,11 +200,61 @@ class Parser {
   void ParseIntervals(const toml::table& t, const std::string& name,
                       std::size_t count, Block& b);
 
+  // The declared material or axis with this id, or null (a lookup in the
+  // index, so that many references to many ids stay linear).
+  const ProtocolMaterial* FindMaterial(const Protocol& p,
+                                       std::string_view id) const;
+  const Axis* FindAxis(const Protocol& p, std::string_view id) const;
+  // Rebuilds the indices after p.materials or p.axes changed.
+  void Index(const Protocol& p);
+  // "Did you mean" among `ids`, while the budget of comparisons lasts.
+  std::string_view Suggest(std::string_view typed, Keys ids);
+
   std::string path_;
   std::vector<Diagnostic> diagnostics_;
   std::set<std::string> broken_materials_;  // declared, but with errors
   std::set<std::string> broken_axes_;       // declared, but with errors
+  std::map<std::string, std::size_t, std::less<>> material_index_;
+  std::map<std::string, std::size_t, std::less<>> axis_index_;
+  std::vector<std::string_view> material_ids_;  // in p.materials' order
+  std::vector<std::string_view> axis_ids_;      // in p.axes' order
+  // Candidate comparisons left for suggestions among declared ids: a file
+  // with thousands of bad references to thousands of ids gets suggestions
+  // for the first ones and stays linear in its size.
+  std::size_t suggestion_budget_ = 1'000'000;
 };
+
+void Parser::Index(const Protocol& p) {
+  material_index_.clear();
+  material_ids_.clear();
+  for (std::size_t i = 0; i < p.materials.size(); ++i) {
+    material_index_.emplace(p.materials[i].id, i);
+    material_ids_.push_back(p.materials[i].id);
+  }
+  axis_index_.clear();
+  axis_ids_.clear();
+  for (std::size_t i = 0; i < p.axes.size(); ++i) {
+    axis_index_.emplace(p.axes[i].id, i);
+    axis_ids_.push_back(p.axes[i].id);
+  }
+}
+
+const ProtocolMaterial* Parser::FindMaterial(const Protocol& p,
+                                             std::string_view id) const {
+  const auto it = material_index_.find(id);
+  return it == material_index_.end() ? nullptr : &p.materials[it->second];
+}
+
+const Axis* Parser::FindAxis(const Protocol& p, std::string_view id) const {
+  const auto it = axis_index_.find(id);
+  return it == axis_index_.end() ? nullptr : &p.axes[it->second];
+}
+
+std::string_view Parser::Suggest(std::string_view typed, Keys ids) {
+  if (ids.size() > suggestion_budget_) return {};
+  suggestion_budget_ -= ids.size();
+  return DidYouMean(typed, ids);
+}
 
 void Parser::CheckKeys(const toml::table& table, const std::string& name,
                        const std::vector<std::string_view>& allowed,
@@ -519,16 +577,16 @@ std::optional<std::string> Parser::MaterialRef(const toml::table& t,
     }
     return std::nullopt;
   }
-  if (p.FindMaterial(*id) != nullptr) return id;
+  if (FindMaterial(p, *id) != nullptr) return id;
   if (broken_materials_.contains(*id)) return std::nullopt;
-  std::vector<std::string_view> ids;
-  for (const ProtocolMaterial& m : p.materials) ids.push_back(m.id);
-  const std::string_view hint = DidYouMean(*id, ids);
+  const Keys ids = material_ids_;
+  const std::string_view hint = Suggest(*id, ids);
   Fail(*t.get(key),
        fmt::format("{}: unknown material \"{}\"{}", name, Echo(*id),
                    !hint.empty() ? fmt::format(" (did you mean \"{}\"?)", hint)
-                   : ids.empty() ? std::string(" (no [materials] declared)")
-                                 : fmt::format(" (declared: {})", Join(ids))));
+                   : ids.empty()
+                       ? std::string(" (no [materials] declared)")
+                       : fmt::format(" (declared: {})", JoinDeclared(ids))));
   return std::nullopt;
 }
 
@@ -579,7 +637,7 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
         axis.from = *from;
         axis.to = *to;
         for (const std::string& m : {*from, *to}) {
-          if (p.FindMaterial(m)->set.material.mu <= 0.0) {
+          if (FindMaterial(p, m)->set.material.mu <= 0.0) {
             Fail(t, fmt::format("{}: material \"{}\" has mu = 0; a log "
                                 "interpolation needs every parameter > 0",
                                 name, m));
@@ -758,6 +816,11 @@ void Parser::ParseStaircase(const toml::table& t, const std::string& name,
       Fail(*node, fmt::format("{}.step_schedule must be an array of tables "
                               "{{after_reversals, step_down, step_up}}, got {}",
                               name, TypeName(*node)));
+    } else if (a->size() > kMaxScheduleEntries) {
+      // Every interleaved staircase copies the block's schedule: bounded, so
+      // that copies stay linear in the file.
+      Fail(*node, fmt::format("{}.step_schedule holds {} entries; at most {}",
+                              name, a->size(), kMaxScheduleEntries));
     } else {
       o.step_schedule.clear();
       for (std::size_t i = 0; i < a->size(); ++i) {
@@ -870,17 +933,17 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
   const Axis* axis = nullptr;
   if (axis_method) {
     if (auto id = String(t, "axis", name + ".axis")) {
-      axis = p.FindAxis(*id);
+      axis = FindAxis(p, *id);
       if (axis == nullptr && !broken_axes_.contains(*id)) {
-        std::vector<std::string_view> ids;
-        for (const Axis& a : p.axes) ids.push_back(a.id);
-        const std::string_view hint = DidYouMean(*id, ids);
+        const Keys ids = axis_ids_;
+        const std::string_view hint = Suggest(*id, ids);
         Fail(*t.get("axis"),
              fmt::format(
                  "{}.axis: unknown axis \"{}\"{}", name, Echo(*id),
                  !hint.empty() ? fmt::format(" (did you mean \"{}\"?)", hint)
-                 : ids.empty() ? std::string(" (no [axes] declared)")
-                               : fmt::format(" (declared: {})", Join(ids))));
+                 : ids.empty()
+                     ? std::string(" (no [axes] declared)")
+                     : fmt::format(" (declared: {})", JoinDeclared(ids))));
       } else {
         b.axis = *id;
       }
@@ -1324,6 +1387,7 @@ ParseOutcome Parser::Parse(const toml::table& root) {
   ParseObserver(root, p);
   ParseCounterbalance(root, p);
   ParseMaterials(root, p);
+  Index(p);
   ParseAxes(root, p);
   // toml++ keeps table keys sorted; the model keeps file order.
   auto by_position = [](const auto& a, const auto& b) {
@@ -1332,6 +1396,7 @@ ParseOutcome Parser::Parse(const toml::table& root) {
   };
   std::stable_sort(p.materials.begin(), p.materials.end(), by_position);
   std::stable_sort(p.axes.begin(), p.axes.end(), by_position);
+  Index(p);
   ParseBlocks(root, p);
   ParseOutcome outcome;
   std::stable_sort(diagnostics_.begin(), diagnostics_.end(),

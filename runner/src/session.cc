@@ -525,10 +525,8 @@ Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
   loaded.text = std::move(text);
   protocols::ParseOutcome parsed = protocols::ParseProtocol(path, loaded.text);
   if (!parsed.protocol.has_value()) {
-    std::string all;
-    for (const protocols::Diagnostic& d : parsed.diagnostics) {
-      all += protocols::FormatDiagnostic(path, loaded.text, d);
-    }
+    std::string all =
+        protocols::FormatDiagnostics(path, loaded.text, parsed.diagnostics);
     if (!all.empty() && all.back() == '\n') all.pop_back();
     return Error{all};
   }

@@ -93,14 +93,12 @@ Result<std::string> ReadSmallFile(const std::string& path,
   return text.str();
 }
 
-// Every diagnostic of a parsed file, formatted as `burrlab validate` prints
-// them (without the final line break).
+// The diagnostics of a parsed file, formatted as `burrlab validate` prints
+// them (at most kMaxPrintedDiagnostics, then a count; without the final
+// line break).
 std::string Diagnostics(const std::string& path, const std::string& text,
                         const std::vector<protocols::Diagnostic>& all) {
-  std::string out;
-  for (const protocols::Diagnostic& d : all) {
-    out += protocols::FormatDiagnostic(path, text, d);
-  }
+  std::string out = protocols::FormatDiagnostics(path, text, all);
   if (!out.empty() && out.back() == '\n') out.pop_back();
   return out;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/sim/printable.h"
 #include "flags.h"
 #include "session.h"
 #include "station/station_file.h"
@@ -34,9 +35,7 @@ bool ValidateIfStation(const std::string& file, std::ostream& out,
   if (!LooksLikeStationFile(text.str())) return false;
   StationParseOutcome parsed = ParseStation(file, text.str());
   if (!parsed.station.has_value()) {
-    for (const protocols::Diagnostic& d : parsed.diagnostics) {
-      err << protocols::FormatDiagnostic(file, text.str(), d);
-    }
+    err << protocols::FormatDiagnostics(file, text.str(), parsed.diagnostics);
     *code = 1;
     return true;
   }
@@ -80,7 +79,7 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
     const protocols::Protocol& p = loaded->protocol;
     out << fmt::format("{}: ok ({} block{}, study \"{}\")\n", file,
                        p.blocks.size(), p.blocks.size() == 1 ? "" : "s",
-                       p.study_name);
+                       PrintableText(p.study_name));
   }
   return code;
 }

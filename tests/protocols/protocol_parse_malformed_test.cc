@@ -1183,6 +1183,93 @@ INSTANTIATE_TEST_SUITE_P(
       return std::string(param_info.param.name);
     });
 
+// Hostile bytes: the exact text shows every control character escaped, in
+// the message and in the quoted source line, so none reaches the terminal.
+TEST(ProtocolParse, ControlBytesInAKeyAndAValueAreEscaped) {
+  // A raw ESC in a bare key and a raw BEL in a string stop toml++.
+  const std::string raw_key =
+      "format = \"burrlab-protocol/1\"\nbad\x1b[31mkey = 1\n";
+  EXPECT_EQ(Formatted("NAME", raw_key),
+            "NAME:2:4: error: invalid TOML in key-value pair: expected '=', "
+            "saw '\\u001B'\n"
+            "bad\\x1b[31mkey = 1\n"
+            "   ^\n");
+  const std::string raw_value =
+      "format = \"burrlab-protocol/1\"\nscheme = \"la\x07tin\"\n";
+  EXPECT_EQ(Formatted("NAME", raw_value),
+            "NAME:2:13: error: invalid TOML in string: unescaped control "
+            "characters other than TAB (U+0009) are explicitly prohibited\n"
+            "scheme = \"la\\x07tin\"\n"
+            "            ^\n");
+  // TOML escapes put ESC into a key and BEL into a value that parse: the
+  // messages quote them escaped.
+  const std::string escaped = R"toml(format = "burrlab-protocol/1"
+"bad\u001b[2Jkey" = 1
+
+[study]
+name = "t"
+
+[counterbalance]
+scheme = "la\u0007tin"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+)toml";
+  EXPECT_EQ(Formatted("NAME", escaped),
+            "NAME:2:21: error: unknown key \"bad\\x1b[2Jkey\" in the protocol; "
+            "accepted: format, study, recording, observer, counterbalance, "
+            "materials, axes, blocks\n"
+            "\"bad\\u001b[2Jkey\" = 1\n"
+            "                    ^\n"
+            "NAME:8:10: error: counterbalance.scheme must be one of none, "
+            "latin_square, reverse, got \"la\\x07tin\"\n"
+            "scheme = \"la\\u0007tin\"\n"
+            "         ^\n"
+            "NAME:10:1: error: blocks[1] needs \"a\" (a material id from "
+            "[materials])\n"
+            "[[blocks]]\n"
+            "^\n"
+            "NAME:10:1: error: blocks[1] needs \"b\" (a material id from "
+            "[materials])\n"
+            "[[blocks]]\n"
+            "^\n");
+}
+
+// Many bad keys: every one is found, parsing and formatting stay linear
+// (tests/bench/protocol_bench.cc times it) and at most 100 are printed, then
+// a count of the rest.
+TEST(ProtocolParse, FiftyThousandBadKeysPrintAHundredAndACount) {
+  std::string text =
+      "format = \"burrlab-protocol/1\"\n[study]\nname = \"t\"\n"
+      "[materials.pvc]\nbuiltin = \"pvc_k70\"\n"
+      "[materials.bone]\nbuiltin = \"human_temporal_bone\"\n"
+      "[[blocks]]\nmethod = \"same_different\"\ntask = \"probe\"\n"
+      "a = \"pvc\"\nb = \"bone\"\n[observer]\n";
+  for (int i = 0; i < 50000; ++i) {
+    text += 'k';  // appended piece by piece: GCC 12's -Wrestrict misfires on
+    text += std::to_string(i);  // "k" + std::to_string(i) + ...
+    text += " = 1\n";
+  }
+  const ParseOutcome outcome = ParseProtocol("big.toml", text);
+  EXPECT_EQ(outcome.diagnostics.size(), 50000u);
+  const std::string printed =
+      FormatDiagnostics("big.toml", text, outcome.diagnostics);
+  std::size_t errors = 0;
+  for (std::size_t at = printed.find(": error: "); at != std::string::npos;
+       at = printed.find(": error: ", at + 1)) {
+    ++errors;
+  }
+  EXPECT_EQ(errors, kMaxPrintedDiagnostics);
+  EXPECT_TRUE(printed.starts_with(
+      "big.toml:14:6: error: unknown key \"k0\" in [observer]; accepted: "
+      "weber_stiffness, weber_removal, lapse, criterion, probe_force_n, "
+      "drill_force_n\nk0 = 1\n     ^\n"))
+      << printed.substr(0, 300);
+  EXPECT_TRUE(printed.ends_with("big.toml: ... and 49900 more errors\n"))
+      << printed.substr(printed.size() - 300);
+}
+
 TEST(ProtocolParse, AtLeastThirtyMalformedCases) {
   EXPECT_GE(std::size(kCases), 30u);
 }

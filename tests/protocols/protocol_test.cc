@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <set>
+#include <string>
 #include <utility>
+#include <vector>
 
 namespace burrlab::protocols {
 namespace {
@@ -122,6 +124,33 @@ TEST(FormatDiagnostic, CaretFollowsTabsAndColumnOne) {
             "f.toml:1:1: error: first\na = 1\n^\n");
   EXPECT_EQ(FormatDiagnostic("f.toml", text, {{}, "whole file"}),
             "f.toml: error: whole file\n");
+}
+
+TEST(FormatDiagnostic, EscapesControlCharactersInMessageAndSourceLine) {
+  const std::string text = "a = 1\nk\x1b]0;x\x07 = \"\xff\"\n";
+  EXPECT_EQ(FormatDiagnostic("f.toml", text, {{2, 10}, "got \x1b[2J\x9b"}),
+            "f.toml:2:10: error: got \\x1b[2J\\x9b\n"
+            "k\\x1b]0;x\\x07 = \"\\xff\"\n"
+            "               ^\n");
+}
+
+TEST(FormatDiagnostics, PrintsAHundredThenCountsTheRest) {
+  const std::string text = "a = 1\nb = 2\n";
+  std::vector<Diagnostic> all(kMaxPrintedDiagnostics + 2, {{2, 1}, "bad"});
+  const std::string one = "f.toml:2:1: error: bad\nb = 2\n^\n";
+  std::string expected;
+  for (std::size_t i = 0; i < kMaxPrintedDiagnostics; ++i) expected += one;
+  EXPECT_EQ(FormatDiagnostics("f.toml", text, all),
+            expected + "f.toml: ... and 2 more errors\n");
+  all.resize(kMaxPrintedDiagnostics + 1);
+  EXPECT_EQ(FormatDiagnostics("f.toml", text, all),
+            expected + "f.toml: ... and 1 more error\n");
+  all.resize(2);
+  all[0] = {{1, 3}, "first"};
+  all[1] = {{}, "whole file"};
+  EXPECT_EQ(
+      FormatDiagnostics("f.toml", text, all),
+      "f.toml:1:3: error: first\na = 1\n  ^\nf.toml: error: whole file\n");
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -46,9 +47,21 @@ struct Diagnostic {
 
 // "path:line:col: error: message", then the source line and a caret under
 // the column, each line ending in '\n'. Without a location:
-// "path: error: message\n". `text` is the whole file.
+// "path: error: message\n". `text` is the whole file. Control characters and
+// bytes that are not UTF-8 in the message and the source line are escaped
+// (\x1b; see burrlab/sim/printable.h), except the source line's tabs, which
+// the caret line copies so that it lines up.
 std::string FormatDiagnostic(std::string_view path, std::string_view text,
                              const Diagnostic& diagnostic);
+
+// Most diagnostics FormatDiagnostics prints; the rest are only counted.
+inline constexpr std::size_t kMaxPrintedDiagnostics = 100;
+
+// The first kMaxPrintedDiagnostics diagnostics as FormatDiagnostic formats
+// them, then "path: ... and N more errors\n" when there are more. Time and
+// output are linear in the text and the number of diagnostics.
+std::string FormatDiagnostics(std::string_view path, std::string_view text,
+                              std::span<const Diagnostic> diagnostics);
 
 // What the subject does in every interval of a block (probe or drill).
 using stimuli::Task;

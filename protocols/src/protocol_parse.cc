@@ -1248,6 +1248,23 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
             t.get("staircases") != nullptr
                 ? fmt::format("{}.staircases[{}]", name, i + 1)
                 : name;
+        if (t.get("max_trials") == nullptr &&
+            table->get("max_trials") == nullptr) {
+          // Documented as required: the trial count sets the session's
+          // length and how many reversals the estimate can use, so it is the
+          // author's choice, not a silent default.
+          Fail(Where(*table),
+               table == &t
+                   ? fmt::format("{} needs \"max_trials\" (1 to {}): the "
+                                 "staircase stops after that many trials, or "
+                                 "sooner at max_reversals",
+                                 en, kMaxTrialsPerBlock)
+                   : fmt::format("{} needs \"max_trials\" (1 to {}), here or "
+                                 "in {}: the staircase stops after that many "
+                                 "trials, or sooner at max_reversals",
+                                 en, kMaxTrialsPerBlock, name));
+          continue;
+        }
         if (o.max_trials == 0) {
           const toml::node* at = table->get("max_trials");
           Fail(at != nullptr ? Where(*at) : Where(*table),

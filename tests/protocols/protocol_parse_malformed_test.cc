@@ -789,6 +789,65 @@ max_reversals = 8
 max_trials = 0
              ^
 )toml"},
+    {"staircase_without_max_trials",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "probe"
+axis = "ce"
+start_level = 2
+floor = 1
+ceiling = 4
+max_reversals = 8
+)toml",
+     R"toml(NAME:14:1: error: blocks[1] needs "max_trials" (1 to 10000): the staircase stops after that many trials, or sooner at max_reversals
+[[blocks]]
+^
+)toml"},
+    {"interleaved_staircase_without_max_trials",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "probe"
+axis = "ce"
+floor = 1
+ceiling = 4
+
+[[blocks.staircases]]
+start_level = 2
+max_trials = 30
+
+[[blocks.staircases]]
+start_level = 3
+)toml",
+     R"toml(NAME:25:1: error: blocks[1].staircases[2] needs "max_trials" (1 to 10000), here or in blocks[1]: the staircase stops after that many trials, or sooner at max_reversals
+[[blocks.staircases]]
+^
+)toml"},
     {"staircase_step_zero",
      R"toml(format = "burrlab-protocol/1"
 

@@ -281,11 +281,122 @@ Result<stimuli::MaterialSet> MaterialAtLevel(const Protocol& protocol,
                                    MaterialParameterName(axis.parameter), value,
                                    AxisKindName(axis.kind), level, axis.id);
   }
+  // Within what [materials] accepts: an overflowing level (1e308 x c_e) or
+  // one far beyond the declared materials is refused here, not mid-session.
+  for (MaterialParameter p : {MaterialParameter::kCE, MaterialParameter::kAlpha,
+                              MaterialParameter::kCMu, MaterialParameter::kMu,
+                              MaterialParameter::kCI}) {
+    const double v = GetParameter(set.material, p);
+    const bool positive = p == MaterialParameter::kCE;
+    if (!(std::isfinite(v) && (positive ? v > 0.0 : v >= 0.0) &&
+          v <= kMaxMaterialParameter)) {
+      return Error{fmt::format(
+          "axis \"{}\" ({}): level {} gives {} = {}, outside {}0, {}] (the "
+          "range [materials] accepts)",
+          axis.id, AxisKindName(axis.kind), level, MaterialParameterName(p), v,
+          positive ? "(" : "[", kMaxMaterialParameter)};
+    }
+  }
   std::string name = fmt::format("{}@{:.8g}", axis.id, level);
   std::erase(name, '+');
   set.name = std::move(name);
   set.source = fmt::format("axis {} of the protocol", axis.id);
   return set;
+}
+
+std::pair<double, double> AxisDomain(const Protocol& protocol,
+                                     const Axis& axis) {
+  constexpr double kTiny = 1e-9;
+  constexpr double kHuge = 1e9;
+  if (axis.kind == AxisKind::kLogInterpolation) return {0.0, 1.0};
+  double lo = axis.kind == AxisKind::kIncrement ? -1.0 + kTiny : kTiny;
+  double hi = kHuge;
+  const ProtocolMaterial* reference = protocol.FindMaterial(axis.reference);
+  const double base =
+      reference == nullptr
+          ? 0.0
+          : GetParameter(reference->set.material, axis.parameter);
+  // The parameter at level L; the largest L keeping it within the cap is
+  // found in closed form, then stepped down past any rounding.
+  auto value = [&](double level) {
+    switch (axis.kind) {
+      case AxisKind::kRatio:
+        return base * level;
+      case AxisKind::kIncrement:
+        return base * (1.0 + level);
+      default:
+        return level;
+    }
+  };
+  if (axis.kind == AxisKind::kValue) {
+    hi = kMaxMaterialParameter;
+  } else if (base > 0.0) {
+    hi = std::min(hi, axis.kind == AxisKind::kRatio
+                          ? kMaxMaterialParameter / base
+                          : kMaxMaterialParameter / base - 1.0);
+  }
+  while (value(hi) > kMaxMaterialParameter) hi = std::nextafter(hi, lo);
+  return {lo, hi};
+}
+
+stimuli::IntervalOptions SimulatedIntervalOptions(const Protocol& protocol,
+                                                  double radius_mm, Task task,
+                                                  const sim::Material& material,
+                                                  double duration_s) {
+  stimuli::IntervalOptions o;
+  o.material = material;
+  o.task = task;
+  o.duration_s = duration_s;
+  // One press per second, or one press over a shorter interval.
+  o.press_period_s = std::min(o.press_period_s, duration_s);
+  o.radius_mm = radius_mm;
+  o.probe_force_n = protocol.observer.probe_force_n;
+  o.drill_force_n = protocol.observer.drill_force_n;
+  o.trace_hz = protocol.trace_hz;
+  return o;
+}
+
+std::vector<Diagnostic> CheckSimulatedIntervals(const Protocol& protocol,
+                                                double radius_mm) {
+  std::vector<Diagnostic> out;
+  for (const Block& b : protocol.blocks) {
+    double duration_s = 0.0;  // the shortest simulated interval
+    for (double d : b.interval_s) {
+      if (d > 0.0 && (duration_s == 0.0 || d < duration_s)) duration_s = d;
+    }
+    if (duration_s == 0.0) duration_s = 10.0;
+    for (const ReachedStimulus& r : b.reach) {
+      stimuli::IntervalOptions o = SimulatedIntervalOptions(
+          protocol, radius_mm, b.task, r.set.material, duration_s);
+      // What fails whatever the material (the radius) is said once.
+      stimuli::IntervalOptions any = o;
+      any.task = Task::kDrill;
+      if (Status s = any.Validate(); !s.ok()) {
+        return {{{}, s.error().message}};
+      }
+      if (Status s = o.Validate(); !s.ok()) {
+        std::string message = s.error().message;
+        if (message.starts_with("interval: ")) message.erase(0, 10);
+        out.push_back(
+            {r.where,
+             b.task == Task::kProbe
+                 ? fmt::format("{}: the simulated hand cannot probe it: {}; "
+                               "lower [observer] probe_force_n or {}",
+                               r.what, message,
+                               r.level.has_value()
+                                   ? "keep the levels where the material is "
+                                     "stiffer"
+                                   : "name a stiffer material")
+                 : fmt::format("{}: {}", r.what, message)});
+      }
+    }
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Diagnostic& a, const Diagnostic& b) {
+                     return std::pair(a.where.line, a.where.column) <
+                            std::pair(b.where.line, b.where.column);
+                   });
+  return out;
 }
 
 std::vector<int> BlockOrder(const Protocol& protocol, int subject_index) {

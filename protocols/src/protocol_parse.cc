@@ -70,7 +70,8 @@ constexpr std::string_view kStaircaseBlockKeys[] = {"threshold_reversals",
                                                     "response", "staircases"};
 constexpr std::string_view kScheduleKeys[] = {"after_reversals", "step_down",
                                               "step_up"};
-constexpr std::string_view kQuestBlockKeys[] = {"trials", "response", "quest"};
+constexpr std::string_view kQuestBlockKeys[] = {"trials", "response", "quest",
+                                                "floor", "ceiling"};
 constexpr std::string_view kQuestKeys[] = {"tGuess", "tGuessSd", "pThreshold",
                                            "beta",   "delta",    "gamma",
                                            "grain",  "range"};
@@ -199,6 +200,17 @@ class Parser {
                       StaircaseOptions& o, const Axis* axis);
   void ParseIntervals(const toml::table& t, const std::string& name,
                       std::size_t count, Block& b);
+  // Fills b.reach for a block parsed without errors: the materials it names
+  // and, on its axis, its standard and the ends of the levels it can reach.
+  // `staircases` holds each staircase's table.
+  void Reach(const toml::table& t, const std::string& name, const Protocol& p,
+             const Axis* axis, std::span<const toml::table* const> staircases,
+             Block& b);
+  // Adds a level the block can reach to b.reach, or reports why its material
+  // cannot be presented (`what` names it, `fix` ends the message).
+  void ReachLevel(const Protocol& p, const Axis& axis, double level,
+                  std::string what, SourceLocation where, std::string_view fix,
+                  Block& b);
 
   // The declared material or axis with this id, or null (a lookup in the
   // index, so that many references to many ids stay linear).
@@ -983,6 +995,8 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
   };
 
   std::size_t n_intervals = 2;
+  std::vector<const toml::table*> staircase_tables;
+  const std::size_t errors_before = diagnostics_.size();
   switch (b.method) {
     case Method::kSameDifferent: {
       auto a = MaterialRef(t, "a", name + ".a", p, true);
@@ -1288,6 +1302,7 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
           continue;
         }
         b.staircases.push_back(o);
+        staircase_tables.push_back(table);
       }
       n_intervals = b.adaptive_response == AdaptiveResponse::kYesNo ? 1 : 2;
       break;
@@ -1295,6 +1310,19 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
     case Method::kQuest: {
       const int n = trials(40);
       if (n > 0) b.quest_trials = n;
+      if (auto v = Number(t, "floor", name + ".floor")) {
+        b.quest_floor_level = *v;
+        CheckLevel(t, "floor", name + ".floor", axis, *v);
+      }
+      if (auto v = Number(t, "ceiling", name + ".ceiling")) {
+        b.quest_ceiling_level = *v;
+        CheckLevel(t, "ceiling", name + ".ceiling", axis, *v);
+        if (!(b.quest_floor_level < *v)) {
+          Fail(*t.get("ceiling"),
+               fmt::format("{}.ceiling = {} must be above floor = {}", name, *v,
+                           b.quest_floor_level));
+        }
+      }
       constexpr std::string_view kModes[] = {"2afc", "yesno"};
       if (auto c = Choice(t, "response", name + ".response", kModes)) {
         b.adaptive_response = static_cast<AdaptiveResponse>(*c);
@@ -1315,10 +1343,12 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
             *f.value = *v;
           }
         }
-        if (Status s = o.Validate(); !s.ok()) {
+        // Building the track checks more than Validate (the psychometric
+        // table must hold pThreshold): what run would refuse is refused here.
+        if (Result<Quest> built = Quest::Create(o); !built.ok()) {
           // The library names fields in snake_case; protocol files use
           // QuestCreate's names.
-          std::string message = s.error().message;
+          std::string message = built.error().message;
           if (message.starts_with("quest: ")) message.erase(0, 7);
           const toml::node* at = q;
           constexpr std::pair<std::string_view, std::string_view> kNames[] = {
@@ -1330,14 +1360,16 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
               {"gamma", "gamma"},
               {"grain", "grain"},
               {"range", "range"}};
+          bool named = false;
           for (const auto& [snake, ptb] : kNames) {
             if (message.starts_with(std::string(snake) + " ")) {
               message.replace(0, snake.size(), ptb);
               if (const toml::node* key = q->get(ptb)) at = key;
+              named = true;
               break;
             }
           }
-          Fail(*at, fmt::format("{}.{}", qn, message));
+          Fail(*at, fmt::format("{}{}{}", qn, named ? "." : ": ", message));
         }
       } else if (t.get("quest") == nullptr) {
         Fail(t, fmt::format("{} needs a [blocks.quest] table with at least "
@@ -1349,6 +1381,202 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
     }
   }
   ParseIntervals(t, name, n_intervals, b);
+  if (diagnostics_.size() == errors_before) {
+    Reach(t, name, p, axis, staircase_tables, b);
+  }
+}
+
+void Parser::ReachLevel(const Protocol& p, const Axis& axis, double level,
+                        std::string what, SourceLocation where,
+                        std::string_view fix, Block& b) {
+  Result<stimuli::MaterialSet> set = MaterialAtLevel(p, axis, level);
+  if (!set.ok()) {
+    Fail(where, fmt::format("{}: {}{}", what, set.error().message, fix));
+    return;
+  }
+  b.reach.push_back({std::move(what), where, level, std::move(set.value())});
+}
+
+void Parser::Reach(const toml::table& t, const std::string& name,
+                   const Protocol& p, const Axis* axis,
+                   std::span<const toml::table* const> staircases, Block& b) {
+  auto at = [](const toml::table& table, std::string_view key) {
+    const toml::node* node = table.get(key);
+    return node != nullptr ? Where(*node) : Where(table);
+  };
+  // A material the block names under `key`.
+  auto material = [&](std::string_view key, const std::string& id) {
+    if (const ProtocolMaterial* m = FindMaterial(p, id)) {
+      b.reach.push_back({fmt::format("{}.{} = \"{}\"", name, key, id),
+                         at(t, key), std::nullopt, m->set});
+    }
+  };
+  if (b.method == Method::kSameDifferent) {
+    material("a", b.material_a);
+    material("b", b.material_b);
+    return;
+  }
+  if (b.method == Method::kTwoInterval) {
+    const bool reference = b.design == TwoIntervalDesign::kReference;
+    material(reference ? "a" : "standard", b.material_a);
+    material(reference ? "b" : "comparison", b.material_b);
+    if (!b.reference_material.empty()) {
+      material("reference_material", b.reference_material);
+    }
+    return;
+  }
+  if (axis == nullptr) return;
+  ReachLevel(
+      p, *axis, b.standard_level,
+      t.get("standard_level") != nullptr
+          ? fmt::format("{}.standard_level = {}", name, b.standard_level)
+          : fmt::format("{}: the standard (level {})", name, b.standard_level),
+      at(t, "standard_level"), "", b);
+  // One end of a track's levels: the bound (floor when `down`, else ceiling)
+  // from `table` (named `table_name`) where it stops the track before its
+  // steps do, else the level `stepped` its steps reach (`steps` says how).
+  auto track_end = [&](bool down, double bound, const toml::table& table,
+                       const std::string& table_name, double stepped,
+                       const std::string& steps) {
+    const std::string_view key = down ? "floor" : "ceiling";
+    if (std::isfinite(bound) && (down ? bound >= stepped : bound <= stepped)) {
+      const toml::table& from = table.get(key) != nullptr ? table : t;
+      const std::string& from_name =
+          table.get(key) != nullptr ? table_name : name;
+      ReachLevel(p, *axis, bound,
+                 fmt::format("{}.{} = {}", from_name, key, bound),
+                 at(from, key), "", b);
+      return;
+    }
+    ReachLevel(p, *axis, stepped,
+               fmt::format(
+                   "{}: {}{} reach level {:.6g}", table_name,
+                   std::isfinite(bound) ? "" : fmt::format("with no {}, ", key),
+                   steps, stepped),
+               Where(table),
+               std::isfinite(bound)
+                   ? fmt::format("; {} {}", down ? "raise" : "lower", key)
+                   : fmt::format("; set {}", key),
+               b);
+  };
+  switch (b.method) {
+    case Method::kConstantStimuli: {
+      // The lowest and highest levels, at their place in the array.
+      const toml::array& levels = *t.get("levels")->as_array();
+      std::size_t lo = 0, hi = 0;
+      for (std::size_t i = 1; i < b.constant_stimuli.levels.size(); ++i) {
+        const double v = b.constant_stimuli.levels[i];
+        if (v < b.constant_stimuli.levels[lo]) lo = i;
+        if (v > b.constant_stimuli.levels[hi]) hi = i;
+      }
+      for (std::size_t i : {lo, hi}) {
+        const double v = b.constant_stimuli.levels[i];
+        ReachLevel(p, *axis, v, fmt::format("{}.levels: level {}", name, v),
+                   Where(*levels.get(i)), "", b);
+      }
+      break;
+    }
+    case Method::kLimits: {
+      // Series walk on to the floor and the ceiling (given or default).
+      const LimitsOptions& o = b.limits;
+      for (const auto& [key, level] :
+           {std::pair<std::string_view, double>{"floor", o.floor_level},
+            std::pair<std::string_view, double>{"ceiling", o.ceiling_level}}) {
+        ReachLevel(p, *axis, level,
+                   t.get(key) != nullptr
+                       ? fmt::format("{}.{} = {}", name, key, level)
+                       : fmt::format("{}: with no {}, series go on to level "
+                                     "{} (the default {})",
+                                     name, key, level, key),
+                   at(t, key),
+                   t.get(key) != nullptr ? "" : fmt::format("; set {}", key),
+                   b);
+      }
+      break;
+    }
+    case Method::kAdjustment: {
+      // The jittered start, then max_steps presses the same way.
+      const AdjustmentOptions& o = b.adjustment;
+      const double steps =
+          static_cast<double>(o.start_jitter_steps) + o.max_steps;
+      for (const bool down : {true, false}) {
+        track_end(down, down ? o.floor_level : o.ceiling_level, t, name,
+                  ApplyStep(o.start_level, (down ? -steps : steps) * o.step,
+                            o.step_scale),
+                  fmt::format("{} steps of {} {} from start_level {}", steps,
+                              o.step, down ? "down" : "up", o.start_level));
+      }
+      break;
+    }
+    case Method::kStaircase: {
+      // A move down needs n_down trials and one up n_up, so max_trials trials
+      // make at most max_trials / n_down moves down, each at most the
+      // largest down step of the schedule (and the same up).
+      for (std::size_t i = 0; i < b.staircases.size(); ++i) {
+        const StaircaseOptions& o = b.staircases[i];
+        const toml::table& table = *staircases[i];
+        const std::string table_name =
+            &table == &t ? name : fmt::format("{}.staircases[{}]", name, i + 1);
+        double step_down = o.step_down, step_up = o.step_up;
+        for (const StepChange& c : o.step_schedule) {
+          step_down = std::max(step_down, c.step_down);
+          step_up = std::max(step_up, c.step_up);
+        }
+        const int moves_down = o.max_trials / o.n_down;
+        const int moves_up = o.max_trials / o.n_up;
+        track_end(
+            true, o.floor_level, table, table_name,
+            ApplyStep(o.start_level, -moves_down * step_down, o.step_scale),
+            fmt::format("{} steps of {} down from start_level {}", moves_down,
+                        step_down, o.start_level));
+        track_end(false, o.ceiling_level, table, table_name,
+                  ApplyStep(o.start_level, moves_up * step_up, o.step_scale),
+                  fmt::format("{} steps of {} up from start_level {}", moves_up,
+                              step_up, o.start_level));
+      }
+      break;
+    }
+    case Method::kQuest: {
+      // Placements lie on the posterior's grid, tGuess +- range/2 (log10
+      // units), presented clamped to the axis's domain, floor and ceiling.
+      Result<Quest> quest = Quest::Create(b.quest);
+      if (!quest.ok()) break;
+      const toml::table& q = *t.get("quest")->as_table();
+      const auto [domain_lo, domain_hi] = AxisDomain(p, *axis);
+      const bool floored = b.quest_floor_level >= domain_lo;
+      const bool ceiled = b.quest_ceiling_level <= domain_hi;
+      const double lo = floored ? b.quest_floor_level : domain_lo;
+      const double hi =
+          std::max(lo, ceiled ? b.quest_ceiling_level : domain_hi);
+      for (const bool down : {true, false}) {
+        const double x = down ? quest->intensity_min() : quest->intensity_max();
+        const double raw = std::pow(10.0, x);
+        if (raw < lo || raw > hi) {
+          const bool below = raw < lo;
+          const bool key = below ? floored : ceiled;
+          const std::string_view bound = below ? "floor" : "ceiling";
+          const double level = below ? lo : hi;
+          ReachLevel(
+              p, *axis, level,
+              key ? fmt::format("{}.{} = {}", name, bound, level)
+                  : fmt::format("{}.quest: placements {} level {:.6g} (the {} "
+                                "of axis \"{}\"'s domain) are presented there",
+                                name, below ? "below" : "above", level,
+                                below ? "lower end" : "upper end", axis->id),
+              key ? at(t, bound) : Where(q), "", b);
+        } else {
+          ReachLevel(p, *axis, raw,
+                     fmt::format("{}.quest: placements reach level {:.6g} "
+                                 "(tGuess {} range/2 = {:.6g} in log10 units)",
+                                 name, raw, down ? "-" : "+", x),
+                     Where(q), "", b);
+        }
+      }
+      break;
+    }
+    default:
+      break;
+  }
 }
 
 void Parser::ParseBlocks(const toml::table& root, Protocol& p) {

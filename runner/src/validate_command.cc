@@ -60,12 +60,21 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "Check protocol files (format burrlab-protocol/1) and station files "
       "(burrlab-station/1): types, ranges, "
       "unknown keys, unknown materials and axes, designs that cannot be "
-      "balanced, staircases that can never stop. Every problem is printed "
-      "as path:line:col: error: ... with the source line and a caret.",
+      "balanced, staircases that can never stop, and every level a block "
+      "can reach (adaptive tracks to their floor and ceiling, or as far as "
+      "max_trials steps go): its material must be one the simulator renders "
+      "with the simulated hand at --radius-mm, so a protocol that validates "
+      "runs. Every problem is printed as path:line:col: error: ... with the "
+      "source line and a caret (at most 100, then a count).",
       "burrlab validate"};
   std::vector<std::string> files;
   app.add_option("files", files, "protocol or station files")->required();
+  double radius_mm = 2.0;
   FlagSet flags(&app);
+  flags.AddPositive("--radius-mm",
+                    "burr radius the simulated intervals are checked with "
+                    "(default 2, as run and study use)",
+                    "mm", &radius_mm, 5.0);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   int code = 0;
@@ -74,6 +83,10 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
     Result<LoadedProtocol> loaded = LoadProtocol(file);
     if (!loaded.ok()) {
       code = ReportLoadError(err, loaded.error());
+      continue;
+    }
+    if (Status s = CheckRenderable(loaded.value(), radius_mm); !s.ok()) {
+      code = ReportLoadError(err, s.error());
       continue;
     }
     const protocols::Protocol& p = loaded->protocol;

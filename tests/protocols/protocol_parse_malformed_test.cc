@@ -848,6 +848,199 @@ start_level = 3
 [[blocks.staircases]]
 ^
 )toml"},
+    {"adjustment_without_floor_leaves_domain",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "adjustment"
+task = "drill"
+axis = "inc"
+start_level = 0.2
+step = 0.05
+ceiling = 1
+max_steps = 40
+)toml",
+     R"toml(NAME:19:1: error: blocks[1]: with no floor, 40 steps of 0.05 down from start_level 0.2 reach level -1.8: axis "inc" (increment): level -1.8 is outside its domain (greater than -1); set floor
+[[blocks]]
+^
+)toml"},
+    {"constant_level_overflows",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "constant_stimuli"
+task = "probe"
+axis = "ce"
+levels = [0.5, 1e308, 2]
+)toml",
+     R"toml(NAME:23:16: error: blocks[1].levels: level 1e+308: axis "ce" (ratio): level 1e+308 gives c_e = inf, outside (0, 1000000] (the range [materials] accepts)
+levels = [0.5, 1e308, 2]
+               ^
+)toml"},
+    {"limits_default_floor_outside_domain",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "limits"
+task = "drill"
+axis = "ce"
+step = 0.1
+ascending_start = 0.5
+descending_start = 1.5
+ceiling = 2
+)toml",
+     R"toml(NAME:19:1: error: blocks[1]: with no floor, series go on to level 0 (the default floor): axis "ce" (ratio): level 0 is outside its domain (greater than 0); set floor
+[[blocks]]
+^
+)toml"},
+    {"quest_ceiling_below_floor",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "quest"
+task = "drill"
+axis = "ce"
+floor = 2
+ceiling = 1
+[blocks.quest]
+tGuess = 0
+tGuessSd = 1
+)toml",
+     R"toml(NAME:24:11: error: blocks[1].ceiling = 1 must be above floor = 2
+ceiling = 1
+          ^
+)toml"},
+    {"staircase_without_ceiling_beyond_materials",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "drill"
+axis = "ce"
+step_scale = "log10"
+start_level = 1
+step_down = 0.5
+step_up = 0.5
+floor = 0.5
+max_trials = 40
+)toml",
+     R"toml(NAME:19:1: error: blocks[1]: with no ceiling, 40 steps of 0.5 up from start_level 1 reach level 1e+20: axis "ce" (ratio): level 1e+20 gives c_e = 2.145e+20, outside (0, 1000000] (the range [materials] accepts); set ceiling
+[[blocks]]
+^
+)toml"},
+    {"staircase_without_floor_leaves_domain",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "probe"
+axis = "inc"
+start_level = 0.5
+step_down = 0.1
+step_up = 0.1
+ceiling = 1
+max_trials = 40
+)toml",
+     R"toml(NAME:19:1: error: blocks[1]: with no floor, 20 steps of 0.1 down from start_level 0.5 reach level -1.5: axis "inc" (increment): level -1.5 is outside its domain (greater than -1); set floor
+[[blocks]]
+^
+)toml"},
     {"staircase_step_zero",
      R"toml(format = "burrlab-protocol/1"
 

@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 
+#include "burrlab/sim/printable.h"
 #include "csv_text.h"
 
 namespace burrlab::analysis {
@@ -46,21 +47,30 @@ std::optional<int> ParseWhole(std::string_view text) {
 std::string FormatDataDiagnostic(std::string_view path, std::string_view text,
                                  int line, int column,
                                  std::string_view message) {
-  if (line <= 0) return fmt::format("{}: error: {}", path, message);
-  std::string out =
-      fmt::format("{}:{}:{}: error: {}\n", path, line, column, message);
+  // Cells and header names quoted in `message` and the source line are the
+  // file's bytes: escaped, so none reaches the terminal as a control.
+  if (line <= 0) {
+    return fmt::format("{}: error: {}", path, PrintableText(message));
+  }
   std::string_view source;
   for (const Line& l : SplitLines(text)) {
-    if (l.number == line) source = l.text;
+    if (l.number == line) {
+      source = l.text;
+      break;
+    }
   }
-  out += std::string(source) + "\n";
+  // `column` counts bytes; the caret counts code points.
+  int caret_column = 1;
   for (int i = 0; i + 1 < column; ++i) {
-    out += static_cast<std::size_t>(i) < source.size() && source[i] == '\t'
-               ? '\t'
-               : ' ';
+    const bool continuation =
+        static_cast<std::size_t>(i) < source.size() &&
+        (static_cast<unsigned char>(source[static_cast<std::size_t>(i)]) &
+         0xc0) == 0x80;
+    if (!continuation) ++caret_column;
   }
-  out += '^';
-  return out;
+  return fmt::format("{}:{}:{}: error: {}\n{}", path, line, column,
+                     PrintableText(message),
+                     QuoteLineWithCaret(source, caret_column));
 }
 
 Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,

@@ -63,21 +63,6 @@ double IntervalDuration(const Block& block, std::size_t i) {
                                      : block.interval_s.back();
 }
 
-// Closed domain bounds of an axis (for clamping adaptive placements).
-std::pair<double, double> AxisBounds(const Axis& axis) {
-  constexpr double kTiny = 1e-9;
-  switch (axis.kind) {
-    case AxisKind::kRatio:
-    case AxisKind::kValue:
-      return {kTiny, 1e9};
-    case AxisKind::kIncrement:
-      return {-1.0 + kTiny, 1e9};
-    case AxisKind::kLogInterpolation:
-      return {0.0, 1.0};
-  }
-  return {kTiny, 1e9};
-}
-
 }  // namespace
 
 boost::random::mt19937 StreamFor(std::uint64_t master_seed,
@@ -443,7 +428,10 @@ Status Engine::Impl::PlanTrial() {
           Result<double> x = s.quest.Quantile();
           if (!x.ok()) return x.error();
           s.intensity_log10 = x.value();
-          const auto [lo, hi] = AxisBounds(*axis);
+          // Within the axis's domain and the block's floor and ceiling.
+          auto [lo, hi] = AxisDomain(*protocol, *axis);
+          lo = std::max(lo, b.quest_floor_level);
+          hi = std::max(lo, std::min(hi, b.quest_ceiling_level));
           const double raw = std::pow(10.0, s.intensity_log10);
           s.level = std::clamp(raw, lo, hi);
           s.clamped = s.level != raw;

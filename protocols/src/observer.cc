@@ -89,9 +89,9 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
   }
   std::string_view rest =
       spec.size() > kHead.size() ? spec.substr(kHead.size() + 1) : "";
-  constexpr std::string_view kKeys[] = {"weber",         "weber_stiffness",
-                                        "weber_removal", "lapse",
-                                        "criterion",     "rt_median_s"};
+  constexpr std::string_view kKeys[] = {
+      "weber",     "weber_stiffness", "weber_removal", "lapse",
+      "criterion", "rt_median_s",     "always"};
   while (!rest.empty()) {
     const std::size_t comma = rest.find(',');
     std::string_view item = rest.substr(0, comma);
@@ -100,10 +100,22 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
     if (eq == std::string_view::npos) {
       return Error{fmt::format(
           "observer: \"{}\" is not key=value (keys: weber, weber_stiffness, "
-          "weber_removal, lapse, criterion, rt_median_s)",
+          "weber_removal, lapse, criterion, rt_median_s, always)",
           item)};
     }
     const std::string_view key = item.substr(0, eq);
+    if (key == "always") {
+      const std::string_view rule = item.substr(eq + 1);
+      if (rule == "correct") {
+        base.answers = AnswerRule::kAlwaysCorrect;
+      } else if (rule == "wrong") {
+        base.answers = AnswerRule::kAlwaysWrong;
+      } else {
+        return Error{fmt::format(
+            "observer: always must be correct or wrong, got \"{}\"", rule)};
+      }
+      continue;
+    }
     Result<double> value = ParseNumber(key, item.substr(eq + 1));
     if (!value.ok()) return value.error();
     if (key == "weber") {
@@ -122,7 +134,7 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
       const std::string_view hint = DidYouMean(key, kKeys);
       return Error{fmt::format(
           "observer: unknown key \"{}\"{} (keys: weber, weber_stiffness, "
-          "weber_removal, lapse, criterion, rt_median_s)",
+          "weber_removal, lapse, criterion, rt_median_s, always)",
           key,
           hint.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", hint))};
     }
@@ -229,6 +241,12 @@ Result<Response> SimulatedObserver::Decide(const TrialSpec& trial,
         0, static_cast<int>(trial.response_options.size()) - 1);
     answer = trial.response_options[static_cast<std::size_t>(pick(rng))];
   }
+  if (params_.answers != AnswerRule::kPercepts) {
+    // The fixed answer, as a script's "1" or "0" stands for it.
+    Result<Response> fixed = ScriptedResponse(
+        trial, params_.answers == AnswerRule::kAlwaysCorrect ? "1" : "0");
+    if (fixed.ok()) answer = fixed->answer;
+  }
   Response r;
   r.answer = answer;
   r.response_time_s = ResponseTime(rng);
@@ -238,6 +256,8 @@ Result<Response> SimulatedObserver::Decide(const TrialSpec& trial,
 char SimulatedObserver::AdjustStep(Task task, double standard_cue,
                                    double comparison_cue, int direction,
                                    boost::random::mt19937& rng) const {
+  if (params_.answers == AnswerRule::kAlwaysCorrect) return '+';
+  if (params_.answers == AnswerRule::kAlwaysWrong) return '-';
   const double sigma = Sigma(task);
   boost::random::normal_distribution<double> z(0.0, 1.0);
   const double psi_s = std::log(standard_cue) + sigma * z(rng);

@@ -7,18 +7,41 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
+
+#include "burrlab/sim/printable.h"
 
 namespace burrlab::protocols {
 
+namespace {
+
+// The line of `text` starting at byte `start`, without its line break.
+std::string_view LineAt(std::string_view text, std::size_t start) {
+  std::size_t end = text.find('\n', start);
+  if (end == std::string_view::npos) end = text.size();
+  std::string_view line = text.substr(start, end - start);
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  return line;
+}
+
+// The diagnostic's first line, then (with a location) `source` quoted with a
+// caret under the column.
+std::string Format(std::string_view path, const Diagnostic& diagnostic,
+                   std::string_view source) {
+  const std::string message = PrintableText(diagnostic.message);
+  if (diagnostic.where.line <= 0) {
+    return fmt::format("{}: error: {}\n", path, message);
+  }
+  return fmt::format("{}:{}:{}: error: {}\n{}\n", path, diagnostic.where.line,
+                     diagnostic.where.column, message,
+                     QuoteLineWithCaret(source, diagnostic.where.column));
+}
+
+}  // namespace
+
 std::string FormatDiagnostic(std::string_view path, std::string_view text,
                              const Diagnostic& diagnostic) {
-  if (diagnostic.where.line <= 0) {
-    return fmt::format("{}: error: {}\n", path, diagnostic.message);
-  }
-  std::string out =
-      fmt::format("{}:{}:{}: error: {}\n", path, diagnostic.where.line,
-                  diagnostic.where.column, diagnostic.message);
-  // The source line (1-based), without its line break.
+  // The source line (1-based).
   std::size_t start = 0;
   for (int line = 1; line < diagnostic.where.line && start < text.size();
        ++line) {
@@ -29,19 +52,39 @@ std::string FormatDiagnostic(std::string_view path, std::string_view text,
     }
     start = next + 1;
   }
-  std::size_t end = text.find('\n', start);
-  if (end == std::string_view::npos) end = text.size();
-  std::string_view source = text.substr(start, end - start);
-  if (!source.empty() && source.back() == '\r') source.remove_suffix(1);
-  out += std::string(source) + "\n";
-  // Caret under the column; tabs copied so it lines up in a terminal.
-  const int column = std::max(1, diagnostic.where.column);
-  for (int i = 0; i + 1 < column; ++i) {
-    out += static_cast<std::size_t>(i) < source.size() && source[i] == '\t'
-               ? '\t'
-               : ' ';
+  return Format(path, diagnostic, LineAt(text, start));
+}
+
+std::string FormatDiagnostics(std::string_view path, std::string_view text,
+                              std::span<const Diagnostic> diagnostics) {
+  const std::size_t shown =
+      std::min(diagnostics.size(), kMaxPrintedDiagnostics);
+  // Where each line starts, found once (not once per diagnostic), and only as
+  // far as the last line shown.
+  int last_line = 0;
+  for (std::size_t i = 0; i < shown; ++i) {
+    last_line = std::max(last_line, diagnostics[i].where.line);
   }
-  out += "^\n";
+  std::vector<std::size_t> line_starts = {0};
+  for (std::size_t i = 0;
+       static_cast<int>(line_starts.size()) < last_line && i < text.size();
+       ++i) {
+    if (text[i] == '\n') line_starts.push_back(i + 1);
+  }
+  std::string out;
+  for (std::size_t i = 0; i < shown; ++i) {
+    const Diagnostic& d = diagnostics[i];
+    const std::size_t line =
+        static_cast<std::size_t>(std::max(d.where.line, 1));
+    const std::size_t start =
+        line <= line_starts.size() ? line_starts[line - 1] : text.size();
+    out += Format(path, d, LineAt(text, start));
+  }
+  if (diagnostics.size() > shown) {
+    const std::size_t more = diagnostics.size() - shown;
+    out += fmt::format("{}: ... and {} more error{}\n", path, more,
+                       more == 1 ? "" : "s");
+  }
   return out;
 }
 
@@ -238,11 +281,122 @@ Result<stimuli::MaterialSet> MaterialAtLevel(const Protocol& protocol,
                                    MaterialParameterName(axis.parameter), value,
                                    AxisKindName(axis.kind), level, axis.id);
   }
+  // Within what [materials] accepts: an overflowing level (1e308 x c_e) or
+  // one far beyond the declared materials is refused here, not mid-session.
+  for (MaterialParameter p : {MaterialParameter::kCE, MaterialParameter::kAlpha,
+                              MaterialParameter::kCMu, MaterialParameter::kMu,
+                              MaterialParameter::kCI}) {
+    const double v = GetParameter(set.material, p);
+    const bool positive = p == MaterialParameter::kCE;
+    if (!(std::isfinite(v) && (positive ? v > 0.0 : v >= 0.0) &&
+          v <= kMaxMaterialParameter)) {
+      return Error{fmt::format(
+          "axis \"{}\" ({}): level {} gives {} = {}, outside {}0, {}] (the "
+          "range [materials] accepts)",
+          axis.id, AxisKindName(axis.kind), level, MaterialParameterName(p), v,
+          positive ? "(" : "[", kMaxMaterialParameter)};
+    }
+  }
   std::string name = fmt::format("{}@{:.8g}", axis.id, level);
   std::erase(name, '+');
   set.name = std::move(name);
   set.source = fmt::format("axis {} of the protocol", axis.id);
   return set;
+}
+
+std::pair<double, double> AxisDomain(const Protocol& protocol,
+                                     const Axis& axis) {
+  constexpr double kTiny = 1e-9;
+  constexpr double kHuge = 1e9;
+  if (axis.kind == AxisKind::kLogInterpolation) return {0.0, 1.0};
+  double lo = axis.kind == AxisKind::kIncrement ? -1.0 + kTiny : kTiny;
+  double hi = kHuge;
+  const ProtocolMaterial* reference = protocol.FindMaterial(axis.reference);
+  const double base =
+      reference == nullptr
+          ? 0.0
+          : GetParameter(reference->set.material, axis.parameter);
+  // The parameter at level L; the largest L keeping it within the cap is
+  // found in closed form, then stepped down past any rounding.
+  auto value = [&](double level) {
+    switch (axis.kind) {
+      case AxisKind::kRatio:
+        return base * level;
+      case AxisKind::kIncrement:
+        return base * (1.0 + level);
+      default:
+        return level;
+    }
+  };
+  if (axis.kind == AxisKind::kValue) {
+    hi = kMaxMaterialParameter;
+  } else if (base > 0.0) {
+    hi = std::min(hi, axis.kind == AxisKind::kRatio
+                          ? kMaxMaterialParameter / base
+                          : kMaxMaterialParameter / base - 1.0);
+  }
+  while (value(hi) > kMaxMaterialParameter) hi = std::nextafter(hi, lo);
+  return {lo, hi};
+}
+
+stimuli::IntervalOptions SimulatedIntervalOptions(const Protocol& protocol,
+                                                  double radius_mm, Task task,
+                                                  const sim::Material& material,
+                                                  double duration_s) {
+  stimuli::IntervalOptions o;
+  o.material = material;
+  o.task = task;
+  o.duration_s = duration_s;
+  // One press per second, or one press over a shorter interval.
+  o.press_period_s = std::min(o.press_period_s, duration_s);
+  o.radius_mm = radius_mm;
+  o.probe_force_n = protocol.observer.probe_force_n;
+  o.drill_force_n = protocol.observer.drill_force_n;
+  o.trace_hz = protocol.trace_hz;
+  return o;
+}
+
+std::vector<Diagnostic> CheckSimulatedIntervals(const Protocol& protocol,
+                                                double radius_mm) {
+  std::vector<Diagnostic> out;
+  for (const Block& b : protocol.blocks) {
+    double duration_s = 0.0;  // the shortest simulated interval
+    for (double d : b.interval_s) {
+      if (d > 0.0 && (duration_s == 0.0 || d < duration_s)) duration_s = d;
+    }
+    if (duration_s == 0.0) duration_s = 10.0;
+    for (const ReachedStimulus& r : b.reach) {
+      stimuli::IntervalOptions o = SimulatedIntervalOptions(
+          protocol, radius_mm, b.task, r.set.material, duration_s);
+      // What fails whatever the material (the radius) is said once.
+      stimuli::IntervalOptions any = o;
+      any.task = Task::kDrill;
+      if (Status s = any.Validate(); !s.ok()) {
+        return {{{}, s.error().message}};
+      }
+      if (Status s = o.Validate(); !s.ok()) {
+        std::string message = s.error().message;
+        if (message.starts_with("interval: ")) message.erase(0, 10);
+        out.push_back(
+            {r.where,
+             b.task == Task::kProbe
+                 ? fmt::format("{}: the simulated hand cannot probe it: {}; "
+                               "lower [observer] probe_force_n or {}",
+                               r.what, message,
+                               r.level.has_value()
+                                   ? "keep the levels where the material is "
+                                     "stiffer"
+                                   : "name a stiffer material")
+                 : fmt::format("{}: {}", r.what, message)});
+      }
+    }
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Diagnostic& a, const Diagnostic& b) {
+                     return std::pair(a.where.line, a.where.column) <
+                            std::pair(b.where.line, b.where.column);
+                   });
+  return out;
 }
 
 std::vector<int> BlockOrder(const Protocol& protocol, int subject_index) {

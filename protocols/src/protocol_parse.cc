@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/sim/printable.h"
 #include "burrlab/sim/spelling.h"
 #include "burrlab/stimuli/toml_guard.h"
 
@@ -28,6 +29,7 @@ using Keys = std::span<const std::string_view>;
 // with long level lists has a few hundred '.' in numbers.
 constexpr std::size_t kMaxDots = 4096;
 constexpr int kMaxTrialsPerBlock = 10000;
+constexpr std::size_t kMaxScheduleEntries = 100;
 
 constexpr std::string_view kRootKeys[] = {
     "format",         "study",     "recording", "observer",
@@ -68,7 +70,8 @@ constexpr std::string_view kStaircaseBlockKeys[] = {"threshold_reversals",
                                                     "response", "staircases"};
 constexpr std::string_view kScheduleKeys[] = {"after_reversals", "step_down",
                                               "step_up"};
-constexpr std::string_view kQuestBlockKeys[] = {"trials", "response", "quest"};
+constexpr std::string_view kQuestBlockKeys[] = {"trials", "response", "quest",
+                                                "floor", "ceiling"};
 constexpr std::string_view kQuestKeys[] = {"tGuess", "tGuessSd", "pThreshold",
                                            "beta",   "delta",    "gamma",
                                            "grain",  "range"};
@@ -84,6 +87,15 @@ std::string Join(Keys keys) {
     out += k;
   }
   return out;
+}
+
+// At most kMaxListed ids joined by ", ", then how many there are in all: a
+// message names a few of the declared ids, not all of a hostile file's.
+std::string JoinDeclared(Keys ids) {
+  constexpr std::size_t kMaxListed = 20;
+  if (ids.size() <= kMaxListed) return Join(ids);
+  return fmt::format("{}, ... ({} in all)", Join(ids.first(kMaxListed)),
+                     ids.size());
 }
 
 // Text of a TOML value's type for messages.
@@ -106,19 +118,16 @@ std::string_view TypeName(const toml::node& node) {
   }
 }
 
-// Echo of user text in one line (control characters escaped, long text cut).
+// Echo of user text in one line: at most 60 bytes (cut on a UTF-8 boundary)
+// with control characters and bytes that are not UTF-8 escaped.
 std::string Echo(std::string_view text) {
-  std::string out;
-  for (char c : text.substr(0, 60)) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      out += fmt::format("\\x{:02x}", u);
-    } else {
-      out += c;
-    }
+  constexpr std::size_t kMaxEcho = 60;
+  if (text.size() <= kMaxEcho) return PrintableText(text);
+  std::size_t cut = kMaxEcho;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xc0) == 0x80) {
+    --cut;
   }
-  if (text.size() > 60) out += "...";
-  return out;
+  return PrintableText(text.substr(0, cut)) + "...";
 }
 
 SourceLocation Where(const toml::node& node) {
@@ -191,12 +200,73 @@ class Parser {
                       StaircaseOptions& o, const Axis* axis);
   void ParseIntervals(const toml::table& t, const std::string& name,
                       std::size_t count, Block& b);
+  // Fills b.reach for a block parsed without errors: the materials it names
+  // and, on its axis, its standard and the ends of the levels it can reach.
+  // `staircases` holds each staircase's table.
+  void Reach(const toml::table& t, const std::string& name, const Protocol& p,
+             const Axis* axis, std::span<const toml::table* const> staircases,
+             Block& b);
+  // Adds a level the block can reach to b.reach, or reports why its material
+  // cannot be presented (`what` names it, `fix` ends the message).
+  void ReachLevel(const Protocol& p, const Axis& axis, double level,
+                  std::string what, SourceLocation where, std::string_view fix,
+                  Block& b);
+
+  // The declared material or axis with this id, or null (a lookup in the
+  // index, so that many references to many ids stay linear).
+  const ProtocolMaterial* FindMaterial(const Protocol& p,
+                                       std::string_view id) const;
+  const Axis* FindAxis(const Protocol& p, std::string_view id) const;
+  // Rebuilds the indices after p.materials or p.axes changed.
+  void Index(const Protocol& p);
+  // "Did you mean" among `ids`, while the budget of comparisons lasts.
+  std::string_view Suggest(std::string_view typed, Keys ids);
 
   std::string path_;
   std::vector<Diagnostic> diagnostics_;
   std::set<std::string> broken_materials_;  // declared, but with errors
   std::set<std::string> broken_axes_;       // declared, but with errors
+  std::map<std::string, std::size_t, std::less<>> material_index_;
+  std::map<std::string, std::size_t, std::less<>> axis_index_;
+  std::vector<std::string_view> material_ids_;  // in p.materials' order
+  std::vector<std::string_view> axis_ids_;      // in p.axes' order
+  // Candidate comparisons left for suggestions among declared ids: a file
+  // with thousands of bad references to thousands of ids gets suggestions
+  // for the first ones and stays linear in its size.
+  std::size_t suggestion_budget_ = 1'000'000;
 };
+
+void Parser::Index(const Protocol& p) {
+  material_index_.clear();
+  material_ids_.clear();
+  for (std::size_t i = 0; i < p.materials.size(); ++i) {
+    material_index_.emplace(p.materials[i].id, i);
+    material_ids_.push_back(p.materials[i].id);
+  }
+  axis_index_.clear();
+  axis_ids_.clear();
+  for (std::size_t i = 0; i < p.axes.size(); ++i) {
+    axis_index_.emplace(p.axes[i].id, i);
+    axis_ids_.push_back(p.axes[i].id);
+  }
+}
+
+const ProtocolMaterial* Parser::FindMaterial(const Protocol& p,
+                                             std::string_view id) const {
+  const auto it = material_index_.find(id);
+  return it == material_index_.end() ? nullptr : &p.materials[it->second];
+}
+
+const Axis* Parser::FindAxis(const Protocol& p, std::string_view id) const {
+  const auto it = axis_index_.find(id);
+  return it == axis_index_.end() ? nullptr : &p.axes[it->second];
+}
+
+std::string_view Parser::Suggest(std::string_view typed, Keys ids) {
+  if (ids.size() > suggestion_budget_) return {};
+  suggestion_budget_ -= ids.size();
+  return DidYouMean(typed, ids);
+}
 
 void Parser::CheckKeys(const toml::table& table, const std::string& name,
                        const std::vector<std::string_view>& allowed,
@@ -519,16 +589,16 @@ std::optional<std::string> Parser::MaterialRef(const toml::table& t,
     }
     return std::nullopt;
   }
-  if (p.FindMaterial(*id) != nullptr) return id;
+  if (FindMaterial(p, *id) != nullptr) return id;
   if (broken_materials_.contains(*id)) return std::nullopt;
-  std::vector<std::string_view> ids;
-  for (const ProtocolMaterial& m : p.materials) ids.push_back(m.id);
-  const std::string_view hint = DidYouMean(*id, ids);
+  const Keys ids = material_ids_;
+  const std::string_view hint = Suggest(*id, ids);
   Fail(*t.get(key),
        fmt::format("{}: unknown material \"{}\"{}", name, Echo(*id),
                    !hint.empty() ? fmt::format(" (did you mean \"{}\"?)", hint)
-                   : ids.empty() ? std::string(" (no [materials] declared)")
-                                 : fmt::format(" (declared: {})", Join(ids))));
+                   : ids.empty()
+                       ? std::string(" (no [materials] declared)")
+                       : fmt::format(" (declared: {})", JoinDeclared(ids))));
   return std::nullopt;
 }
 
@@ -579,7 +649,7 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
         axis.from = *from;
         axis.to = *to;
         for (const std::string& m : {*from, *to}) {
-          if (p.FindMaterial(m)->set.material.mu <= 0.0) {
+          if (FindMaterial(p, m)->set.material.mu <= 0.0) {
             Fail(t, fmt::format("{}: material \"{}\" has mu = 0; a log "
                                 "interpolation needs every parameter > 0",
                                 name, m));
@@ -758,6 +828,11 @@ void Parser::ParseStaircase(const toml::table& t, const std::string& name,
       Fail(*node, fmt::format("{}.step_schedule must be an array of tables "
                               "{{after_reversals, step_down, step_up}}, got {}",
                               name, TypeName(*node)));
+    } else if (a->size() > kMaxScheduleEntries) {
+      // Every interleaved staircase copies the block's schedule: bounded, so
+      // that copies stay linear in the file.
+      Fail(*node, fmt::format("{}.step_schedule holds {} entries; at most {}",
+                              name, a->size(), kMaxScheduleEntries));
     } else {
       o.step_schedule.clear();
       for (std::size_t i = 0; i < a->size(); ++i) {
@@ -870,17 +945,17 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
   const Axis* axis = nullptr;
   if (axis_method) {
     if (auto id = String(t, "axis", name + ".axis")) {
-      axis = p.FindAxis(*id);
+      axis = FindAxis(p, *id);
       if (axis == nullptr && !broken_axes_.contains(*id)) {
-        std::vector<std::string_view> ids;
-        for (const Axis& a : p.axes) ids.push_back(a.id);
-        const std::string_view hint = DidYouMean(*id, ids);
+        const Keys ids = axis_ids_;
+        const std::string_view hint = Suggest(*id, ids);
         Fail(*t.get("axis"),
              fmt::format(
                  "{}.axis: unknown axis \"{}\"{}", name, Echo(*id),
                  !hint.empty() ? fmt::format(" (did you mean \"{}\"?)", hint)
-                 : ids.empty() ? std::string(" (no [axes] declared)")
-                               : fmt::format(" (declared: {})", Join(ids))));
+                 : ids.empty()
+                     ? std::string(" (no [axes] declared)")
+                     : fmt::format(" (declared: {})", JoinDeclared(ids))));
       } else {
         b.axis = *id;
       }
@@ -920,6 +995,8 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
   };
 
   std::size_t n_intervals = 2;
+  std::vector<const toml::table*> staircase_tables;
+  const std::size_t errors_before = diagnostics_.size();
   switch (b.method) {
     case Method::kSameDifferent: {
       auto a = MaterialRef(t, "a", name + ".a", p, true);
@@ -1185,6 +1262,23 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
             t.get("staircases") != nullptr
                 ? fmt::format("{}.staircases[{}]", name, i + 1)
                 : name;
+        if (t.get("max_trials") == nullptr &&
+            table->get("max_trials") == nullptr) {
+          // Documented as required: the trial count sets the session's
+          // length and how many reversals the estimate can use, so it is the
+          // author's choice, not a silent default.
+          Fail(Where(*table),
+               table == &t
+                   ? fmt::format("{} needs \"max_trials\" (1 to {}): the "
+                                 "staircase stops after that many trials, or "
+                                 "sooner at max_reversals",
+                                 en, kMaxTrialsPerBlock)
+                   : fmt::format("{} needs \"max_trials\" (1 to {}), here or "
+                                 "in {}: the staircase stops after that many "
+                                 "trials, or sooner at max_reversals",
+                                 en, kMaxTrialsPerBlock, name));
+          continue;
+        }
         if (o.max_trials == 0) {
           const toml::node* at = table->get("max_trials");
           Fail(at != nullptr ? Where(*at) : Where(*table),
@@ -1208,6 +1302,7 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
           continue;
         }
         b.staircases.push_back(o);
+        staircase_tables.push_back(table);
       }
       n_intervals = b.adaptive_response == AdaptiveResponse::kYesNo ? 1 : 2;
       break;
@@ -1215,6 +1310,19 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
     case Method::kQuest: {
       const int n = trials(40);
       if (n > 0) b.quest_trials = n;
+      if (auto v = Number(t, "floor", name + ".floor")) {
+        b.quest_floor_level = *v;
+        CheckLevel(t, "floor", name + ".floor", axis, *v);
+      }
+      if (auto v = Number(t, "ceiling", name + ".ceiling")) {
+        b.quest_ceiling_level = *v;
+        CheckLevel(t, "ceiling", name + ".ceiling", axis, *v);
+        if (!(b.quest_floor_level < *v)) {
+          Fail(*t.get("ceiling"),
+               fmt::format("{}.ceiling = {} must be above floor = {}", name, *v,
+                           b.quest_floor_level));
+        }
+      }
       constexpr std::string_view kModes[] = {"2afc", "yesno"};
       if (auto c = Choice(t, "response", name + ".response", kModes)) {
         b.adaptive_response = static_cast<AdaptiveResponse>(*c);
@@ -1235,10 +1343,12 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
             *f.value = *v;
           }
         }
-        if (Status s = o.Validate(); !s.ok()) {
+        // Building the track checks more than Validate (the psychometric
+        // table must hold pThreshold): what run would refuse is refused here.
+        if (Result<Quest> built = Quest::Create(o); !built.ok()) {
           // The library names fields in snake_case; protocol files use
           // QuestCreate's names.
-          std::string message = s.error().message;
+          std::string message = built.error().message;
           if (message.starts_with("quest: ")) message.erase(0, 7);
           const toml::node* at = q;
           constexpr std::pair<std::string_view, std::string_view> kNames[] = {
@@ -1250,14 +1360,16 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
               {"gamma", "gamma"},
               {"grain", "grain"},
               {"range", "range"}};
+          bool named = false;
           for (const auto& [snake, ptb] : kNames) {
             if (message.starts_with(std::string(snake) + " ")) {
               message.replace(0, snake.size(), ptb);
               if (const toml::node* key = q->get(ptb)) at = key;
+              named = true;
               break;
             }
           }
-          Fail(*at, fmt::format("{}.{}", qn, message));
+          Fail(*at, fmt::format("{}{}{}", qn, named ? "." : ": ", message));
         }
       } else if (t.get("quest") == nullptr) {
         Fail(t, fmt::format("{} needs a [blocks.quest] table with at least "
@@ -1269,6 +1381,202 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
     }
   }
   ParseIntervals(t, name, n_intervals, b);
+  if (diagnostics_.size() == errors_before) {
+    Reach(t, name, p, axis, staircase_tables, b);
+  }
+}
+
+void Parser::ReachLevel(const Protocol& p, const Axis& axis, double level,
+                        std::string what, SourceLocation where,
+                        std::string_view fix, Block& b) {
+  Result<stimuli::MaterialSet> set = MaterialAtLevel(p, axis, level);
+  if (!set.ok()) {
+    Fail(where, fmt::format("{}: {}{}", what, set.error().message, fix));
+    return;
+  }
+  b.reach.push_back({std::move(what), where, level, std::move(set.value())});
+}
+
+void Parser::Reach(const toml::table& t, const std::string& name,
+                   const Protocol& p, const Axis* axis,
+                   std::span<const toml::table* const> staircases, Block& b) {
+  auto at = [](const toml::table& table, std::string_view key) {
+    const toml::node* node = table.get(key);
+    return node != nullptr ? Where(*node) : Where(table);
+  };
+  // A material the block names under `key`.
+  auto material = [&](std::string_view key, const std::string& id) {
+    if (const ProtocolMaterial* m = FindMaterial(p, id)) {
+      b.reach.push_back({fmt::format("{}.{} = \"{}\"", name, key, id),
+                         at(t, key), std::nullopt, m->set});
+    }
+  };
+  if (b.method == Method::kSameDifferent) {
+    material("a", b.material_a);
+    material("b", b.material_b);
+    return;
+  }
+  if (b.method == Method::kTwoInterval) {
+    const bool reference = b.design == TwoIntervalDesign::kReference;
+    material(reference ? "a" : "standard", b.material_a);
+    material(reference ? "b" : "comparison", b.material_b);
+    if (!b.reference_material.empty()) {
+      material("reference_material", b.reference_material);
+    }
+    return;
+  }
+  if (axis == nullptr) return;
+  ReachLevel(
+      p, *axis, b.standard_level,
+      t.get("standard_level") != nullptr
+          ? fmt::format("{}.standard_level = {}", name, b.standard_level)
+          : fmt::format("{}: the standard (level {})", name, b.standard_level),
+      at(t, "standard_level"), "", b);
+  // One end of a track's levels: the bound (floor when `down`, else ceiling)
+  // from `table` (named `table_name`) where it stops the track before its
+  // steps do, else the level `stepped` its steps reach (`steps` says how).
+  auto track_end = [&](bool down, double bound, const toml::table& table,
+                       const std::string& table_name, double stepped,
+                       const std::string& steps) {
+    const std::string_view key = down ? "floor" : "ceiling";
+    if (std::isfinite(bound) && (down ? bound >= stepped : bound <= stepped)) {
+      const toml::table& from = table.get(key) != nullptr ? table : t;
+      const std::string& from_name =
+          table.get(key) != nullptr ? table_name : name;
+      ReachLevel(p, *axis, bound,
+                 fmt::format("{}.{} = {}", from_name, key, bound),
+                 at(from, key), "", b);
+      return;
+    }
+    ReachLevel(p, *axis, stepped,
+               fmt::format(
+                   "{}: {}{} reach level {:.6g}", table_name,
+                   std::isfinite(bound) ? "" : fmt::format("with no {}, ", key),
+                   steps, stepped),
+               Where(table),
+               std::isfinite(bound)
+                   ? fmt::format("; {} {}", down ? "raise" : "lower", key)
+                   : fmt::format("; set {}", key),
+               b);
+  };
+  switch (b.method) {
+    case Method::kConstantStimuli: {
+      // The lowest and highest levels, at their place in the array.
+      const toml::array& levels = *t.get("levels")->as_array();
+      std::size_t lo = 0, hi = 0;
+      for (std::size_t i = 1; i < b.constant_stimuli.levels.size(); ++i) {
+        const double v = b.constant_stimuli.levels[i];
+        if (v < b.constant_stimuli.levels[lo]) lo = i;
+        if (v > b.constant_stimuli.levels[hi]) hi = i;
+      }
+      for (std::size_t i : {lo, hi}) {
+        const double v = b.constant_stimuli.levels[i];
+        ReachLevel(p, *axis, v, fmt::format("{}.levels: level {}", name, v),
+                   Where(*levels.get(i)), "", b);
+      }
+      break;
+    }
+    case Method::kLimits: {
+      // Series walk on to the floor and the ceiling (given or default).
+      const LimitsOptions& o = b.limits;
+      for (const auto& [key, level] :
+           {std::pair<std::string_view, double>{"floor", o.floor_level},
+            std::pair<std::string_view, double>{"ceiling", o.ceiling_level}}) {
+        ReachLevel(p, *axis, level,
+                   t.get(key) != nullptr
+                       ? fmt::format("{}.{} = {}", name, key, level)
+                       : fmt::format("{}: with no {}, series go on to level "
+                                     "{} (the default {})",
+                                     name, key, level, key),
+                   at(t, key),
+                   t.get(key) != nullptr ? "" : fmt::format("; set {}", key),
+                   b);
+      }
+      break;
+    }
+    case Method::kAdjustment: {
+      // The jittered start, then max_steps presses the same way.
+      const AdjustmentOptions& o = b.adjustment;
+      const double steps =
+          static_cast<double>(o.start_jitter_steps) + o.max_steps;
+      for (const bool down : {true, false}) {
+        track_end(down, down ? o.floor_level : o.ceiling_level, t, name,
+                  ApplyStep(o.start_level, (down ? -steps : steps) * o.step,
+                            o.step_scale),
+                  fmt::format("{} steps of {} {} from start_level {}", steps,
+                              o.step, down ? "down" : "up", o.start_level));
+      }
+      break;
+    }
+    case Method::kStaircase: {
+      // A move down needs n_down trials and one up n_up, so max_trials trials
+      // make at most max_trials / n_down moves down, each at most the
+      // largest down step of the schedule (and the same up).
+      for (std::size_t i = 0; i < b.staircases.size(); ++i) {
+        const StaircaseOptions& o = b.staircases[i];
+        const toml::table& table = *staircases[i];
+        const std::string table_name =
+            &table == &t ? name : fmt::format("{}.staircases[{}]", name, i + 1);
+        double step_down = o.step_down, step_up = o.step_up;
+        for (const StepChange& c : o.step_schedule) {
+          step_down = std::max(step_down, c.step_down);
+          step_up = std::max(step_up, c.step_up);
+        }
+        const int moves_down = o.max_trials / o.n_down;
+        const int moves_up = o.max_trials / o.n_up;
+        track_end(
+            true, o.floor_level, table, table_name,
+            ApplyStep(o.start_level, -moves_down * step_down, o.step_scale),
+            fmt::format("{} steps of {} down from start_level {}", moves_down,
+                        step_down, o.start_level));
+        track_end(false, o.ceiling_level, table, table_name,
+                  ApplyStep(o.start_level, moves_up * step_up, o.step_scale),
+                  fmt::format("{} steps of {} up from start_level {}", moves_up,
+                              step_up, o.start_level));
+      }
+      break;
+    }
+    case Method::kQuest: {
+      // Placements lie on the posterior's grid, tGuess +- range/2 (log10
+      // units), presented clamped to the axis's domain, floor and ceiling.
+      Result<Quest> quest = Quest::Create(b.quest);
+      if (!quest.ok()) break;
+      const toml::table& q = *t.get("quest")->as_table();
+      const auto [domain_lo, domain_hi] = AxisDomain(p, *axis);
+      const bool floored = b.quest_floor_level >= domain_lo;
+      const bool ceiled = b.quest_ceiling_level <= domain_hi;
+      const double lo = floored ? b.quest_floor_level : domain_lo;
+      const double hi =
+          std::max(lo, ceiled ? b.quest_ceiling_level : domain_hi);
+      for (const bool down : {true, false}) {
+        const double x = down ? quest->intensity_min() : quest->intensity_max();
+        const double raw = std::pow(10.0, x);
+        if (raw < lo || raw > hi) {
+          const bool below = raw < lo;
+          const bool key = below ? floored : ceiled;
+          const std::string_view bound = below ? "floor" : "ceiling";
+          const double level = below ? lo : hi;
+          ReachLevel(
+              p, *axis, level,
+              key ? fmt::format("{}.{} = {}", name, bound, level)
+                  : fmt::format("{}.quest: placements {} level {:.6g} (the {} "
+                                "of axis \"{}\"'s domain) are presented there",
+                                name, below ? "below" : "above", level,
+                                below ? "lower end" : "upper end", axis->id),
+              key ? at(t, bound) : Where(q), "", b);
+        } else {
+          ReachLevel(p, *axis, raw,
+                     fmt::format("{}.quest: placements reach level {:.6g} "
+                                 "(tGuess {} range/2 = {:.6g} in log10 units)",
+                                 name, raw, down ? "-" : "+", x),
+                     Where(q), "", b);
+        }
+      }
+      break;
+    }
+    default:
+      break;
+  }
 }
 
 void Parser::ParseBlocks(const toml::table& root, Protocol& p) {
@@ -1324,6 +1632,7 @@ ParseOutcome Parser::Parse(const toml::table& root) {
   ParseObserver(root, p);
   ParseCounterbalance(root, p);
   ParseMaterials(root, p);
+  Index(p);
   ParseAxes(root, p);
   // toml++ keeps table keys sorted; the model keeps file order.
   auto by_position = [](const auto& a, const auto& b) {
@@ -1332,6 +1641,7 @@ ParseOutcome Parser::Parse(const toml::table& root) {
   };
   std::stable_sort(p.materials.begin(), p.materials.end(), by_position);
   std::stable_sort(p.axes.begin(), p.axes.end(), by_position);
+  Index(p);
   ParseBlocks(root, p);
   ParseOutcome outcome;
   std::stable_sort(diagnostics_.begin(), diagnostics_.end(),

@@ -490,18 +490,20 @@ Result<SessionSummary> SessionRunner::Run() {
 stimuli::IntervalOptions IntervalOptionsFor(
     const protocols::Protocol& p, double radius_mm, const TrialSpec& trial,
     const stimuli::MaterialSet& set, double duration_s, std::uint64_t seed) {
-  stimuli::IntervalOptions o;
-  o.material = set.material;
-  o.task = trial.task;
-  o.duration_s = duration_s;
-  // One press per second, or one press over a shorter interval.
-  o.press_period_s = std::min(o.press_period_s, duration_s);
-  o.radius_mm = radius_mm;
-  o.probe_force_n = p.observer.probe_force_n;
-  o.drill_force_n = p.observer.drill_force_n;
-  o.trace_hz = p.trace_hz;
+  stimuli::IntervalOptions o = protocols::SimulatedIntervalOptions(
+      p, radius_mm, trial.task, set.material, duration_s);
   o.seed = seed;
   return o;
+}
+
+Status CheckRenderable(const LoadedProtocol& loaded, double radius_mm) {
+  const std::vector<protocols::Diagnostic> diagnostics =
+      protocols::CheckSimulatedIntervals(loaded.protocol, radius_mm);
+  if (diagnostics.empty()) return {};
+  std::string all =
+      protocols::FormatDiagnostics(loaded.path, loaded.text, diagnostics);
+  if (!all.empty() && all.back() == '\n') all.pop_back();
+  return Error{all};
 }
 
 std::string Sha256Hex(std::string_view text) {
@@ -549,10 +551,8 @@ Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
   loaded.text = std::move(text);
   protocols::ParseOutcome parsed = protocols::ParseProtocol(path, loaded.text);
   if (!parsed.protocol.has_value()) {
-    std::string all;
-    for (const protocols::Diagnostic& d : parsed.diagnostics) {
-      all += protocols::FormatDiagnostic(path, loaded.text, d);
-    }
+    std::string all =
+        protocols::FormatDiagnostics(path, loaded.text, parsed.diagnostics);
     if (!all.empty() && all.back() == '\n') all.pop_back();
     return Error{all};
   }
@@ -576,9 +576,12 @@ std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
       const protocols::ObserverParams& o = options.observer;
       responder = fmt::format(
           "simulated weber_stiffness={} weber_removal={} lapse={} "
-          "criterion={} rt_median_s={} rt_log_sd={} match_tolerance={}",
+          "criterion={} rt_median_s={} rt_log_sd={} match_tolerance={}{}",
           o.weber_stiffness, o.weber_removal, o.lapse, o.criterion,
-          o.rt_median_s, o.rt_log_sd, o.match_tolerance);
+          o.rt_median_s, o.rt_log_sd, o.match_tolerance,
+          o.answers == protocols::AnswerRule::kAlwaysCorrect ? " always=correct"
+          : o.answers == protocols::AnswerRule::kAlwaysWrong ? " always=wrong"
+                                                             : "");
       break;
     }
   }
@@ -616,6 +619,13 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
   if ((options.responder == Responder::kStation) !=
       (options.station != nullptr)) {
     return Error{"a station session needs a station (and only it does)"};
+  }
+  // Every stimulus the protocol can reach renders with this burr, or nothing
+  // is written (a station renders in its own loop, on the device).
+  if (options.responder != Responder::kStation) {
+    if (Status s = CheckRenderable(loaded, options.radius_mm); !s.ok()) {
+      return s.error();
+    }
   }
   std::vector<rs::TrialRecord> records;
   auto journal = [&]() -> rs::Result<rs::Journal> {

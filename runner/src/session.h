@@ -58,6 +58,13 @@ Result<LoadedProtocol> LoadProtocol(const std::string& path);
 Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
                                            std::string text);
 
+// Refuses a protocol when a simulated interval with burr radius radius_mm
+// cannot render a stimulus one of its blocks can reach
+// (protocols::CheckSimulatedIntervals): the error holds the diagnostics as
+// `burrlab validate` prints them. Runs that render simulated intervals check
+// this before they write anything.
+Status CheckRenderable(const LoadedProtocol& loaded, double radius_mm);
+
 // Prints LoadProtocol's error (a read error as one "burrlab: " line, parse
 // errors as their diagnostics) and returns 1.
 int ReportLoadError(std::ostream& err, const Error& error);

@@ -94,14 +94,12 @@ Result<std::string> ReadSmallFile(const std::string& path,
   return text.str();
 }
 
-// Every diagnostic of a parsed file, formatted as `burrlab validate` prints
-// them (without the final line break).
+// The diagnostics of a parsed file, formatted as `burrlab validate` prints
+// them (at most kMaxPrintedDiagnostics, then a count; without the final
+// line break).
 std::string Diagnostics(const std::string& path, const std::string& text,
                         const std::vector<protocols::Diagnostic>& all) {
-  std::string out;
-  for (const protocols::Diagnostic& d : all) {
-    out += protocols::FormatDiagnostic(path, text, d);
-  }
+  std::string out = protocols::FormatDiagnostics(path, text, all);
   if (!out.empty() && out.back() == '\n') out.pop_back();
   return out;
 }
@@ -451,7 +449,10 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
                    1000000, &subject_index);
   flags.AddText("--observer",
                 "simulated[:weber=W,lapse=L,...] (default: answers typed at "
-                "the prompt)",
+                "the prompt); keys weber, weber_stiffness, weber_removal, "
+                "lapse, criterion, rt_median_s, and always=correct or "
+                "always=wrong: every answer right (or wrong), to dry-run a "
+                "protocol to the ends of its levels",
                 &observer);
   flags.AddSwitch("--resume", "continue the subject's interrupted session",
                   &resume);
@@ -494,6 +495,9 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   options.radius_mm = radius_mm;
   if (!station.device.empty() || !station.station_path.empty()) {
     return RunAtStation(loaded.value(), options, station, out, err);
+  }
+  if (Status s = CheckRenderable(loaded.value(), radius_mm); !s.ok()) {
+    return ReportLoadError(err, s.error());
   }
   if (observer.empty()) {
     options.responder = Responder::kTerminal;
@@ -550,7 +554,10 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddUnsigned("--seed", "study seed (default 1)", &seed);
   flags.AddInteger("--jobs", "parallel sessions (default: the core count)", 1,
                    256, &jobs);
-  flags.AddText("--observer", "simulated[:weber=W,lapse=L,...]", &observer);
+  flags.AddText("--observer",
+                "simulated[:weber=W,lapse=L,...]; keys as for run, "
+                "always=correct|wrong included",
+                &observer);
   flags.AddSwitch("--resume",
                   "continue interrupted subjects and run the missing ones",
                   &resume);
@@ -574,6 +581,9 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (out_dir.empty()) return Fail(err, "--out is required");
   Result<LoadedProtocol> loaded = LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  if (Status s = CheckRenderable(loaded.value(), radius_mm); !s.ok()) {
+    return ReportLoadError(err, s.error());
+  }
   Result<protocols::ObserverParams> params =
       ObserverFor(loaded->protocol, observer.empty() ? "simulated" : observer);
   if (!params.ok()) return Fail(err, params.error().message);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/sim/printable.h"
 #include "flags.h"
 #include "session.h"
 #include "station/station_file.h"
@@ -34,9 +35,7 @@ bool ValidateIfStation(const std::string& file, std::ostream& out,
   if (!LooksLikeStationFile(text.str())) return false;
   StationParseOutcome parsed = ParseStation(file, text.str());
   if (!parsed.station.has_value()) {
-    for (const protocols::Diagnostic& d : parsed.diagnostics) {
-      err << protocols::FormatDiagnostic(file, text.str(), d);
-    }
+    err << protocols::FormatDiagnostics(file, text.str(), parsed.diagnostics);
     *code = 1;
     return true;
   }
@@ -61,12 +60,21 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "Check protocol files (format burrlab-protocol/1) and station files "
       "(burrlab-station/1): types, ranges, "
       "unknown keys, unknown materials and axes, designs that cannot be "
-      "balanced, staircases that can never stop. Every problem is printed "
-      "as path:line:col: error: ... with the source line and a caret.",
+      "balanced, staircases that can never stop, and every level a block "
+      "can reach (adaptive tracks to their floor and ceiling, or as far as "
+      "max_trials steps go): its material must be one the simulator renders "
+      "with the simulated hand at --radius-mm, so a protocol that validates "
+      "runs. Every problem is printed as path:line:col: error: ... with the "
+      "source line and a caret (at most 100, then a count).",
       "burrlab validate"};
   std::vector<std::string> files;
   app.add_option("files", files, "protocol or station files")->required();
+  double radius_mm = 2.0;
   FlagSet flags(&app);
+  flags.AddPositive("--radius-mm",
+                    "burr radius the simulated intervals are checked with "
+                    "(default 2, as run and study use)",
+                    "mm", &radius_mm, 5.0);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   int code = 0;
@@ -77,10 +85,14 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
       code = ReportLoadError(err, loaded.error());
       continue;
     }
+    if (Status s = CheckRenderable(loaded.value(), radius_mm); !s.ok()) {
+      code = ReportLoadError(err, s.error());
+      continue;
+    }
     const protocols::Protocol& p = loaded->protocol;
     out << fmt::format("{}: ok ({} block{}, study \"{}\")\n", file,
                        p.blocks.size(), p.blocks.size() == 1 ? "" : "s",
-                       p.study_name);
+                       PrintableText(p.study_name));
   }
   return code;
 }

@@ -329,6 +329,14 @@ class LineFit {
 
 }  // namespace
 
+double MaxProbeForceN(const sim::Material& material, double radius_mm,
+                      double voxel_mm) {
+  const double buried = (2.0 * radius_mm - voxel_mm) / radius_mm;
+  if (!(buried > 0.0)) return 0.0;
+  return 0.9 * material.c_e_n_per_mm2 * radius_mm * radius_mm * buried *
+         std::sqrt(buried);
+}
+
 std::string_view TaskName(Task task) {
   switch (task) {
     case Task::kProbe:
@@ -377,6 +385,16 @@ Status IntervalOptions::Validate() const {
     return Error{fmt::format(
         "interval: trace_hz must be a positive divisor of 1000, got {}",
         trace_hz)};
+  }
+  if (task == Task::kProbe) {
+    const double max_n = MaxProbeForceN(material, radius_mm, voxel_mm);
+    if (!(probe_force_n <= max_n)) {
+      return Error{fmt::format(
+          "interval: probe_force_n = {} N is more than material c_e = {:.6g} "
+          "N/mm^2 holds with radius_mm = {} and voxel_mm = {} (at most {:.3g} "
+          "N)",
+          probe_force_n, material.c_e_n_per_mm2, radius_mm, voxel_mm, max_n)};
+    }
   }
   return {};
 }
@@ -461,7 +479,8 @@ Result<IntervalResult> PresentSimulatedInterval(const IntervalOptions& o) {
     if (probe && depth > 2.0 * radius) {
       // Buried, the burr feels no net force (m1 = 0) and the hand would sink
       // on: the material cannot hold the press force, F_e <= 2^(3/2) c_e R^2
-      // (eq. 7.3 at h = 2R).
+      // (eq. 7.3 at h = 2R). Validate refuses such presses before the loop
+      // (MaxProbeForceN, with a margin); this stays as the loop's guard.
       return Error{fmt::format(
           "interval: the burr sank into the material at t = {} s: "
           "probe_force_n = {} N is more than it holds with radius_mm = {} "

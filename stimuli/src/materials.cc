@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "burrlab/sim/printable.h"
 #include "burrlab/sim/spelling.h"
 #include "burrlab/stimuli/toml_guard.h"
 
@@ -77,36 +78,34 @@ std::string Suggestion(std::string_view typed,
 }
 
 // `text` with control characters escaped, so that a message stays one line
-// whatever a hostile file puts in a key or a string.
+// whatever a hostile file puts in a key or a string: line breaks and tabs by
+// name (\n, \r, \t), everything else as PrintableText escapes it.
 std::string OneLine(std::string_view text) {
   std::string out;
   out.reserve(text.size());
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '\n') {
-      out += "\\n";
-    } else if (c == '\r') {
-      out += "\\r";
-    } else if (c == '\t') {
-      out += "\\t";
-    } else if (byte < 0x20 || byte == 0x7f) {
-      out += fmt::format("\\x{:02x}", byte);
-    } else {
-      out += c;
-    }
+  while (!text.empty()) {
+    const std::size_t special =
+        std::min(text.find_first_of("\n\r\t"), text.size());
+    out += PrintableText(text.substr(0, special));
+    if (special == text.size()) break;
+    out += text[special] == '\n'   ? "\\n"
+           : text[special] == '\r' ? "\\r"
+                                   : "\\t";
+    text.remove_prefix(special + 1);
   }
   return out;
 }
 
-// `text` as quoted in a message: at most 64 bytes, cut on a UTF-8 boundary.
+// `text` as quoted in a message: at most 64 bytes, cut on a UTF-8 boundary,
+// escaped by OneLine.
 std::string Echo(std::string_view text) {
   constexpr std::size_t kMaxEcho = 64;
-  if (text.size() <= kMaxEcho) return std::string(text);
+  if (text.size() <= kMaxEcho) return OneLine(text);
   std::size_t cut = kMaxEcho;
   while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xc0) == 0x80) {
     --cut;
   }
-  return fmt::format("{}...", text.substr(0, cut));
+  return fmt::format("{}...", OneLine(text.substr(0, cut)));
 }
 
 bool IsValid(const toml::source_position& position) {

@@ -139,6 +139,20 @@ TEST(ParsePsychometricData, PoolsBehTsvTrialsByLevelSkippingNa) {
   EXPECT_EQ(f->blocks[1].n_total, 3);
 }
 
+TEST(ParsePsychometricData, ControlBytesOfACellAreEscapedInTheMessage) {
+  // The exact text: an ESC sequence and a BEL in a cell reach the terminal
+  // as \x1b and \x07, in the message and in the quoted line alike.
+  EXPECT_EQ(ParsePsychometricData("d.csv",
+                                  "level,n_correct,n_total\n\x1b[2J\x07,1,2\n")
+                .error()
+                .message,
+            "d.csv:2:1: error: level '\\x1b[2J\\x07' is not a finite number\n"
+            "\\x1b[2J\\x07,1,2\n"
+            "^");
+  EXPECT_EQ(FormatDataDiagnostic("d.csv", "x\n\xc3\xa9,\x1b,2\n", 2, 4, "bad"),
+            "d.csv:2:4: error: bad\n\xc3\xa9,\\x1b,2\n  ^");
+}
+
 TEST(ParsePsychometricData, NamesLineAndColumnOfABadCell) {
   EXPECT_EQ(ParsePsychometricData(
                 "d.csv", "level,n_correct,n_total\n1,21,40\n2,abc,40\n")

@@ -243,6 +243,42 @@ TEST(Engine, QuestPlacesTrialsAtThePosteriorQuantileOfTheLibrary) {
   EXPECT_TRUE(engine->finished());
 }
 
+TEST(Engine, QuestPlacementsAreClampedToTheAxisDomainAndTheBlockBounds) {
+  // tGuess = 308 places the first trial near 10^308; it is presented at the
+  // highest level whose c_e a material may have (1e6 / hard's 2 = 5e5), and
+  // at the block's ceiling when there is one. The update then uses the level
+  // presented.
+  Protocol p = BaseProtocol();
+  Block b;
+  b.name = "quest";
+  b.method = Method::kQuest;
+  b.axis = "ce";
+  b.standard_level = 1.0;
+  b.quest.t_guess = 308.0;
+  b.quest.t_guess_sd = 0.5;
+  b.quest_trials = 2;
+  p.blocks = {b};
+  Result<Engine> engine = Engine::Create(p, 0, 3);
+  ASSERT_TRUE(engine.ok());
+  EXPECT_EQ(*engine->current().level, 5e5);
+  Result<Outcome> out =
+      engine->Respond(ScriptedResponse(engine->current(), "0").value());
+  ASSERT_TRUE(out.ok());
+  const nlohmann::json extra = nlohmann::json::parse(out->extra);
+  EXPECT_EQ(extra["placement_clamped"], true);
+  EXPECT_DOUBLE_EQ(extra["intensity_log10"].get<double>(), std::log10(5e5));
+  p.blocks[0].quest_ceiling_level = 3.0;
+  p.blocks[0].quest.t_guess = -308.0;
+  p.blocks[0].quest_floor_level = 0.25;
+  engine = Engine::Create(p, 0, 3);
+  ASSERT_TRUE(engine.ok());
+  EXPECT_EQ(*engine->current().level, 0.25);
+  p.blocks[0].quest.t_guess = 308.0;
+  engine = Engine::Create(p, 0, 3);
+  ASSERT_TRUE(engine.ok());
+  EXPECT_EQ(*engine->current().level, 3.0);
+}
+
 TEST(Engine, LimitsEstimateIsTheMeanOfHandComputedTransitions) {
   Protocol p = BaseProtocol();
   Block b;

@@ -129,7 +129,7 @@ TEST(SimulatedObserver, ParsesTheObserverFlag) {
                 .message,
             "observer: unknown key \"webber\" (did you mean \"weber\"?) (keys: "
             "weber, weber_stiffness, weber_removal, lapse, criterion, "
-            "rt_median_s)");
+            "rt_median_s, always)");
   EXPECT_EQ(ParseObserverSpec("simulated:lapse=0.7", ObserverParams{})
                 .error()
                 .message,
@@ -137,6 +137,55 @@ TEST(SimulatedObserver, ParsesTheObserverFlag) {
   EXPECT_EQ(ParseObserverSpec("human", ObserverParams{}).error().message,
             "--observer must be 'simulated' or 'simulated:key=value,...', got "
             "\"human\"");
+}
+
+TEST(SimulatedObserver, ParsesAlwaysCorrectAndAlwaysWrong) {
+  EXPECT_EQ(ParseObserverSpec("simulated", ObserverParams{})->answers,
+            AnswerRule::kPercepts);
+  EXPECT_EQ(
+      ParseObserverSpec("simulated:always=correct", ObserverParams{})->answers,
+      AnswerRule::kAlwaysCorrect);
+  Result<ObserverParams> wrong =
+      ParseObserverSpec("simulated:weber=0.3,always=wrong", ObserverParams{});
+  ASSERT_TRUE(wrong.ok());
+  EXPECT_EQ(wrong->answers, AnswerRule::kAlwaysWrong);
+  EXPECT_EQ(wrong->weber_stiffness, 0.3);
+  EXPECT_EQ(ParseObserverSpec("simulated:always=right", ObserverParams{})
+                .error()
+                .message,
+            "observer: always must be correct or wrong, got \"right\"");
+}
+
+TEST(SimulatedObserver, AlwaysCorrectAndAlwaysWrongIgnoreCuesAndLapses) {
+  // The answer key decides, not the percept: cues that point the other way
+  // and lapses at 40 % change nothing over 1000 trials.
+  ObserverParams params = NoLapse(0.2);
+  params.lapse = 0.4;
+  TrialSpec t = TwoIntervalSpec(Method::kTwoInterval, 1.0, 3.0);
+  t.correct_answer = "2";
+  params.answers = AnswerRule::kAlwaysCorrect;
+  EXPECT_EQ(Rate(SimulatedObserver(params), t, {3.0, 1.0}, "2", 1000, 5), 1.0);
+  params.answers = AnswerRule::kAlwaysWrong;
+  EXPECT_EQ(Rate(SimulatedObserver(params), t, {1.0, 3.0}, "1", 1000, 6), 1.0);
+  // Without a correct answer (limits): "yes" and "no".
+  TrialSpec limits = TwoIntervalSpec(Method::kLimits, 1.0, 3.0);
+  limits.response_options = {"yes", "no"};
+  params.answers = AnswerRule::kAlwaysCorrect;
+  EXPECT_EQ(Rate(SimulatedObserver(params), limits, {1.0, 1.0}, "yes", 100, 7),
+            1.0);
+  params.answers = AnswerRule::kAlwaysWrong;
+  EXPECT_EQ(Rate(SimulatedObserver(params), limits, {1.0, 3.0}, "no", 100, 8),
+            1.0);
+  // Adjustments step up (correct) or down (wrong) whatever the cues.
+  boost::random::mt19937 rng(1);
+  params.answers = AnswerRule::kAlwaysCorrect;
+  EXPECT_EQ(
+      SimulatedObserver(params).AdjustStep(Task::kProbe, 1.0, 1.0, 1, rng),
+      '+');
+  params.answers = AnswerRule::kAlwaysWrong;
+  EXPECT_EQ(
+      SimulatedObserver(params).AdjustStep(Task::kProbe, 1.0, 1.0, 1, rng),
+      '-');
 }
 
 // Runs `runs` staircases (1-up/n-down, log10 steps) with a simulated observer

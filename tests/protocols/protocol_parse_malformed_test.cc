@@ -789,6 +789,258 @@ max_reversals = 8
 max_trials = 0
              ^
 )toml"},
+    {"staircase_without_max_trials",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "probe"
+axis = "ce"
+start_level = 2
+floor = 1
+ceiling = 4
+max_reversals = 8
+)toml",
+     R"toml(NAME:14:1: error: blocks[1] needs "max_trials" (1 to 10000): the staircase stops after that many trials, or sooner at max_reversals
+[[blocks]]
+^
+)toml"},
+    {"interleaved_staircase_without_max_trials",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "probe"
+axis = "ce"
+floor = 1
+ceiling = 4
+
+[[blocks.staircases]]
+start_level = 2
+max_trials = 30
+
+[[blocks.staircases]]
+start_level = 3
+)toml",
+     R"toml(NAME:25:1: error: blocks[1].staircases[2] needs "max_trials" (1 to 10000), here or in blocks[1]: the staircase stops after that many trials, or sooner at max_reversals
+[[blocks.staircases]]
+^
+)toml"},
+    {"adjustment_without_floor_leaves_domain",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "adjustment"
+task = "drill"
+axis = "inc"
+start_level = 0.2
+step = 0.05
+ceiling = 1
+max_steps = 40
+)toml",
+     R"toml(NAME:19:1: error: blocks[1]: with no floor, 40 steps of 0.05 down from start_level 0.2 reach level -1.8: axis "inc" (increment): level -1.8 is outside its domain (greater than -1); set floor
+[[blocks]]
+^
+)toml"},
+    {"constant_level_overflows",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "constant_stimuli"
+task = "probe"
+axis = "ce"
+levels = [0.5, 1e308, 2]
+)toml",
+     R"toml(NAME:23:16: error: blocks[1].levels: level 1e+308: axis "ce" (ratio): level 1e+308 gives c_e = inf, outside (0, 1000000] (the range [materials] accepts)
+levels = [0.5, 1e308, 2]
+               ^
+)toml"},
+    {"limits_default_floor_outside_domain",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "limits"
+task = "drill"
+axis = "ce"
+step = 0.1
+ascending_start = 0.5
+descending_start = 1.5
+ceiling = 2
+)toml",
+     R"toml(NAME:19:1: error: blocks[1]: with no floor, series go on to level 0 (the default floor): axis "ce" (ratio): level 0 is outside its domain (greater than 0); set floor
+[[blocks]]
+^
+)toml"},
+    {"quest_ceiling_below_floor",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "quest"
+task = "drill"
+axis = "ce"
+floor = 2
+ceiling = 1
+[blocks.quest]
+tGuess = 0
+tGuessSd = 1
+)toml",
+     R"toml(NAME:24:11: error: blocks[1].ceiling = 1 must be above floor = 2
+ceiling = 1
+          ^
+)toml"},
+    {"staircase_without_ceiling_beyond_materials",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "drill"
+axis = "ce"
+step_scale = "log10"
+start_level = 1
+step_down = 0.5
+step_up = 0.5
+floor = 0.5
+max_trials = 40
+)toml",
+     R"toml(NAME:19:1: error: blocks[1]: with no ceiling, 40 steps of 0.5 up from start_level 1 reach level 1e+20: axis "ce" (ratio): level 1e+20 gives c_e = 2.145e+20, outside (0, 1000000] (the range [materials] accepts); set ceiling
+[[blocks]]
+^
+)toml"},
+    {"staircase_without_floor_leaves_domain",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+
+[axes.inc]
+kind = "increment"
+parameter = "c_e"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "probe"
+axis = "inc"
+start_level = 0.5
+step_down = 0.1
+step_up = 0.1
+ceiling = 1
+max_trials = 40
+)toml",
+     R"toml(NAME:19:1: error: blocks[1]: with no floor, 20 steps of 0.1 down from start_level 0.5 reach level -1.5: axis "inc" (increment): level -1.5 is outside its domain (greater than -1); set floor
+[[blocks]]
+^
+)toml"},
     {"staircase_step_zero",
      R"toml(format = "burrlab-protocol/1"
 
@@ -1182,6 +1434,93 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<MalformedCase>& param_info) {
       return std::string(param_info.param.name);
     });
+
+// Hostile bytes: the exact text shows every control character escaped, in
+// the message and in the quoted source line, so none reaches the terminal.
+TEST(ProtocolParse, ControlBytesInAKeyAndAValueAreEscaped) {
+  // A raw ESC in a bare key and a raw BEL in a string stop toml++.
+  const std::string raw_key =
+      "format = \"burrlab-protocol/1\"\nbad\x1b[31mkey = 1\n";
+  EXPECT_EQ(Formatted("NAME", raw_key),
+            "NAME:2:4: error: invalid TOML in key-value pair: expected '=', "
+            "saw '\\u001B'\n"
+            "bad\\x1b[31mkey = 1\n"
+            "   ^\n");
+  const std::string raw_value =
+      "format = \"burrlab-protocol/1\"\nscheme = \"la\x07tin\"\n";
+  EXPECT_EQ(Formatted("NAME", raw_value),
+            "NAME:2:13: error: invalid TOML in string: unescaped control "
+            "characters other than TAB (U+0009) are explicitly prohibited\n"
+            "scheme = \"la\\x07tin\"\n"
+            "            ^\n");
+  // TOML escapes put ESC into a key and BEL into a value that parse: the
+  // messages quote them escaped.
+  const std::string escaped = R"toml(format = "burrlab-protocol/1"
+"bad\u001b[2Jkey" = 1
+
+[study]
+name = "t"
+
+[counterbalance]
+scheme = "la\u0007tin"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+)toml";
+  EXPECT_EQ(Formatted("NAME", escaped),
+            "NAME:2:21: error: unknown key \"bad\\x1b[2Jkey\" in the protocol; "
+            "accepted: format, study, recording, observer, counterbalance, "
+            "materials, axes, blocks\n"
+            "\"bad\\u001b[2Jkey\" = 1\n"
+            "                    ^\n"
+            "NAME:8:10: error: counterbalance.scheme must be one of none, "
+            "latin_square, reverse, got \"la\\x07tin\"\n"
+            "scheme = \"la\\u0007tin\"\n"
+            "         ^\n"
+            "NAME:10:1: error: blocks[1] needs \"a\" (a material id from "
+            "[materials])\n"
+            "[[blocks]]\n"
+            "^\n"
+            "NAME:10:1: error: blocks[1] needs \"b\" (a material id from "
+            "[materials])\n"
+            "[[blocks]]\n"
+            "^\n");
+}
+
+// Many bad keys: every one is found, parsing and formatting stay linear
+// (tests/bench/protocol_bench.cc times it) and at most 100 are printed, then
+// a count of the rest.
+TEST(ProtocolParse, FiftyThousandBadKeysPrintAHundredAndACount) {
+  std::string text =
+      "format = \"burrlab-protocol/1\"\n[study]\nname = \"t\"\n"
+      "[materials.pvc]\nbuiltin = \"pvc_k70\"\n"
+      "[materials.bone]\nbuiltin = \"human_temporal_bone\"\n"
+      "[[blocks]]\nmethod = \"same_different\"\ntask = \"probe\"\n"
+      "a = \"pvc\"\nb = \"bone\"\n[observer]\n";
+  for (int i = 0; i < 50000; ++i) {
+    text += 'k';  // appended piece by piece: GCC 12's -Wrestrict misfires on
+    text += std::to_string(i);  // "k" + std::to_string(i) + ...
+    text += " = 1\n";
+  }
+  const ParseOutcome outcome = ParseProtocol("big.toml", text);
+  EXPECT_EQ(outcome.diagnostics.size(), 50000u);
+  const std::string printed =
+      FormatDiagnostics("big.toml", text, outcome.diagnostics);
+  std::size_t errors = 0;
+  for (std::size_t at = printed.find(": error: "); at != std::string::npos;
+       at = printed.find(": error: ", at + 1)) {
+    ++errors;
+  }
+  EXPECT_EQ(errors, kMaxPrintedDiagnostics);
+  EXPECT_TRUE(printed.starts_with(
+      "big.toml:14:6: error: unknown key \"k0\" in [observer]; accepted: "
+      "weber_stiffness, weber_removal, lapse, criterion, probe_force_n, "
+      "drill_force_n\nk0 = 1\n     ^\n"))
+      << printed.substr(0, 300);
+  EXPECT_TRUE(printed.ends_with("big.toml: ... and 49900 more errors\n"))
+      << printed.substr(printed.size() - 300);
+}
 
 TEST(ProtocolParse, AtLeastThirtyMalformedCases) {
   EXPECT_GE(std::size(kCases), 30u);

@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <set>
+#include <string>
 #include <utility>
+#include <vector>
 
 namespace burrlab::protocols {
 namespace {
@@ -69,6 +71,102 @@ TEST(MaterialAtLevel, LogInterpolationIsGeometricInEveryParameter) {
   EXPECT_FALSE(MaterialAtLevel(p, axis, 1.2).ok());
 }
 
+TEST(MaterialAtLevel, RefusesParametersBeyondWhatMaterialsAccept) {
+  // The exact text: 1e308 x c_e overflows, and a level past the largest
+  // declarable c_e is refused like one outside the domain.
+  const Protocol p = TwoMaterials();
+  Axis axis;
+  axis.id = "ce";
+  axis.parameter = MaterialParameter::kCE;
+  axis.reference = "hard";
+  axis.kind = AxisKind::kRatio;
+  EXPECT_EQ(MaterialAtLevel(p, axis, 1e308).error().message,
+            "axis \"ce\" (ratio): level 1e+308 gives c_e = inf, outside (0, "
+            "1000000] (the range [materials] accepts)");
+  EXPECT_TRUE(MaterialAtLevel(p, axis, 5e5).ok());  // c_e = 1e6 exactly
+  EXPECT_FALSE(MaterialAtLevel(p, axis, 5.000001e5).ok());
+  axis.kind = AxisKind::kValue;
+  EXPECT_EQ(MaterialAtLevel(p, axis, 2e6).error().message,
+            "axis \"ce\" (value): level 2000000 gives c_e = 2000000, outside "
+            "(0, 1000000] (the range [materials] accepts)");
+}
+
+TEST(AxisDomain, IsTheDomainWhereEveryMaterialCanBePresented) {
+  // Each end gives a material MaterialAtLevel accepts; one step beyond the
+  // upper end does not.
+  const Protocol p = TwoMaterials();
+  Axis axis;
+  axis.id = "ce";
+  axis.parameter = MaterialParameter::kCE;
+  axis.reference = "hard";  // c_e = 2
+  for (AxisKind kind :
+       {AxisKind::kRatio, AxisKind::kIncrement, AxisKind::kValue}) {
+    axis.kind = kind;
+    const auto [lo, hi] = AxisDomain(p, axis);
+    EXPECT_TRUE(MaterialAtLevel(p, axis, lo).ok()) << AxisKindName(kind);
+    EXPECT_TRUE(MaterialAtLevel(p, axis, hi).ok()) << AxisKindName(kind);
+    EXPECT_FALSE(MaterialAtLevel(p, axis, std::nextafter(hi, 2 * hi)).ok())
+        << AxisKindName(kind);
+  }
+  axis.kind = AxisKind::kRatio;
+  EXPECT_EQ(AxisDomain(p, axis), (std::pair(1e-9, 5e5)));
+  axis.kind = AxisKind::kIncrement;
+  EXPECT_DOUBLE_EQ(AxisDomain(p, axis).first, -1.0 + 1e-9);
+  EXPECT_DOUBLE_EQ(AxisDomain(p, axis).second, 5e5 - 1.0);
+  axis.kind = AxisKind::kLogInterpolation;
+  EXPECT_EQ(AxisDomain(p, axis), (std::pair(0.0, 1.0)));
+}
+
+TEST(CheckSimulatedIntervals, NamesEveryReachedLevelThatCannotBeProbed) {
+  // The exact text, against stimuli::IntervalOptions::Validate's bound: at
+  // R = 2 mm and 0.3 mm voxels, 2 N needs c_e >= 2 / (0.9 x 4 x
+  // (3.7 / 2)^(3/2)) = 0.2207 N/mm^2, i.e. a c_e ratio to bone (2.145) of
+  // at least 0.103. The floor 0.05 is too soft; the ceiling and the standard
+  // are fine. At R = 0.5 mm even twice bone's c_e holds only 1.6 N.
+  const std::string text = R"toml(format = "burrlab-protocol/1"
+[study]
+name = "t"
+[materials.bone]
+builtin = "human_temporal_bone"
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+[[blocks]]
+method = "staircase"
+task = "probe"
+axis = "ce"
+step_scale = "log10"
+start_level = 1
+floor = 0.05
+ceiling = 2
+max_trials = 30
+)toml";
+  const ParseOutcome outcome = ParseProtocol("p.toml", text);
+  ASSERT_TRUE(outcome.protocol.has_value());
+  const Protocol& p = *outcome.protocol;
+  ASSERT_EQ(p.blocks[0].reach.size(), 3u);
+  EXPECT_EQ(p.blocks[0].reach[0].what, "blocks[1]: the standard (level 1)");
+  EXPECT_EQ(p.blocks[0].reach[1].what, "blocks[1].floor = 0.05");
+  EXPECT_EQ(p.blocks[0].reach[2].what, "blocks[1].ceiling = 2");
+  EXPECT_EQ(FormatDiagnostics("p.toml", text, CheckSimulatedIntervals(p, 2.0)),
+            "p.toml:16:9: error: blocks[1].floor = 0.05: the simulated hand "
+            "cannot probe it: probe_force_n = 2 N is more than material c_e = "
+            "0.10725 N/mm^2 holds with radius_mm = 2 and voxel_mm = 0.3 (at "
+            "most 0.972 N); lower [observer] probe_force_n or keep the levels "
+            "where the material is stiffer\n"
+            "floor = 0.05\n"
+            "        ^\n");
+  const std::vector<Diagnostic> small = CheckSimulatedIntervals(p, 0.5);
+  ASSERT_EQ(small.size(), 3u);  // the standard (the block), floor, ceiling
+  EXPECT_EQ(small[0].where.line, 10);
+  EXPECT_EQ(small[1].where.line, 16);
+  EXPECT_EQ(small[2].where.line, 17);
+  // A radius no interval accepts is said once, without a place.
+  EXPECT_EQ(FormatDiagnostics("p.toml", text, CheckSimulatedIntervals(p, 7.0)),
+            "p.toml: error: interval: radius_mm must be in [0.5, 5], got 7\n");
+}
+
 TEST(BlockOrder, WilliamsSquareBalancesFirstOrderCarryOver) {
   for (int n : {2, 3, 4, 5, 6}) {
     Protocol p;
@@ -122,6 +220,33 @@ TEST(FormatDiagnostic, CaretFollowsTabsAndColumnOne) {
             "f.toml:1:1: error: first\na = 1\n^\n");
   EXPECT_EQ(FormatDiagnostic("f.toml", text, {{}, "whole file"}),
             "f.toml: error: whole file\n");
+}
+
+TEST(FormatDiagnostic, EscapesControlCharactersInMessageAndSourceLine) {
+  const std::string text = "a = 1\nk\x1b]0;x\x07 = \"\xff\"\n";
+  EXPECT_EQ(FormatDiagnostic("f.toml", text, {{2, 10}, "got \x1b[2J\x9b"}),
+            "f.toml:2:10: error: got \\x1b[2J\\x9b\n"
+            "k\\x1b]0;x\\x07 = \"\\xff\"\n"
+            "               ^\n");
+}
+
+TEST(FormatDiagnostics, PrintsAHundredThenCountsTheRest) {
+  const std::string text = "a = 1\nb = 2\n";
+  std::vector<Diagnostic> all(kMaxPrintedDiagnostics + 2, {{2, 1}, "bad"});
+  const std::string one = "f.toml:2:1: error: bad\nb = 2\n^\n";
+  std::string expected;
+  for (std::size_t i = 0; i < kMaxPrintedDiagnostics; ++i) expected += one;
+  EXPECT_EQ(FormatDiagnostics("f.toml", text, all),
+            expected + "f.toml: ... and 2 more errors\n");
+  all.resize(kMaxPrintedDiagnostics + 1);
+  EXPECT_EQ(FormatDiagnostics("f.toml", text, all),
+            expected + "f.toml: ... and 1 more error\n");
+  all.resize(2);
+  all[0] = {{1, 3}, "first"};
+  all[1] = {{}, "whole file"};
+  EXPECT_EQ(
+      FormatDiagnostics("f.toml", text, all),
+      "f.toml:1:3: error: first\na = 1\n  ^\nf.toml: error: whole file\n");
 }
 
 }  // namespace

@@ -25,6 +25,15 @@ namespace burrlab::protocols {
 // observer answers at chance for any cue ratio in use).
 inline constexpr double kMaxWeberFraction = 5.0;
 
+// What a simulated observer's answers follow.
+enum class AnswerRule {
+  kPercepts,       // its noisy percepts of the cues (the model above)
+  kAlwaysCorrect,  // "always=correct": the correct answer whatever it felt;
+                   // "yes" where a trial has none; adjustments step up
+  kAlwaysWrong,    // "always=wrong": a wrong answer; "no" where a trial has
+                   // none; adjustments step down
+};
+
 struct ObserverParams {
   double weber_stiffness = 0.20;  // sigma of ln(stiffness) (probe)
   double weber_removal = 0.30;    // sigma of ln(penetration rate) (drill)
@@ -35,6 +44,10 @@ struct ObserverParams {
   double rt_log_sd = 0.35;        // response time spread (sd of ln rt)
   double match_tolerance = 0.5;   // adjustment: stop when the percepts differ
                                   // by less than this x sigma
+  // kPercepts, or a fixed answer for checking that a protocol runs to its
+  // end at the edges of its levels (no lapses then; a trial with neither a
+  // correct answer nor "yes" gets the percepts' answer).
+  AnswerRule answers = AnswerRule::kPercepts;
 
   // Names the first bad field, its value and the rule broken.
   Status Validate() const;
@@ -44,7 +57,8 @@ struct ObserverParams {
 ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults);
 
 // Parses "simulated" or "simulated:key=value,..." (keys: weber (both cues),
-// weber_stiffness, weber_removal, lapse, criterion, rt_median_s) over `base`.
+// weber_stiffness, weber_removal, lapse, criterion, rt_median_s, and
+// always=correct|wrong) over `base`.
 Result<ObserverParams> ParseObserverSpec(std::string_view spec,
                                          ObserverParams base);
 

@@ -2,15 +2,20 @@
 // protocols/README.md): the parsed, validated model of a study, and the
 // diagnostics `burrlab validate` prints. Parsing checks everything it can
 // without running the study (types, ranges, unknown keys, unknown materials,
-// designs that cannot be balanced, staircases that can never stop) and
-// reports every problem it finds, each with its place in the file.
+// designs that cannot be balanced, staircases that can never stop, levels a
+// block can reach whose material cannot be presented) and reports every
+// problem it finds, each with its place in the file; CheckSimulatedIntervals
+// adds what depends on the run's burr.
 #ifndef BURRLAB_PROTOCOLS_PROTOCOL_H_
 #define BURRLAB_PROTOCOLS_PROTOCOL_H_
 
 #include <cstdint>
+#include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "burrlab/protocols/adjustment.h"
@@ -46,9 +51,21 @@ struct Diagnostic {
 
 // "path:line:col: error: message", then the source line and a caret under
 // the column, each line ending in '\n'. Without a location:
-// "path: error: message\n". `text` is the whole file.
+// "path: error: message\n". `text` is the whole file. Control characters and
+// bytes that are not UTF-8 in the message and the source line are escaped
+// (\x1b; see burrlab/sim/printable.h), except the source line's tabs, which
+// the caret line copies so that it lines up.
 std::string FormatDiagnostic(std::string_view path, std::string_view text,
                              const Diagnostic& diagnostic);
+
+// Most diagnostics FormatDiagnostics prints; the rest are only counted.
+inline constexpr std::size_t kMaxPrintedDiagnostics = 100;
+
+// The first kMaxPrintedDiagnostics diagnostics as FormatDiagnostic formats
+// them, then "path: ... and N more errors\n" when there are more. Time and
+// output are linear in the text and the number of diagnostics.
+std::string FormatDiagnostics(std::string_view path, std::string_view text,
+                              std::span<const Diagnostic> diagnostics);
 
 // What the subject does in every interval of a block (probe or drill).
 using stimuli::Task;
@@ -69,6 +86,10 @@ double GetParameter(const sim::Material& material, MaterialParameter parameter);
 // `material` with the parameter set to `value`.
 sim::Material WithParameter(sim::Material material, MaterialParameter parameter,
                             double value);
+
+// Largest value of a material parameter, in its unit: what [materials]
+// accepts, and what a level on an axis may give.
+inline constexpr double kMaxMaterialParameter = 1e6;
 
 // A material a block may present, as declared under [materials.<id>].
 struct ProtocolMaterial {
@@ -128,6 +149,19 @@ enum class AdaptiveResponse {
   kYesNo,  // "yesno": one interval at the level; "yes" counts as correct
 };
 
+// A stimulus a block can present at an end of its range, as the parser found
+// it: a material the block names, or the material at its standard or at the
+// lowest or highest level it can reach on its axis.
+struct ReachedStimulus {
+  std::string what;      // for messages, e.g. "blocks[1].floor = 0.01" or
+                         // "blocks[1]: 25 steps of 0.1 down from start_level
+                         // 0.5 reach level -2"
+  SourceLocation where;  // the key (or table) it comes from
+  std::optional<double> level;  // on the block's axis; none: a material the
+                                // block names
+  stimuli::MaterialSet set;     // the material presented
+};
+
 // One block of trials ([[blocks]]).
 struct Block {
   std::string name;  // unique within the protocol; default "block<k>"
@@ -164,6 +198,16 @@ struct Block {
   AdaptiveResponse adaptive_response = AdaptiveResponse::k2Afc;
   QuestOptions quest;  // intensities are log10(level)
   int quest_trials = 40;
+  // QUEST placements are clamped to [floor, ceiling] (and to AxisDomain).
+  double quest_floor_level = -std::numeric_limits<double>::infinity();
+  double quest_ceiling_level = std::numeric_limits<double>::infinity();
+
+  // Every material the block names and, on its axis, the standard and the
+  // lowest and highest levels it can reach (staircases and adjustments
+  // without a floor or ceiling: as far as their steps can go), each giving a
+  // material within kMaxMaterialParameter. CheckSimulatedIntervals checks
+  // them against the run's burr.
+  std::vector<ReachedStimulus> reach;
 };
 
 // Counterbalancing of block order across subjects.
@@ -215,10 +259,35 @@ struct ParseOutcome {
 // Parses and validates protocol text; `path` names the file in messages.
 ParseOutcome ParseProtocol(std::string_view path, std::string_view text);
 
-// The material an axis gives at `level` (checked against the axis's domain:
-// an error names the axis, the level and the rule).
+// The material an axis gives at `level` (checked against the axis's domain,
+// and every parameter within [0, kMaxMaterialParameter] with c_e > 0: an
+// error names the axis, the level and the rule).
 Result<stimuli::MaterialSet> MaterialAtLevel(const Protocol& protocol,
                                              const Axis& axis, double level);
+
+// The closed range of levels the engine may present on `axis` (it clamps
+// QUEST placements to it): the axis's domain, 1e-9 inside an open end, and
+// the levels whose parameter stays within kMaxMaterialParameter; at most
+// [1e-9, 1e9].
+std::pair<double, double> AxisDomain(const Protocol& protocol,
+                                     const Axis& axis);
+
+// The options of a simulated interval of a `task` block rendering `material`
+// for duration_s with burr radius radius_mm: the protocol's [observer] forces
+// and trace rate, one press a second (or one over a shorter interval), seed 1.
+stimuli::IntervalOptions SimulatedIntervalOptions(const Protocol& protocol,
+                                                  double radius_mm, Task task,
+                                                  const sim::Material& material,
+                                                  double duration_s);
+
+// What a simulated interval with burr radius radius_mm would refuse among
+// the stimuli every block can reach (Block::reach; stimuli::
+// IntervalOptions::Validate): a probe the material cannot hold, or a radius
+// outside [0.5, 5] mm (one diagnostic without a place). Empty when all of
+// them render. `burrlab validate` checks this at --radius-mm, and every run
+// that renders simulated intervals checks it before its first trial.
+std::vector<Diagnostic> CheckSimulatedIntervals(const Protocol& protocol,
+                                                double radius_mm);
 
 // Block order for subject `subject_index` (0-based) under the protocol's
 // counterbalancing: indices into protocol.blocks.

@@ -39,7 +39,8 @@ struct IntervalOptions {
   int trace_hz = 1000;            // trace rate; divides 1000
   std::uint64_t seed = 1;         // erosion random stream of this interval
 
-  // Names the first bad field, its value and the rule broken.
+  // Names the first bad field, its value and the rule broken; a probe needs
+  // probe_force_n <= MaxProbeForceN(material, radius_mm, voxel_mm).
   Status Validate() const;
 };
 
@@ -66,6 +67,20 @@ struct IntervalResult {
   double removed_mm3 = 0.0;  // material removed (drill; 0 for probe)
   std::int64_t steps = 0;    // simulator steps run
 };
+
+// The largest probe_force_n a probe interval on `material` accepts with burr
+// radius radius_mm and voxels of voxel_mm (IntervalOptions::Validate), N:
+// 0.9 of the elastic force of the burr buried one voxel short of its diameter,
+// 0.9 c_e R^2 ((2R - voxel) / R)^(3/2) (eq. 7.3); 0 when voxel_mm >= 2R.
+// Pressing harder can bury the burr, which then feels no net force and sinks
+// on. On the discrete moments this happens below the continuum's 2^(3/2)
+// c_e R^2, and more so for coarse voxels: measured without impact damping
+// (c_i = 0, where sinking is easiest) from 0.82 of it at R = 0.5 mm and
+// 0.3 mm voxels, 0.97 at R = 2 mm, and 0.67-0.80 where the voxel reaches
+// R; this bound lies below every measured onset (R 0.5-5 mm, voxels
+// 0.05-1 mm, 0.1-20 N).
+double MaxProbeForceN(const sim::Material& material, double radius_mm,
+                      double voxel_mm);
 
 // Runs the interval. Deterministic in `options` (the erosion stream comes from
 // options.seed).

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <span>
 
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
@@ -31,7 +32,15 @@ constexpr int kGridPoints = 240;  // starts of the search over log c_e
 constexpr int kTransientRounds = 4;
 constexpr double kTransientTolerance = 1e-3;
 
-// The least-squares problem in (L, A) = (log c_e, log alpha).
+// The least-squares problem in (L, A) = (log c_e, log alpha). Runs at one
+// force share their prediction, so the problem keeps one level per distinct
+// force (its runs and their mean log v) and the runs' spread about their
+// level's mean: with p_g the prediction at level g,
+//   RSS = sum_i (y_i - p_g(i))^2 = within + sum_g n_g (ybar_g - p_g)^2,
+// within = sum_i (y_i - ybar_g(i))^2, exactly. An evaluation then costs the
+// levels, not the runs, and the initial velocity's transient factor (a
+// continuum descent, milliseconds each) is computed once per level whatever
+// the order of the runs in the file.
 class LogVelocityProblem {
  public:
   LogVelocityProblem(const MeasuredData& data,
@@ -40,92 +49,125 @@ class LogVelocityProblem {
         radius_mm_(options.radius_mm),
         definition_(options.definition) {
     double max_ln_f = -kInf;
+    std::map<double, int> level_of_force;
+    std::vector<double> ln_v;
     for (const MeasuredRun& run : data.runs) {
-      ln_f_.push_back(std::log(run.force_n));
-      ln_v_.push_back(std::log(run.velocity_mm_s));
-      ln_transient_.push_back(0.0);
-      max_ln_f = std::max(max_ln_f, ln_f_.back());
+      const auto [it, added] = level_of_force.try_emplace(
+          run.force_n, static_cast<int>(ln_f_.size()));
+      if (added) {
+        ln_f_.push_back(std::log(run.force_n));
+        runs_at_.push_back(0.0);
+        ln_transient_.push_back(0.0);
+        max_ln_f = std::max(max_ln_f, ln_f_.back());
+      }
+      level_of_run_.push_back(it->second);
+      runs_at_[static_cast<std::size_t>(it->second)] += 1.0;
+      ln_v.push_back(std::log(run.velocity_mm_s));
     }
+    set_ln_v(ln_v);
     // Every force must stay below the full-immersion load.
     l_domain_ = max_ln_f - 2.0 * ln_r_ - std::log(MaxSteadyLoad());
     l_min_ = std::max(std::log(options.c_e_min_n_per_mm2), l_domain_ + 1e-9);
     l_max_ = std::log(options.c_e_max_n_per_mm2);
   }
 
-  int size() const { return static_cast<int>(ln_v_.size()); }
+  int runs() const { return static_cast<int>(level_of_run_.size()); }
+  int levels() const { return static_cast<int>(ln_f_.size()); }
+  // The force level of run i (in the order of the file).
+  int LevelOf(int run) const {
+    return level_of_run_[static_cast<std::size_t>(run)];
+  }
+  double RunsAt(int g) const { return runs_at_[static_cast<std::size_t>(g)]; }
   // The full-immersion bound of log c_e (the largest force's).
   double l_domain() const { return l_domain_; }
   double l_min() const { return l_min_; }
   double l_max() const { return l_max_; }
 
-  double Load(int i, double l) const {
-    return std::exp(ln_f_[i] - l - 2.0 * ln_r_);
+  double Load(int g, double l) const {
+    return std::exp(ln_f_[g] - l - 2.0 * ln_r_);
   }
-  // Model log v without log alpha: log R - log kappa(load) (the initial
-  // velocity's kappa of the ideal window, and its transient factor held).
-  double Shape(int i, double l) const {
+  // Model log v at level g without log alpha: log R - log kappa(load) (the
+  // initial velocity's kappa of the ideal window, and its transient factor
+  // held).
+  double Shape(int g, double l) const {
     if (definition_ == sim::VelocityDefinition::kInitial) {
-      const double x = std::cbrt(Load(i, l) * Load(i, l));
+      const double x = std::cbrt(Load(g, l) * Load(g, l));
       if (!(x < 2.0)) return -kInf;  // past full immersion: unreachable
-      return ln_r_ - std::log(IdealInitialKappa(x)) + ln_transient_[i];
+      return ln_r_ - std::log(IdealInitialKappa(x)) + ln_transient_[g];
     }
-    return ln_r_ - std::log(KappaAtLoad(Load(i, l)));
+    return ln_r_ - std::log(KappaAtLoad(Load(g, l)));
   }
   // d log v / d L = d log kappa / d log load.
-  double ShapeSlope(int i, double l) const {
+  double ShapeSlope(int g, double l) const {
     if (definition_ == sim::VelocityDefinition::kInitial) {
       double slope = 0.0;
-      IdealInitialKappa(std::cbrt(Load(i, l) * Load(i, l)), &slope);
+      IdealInitialKappa(std::cbrt(Load(g, l) * Load(g, l)), &slope);
       return 2.0 / 3.0 * slope;
     }
-    return KappaLogSlopeAtLoad(Load(i, l));
+    return KappaLogSlopeAtLoad(Load(g, l));
   }
   // The initial velocity's transient factors at (l, a), held from now on;
   // returns the largest change of their logs.
   double RefreshTransient(double l, double a) {
     double change = 0.0;
-    double last_ln_f = kInf, last_ln = 0.0;  // replicates share their level's
-    for (int i = 0; i < size(); ++i) {
-      if (ln_f_[i] != last_ln_f) {
-        DescentSurrogateInput in;
-        in.force_n = std::exp(ln_f_[i]);
-        in.c_e_n_per_mm2 = std::exp(l);
-        in.alpha_per_s = std::exp(a);
-        in.radius_mm = radius_mm_;
-        last_ln_f = ln_f_[i];
-        last_ln = std::log(InitialTransientFactor(in));
-      }
-      change = std::max(change, std::abs(last_ln - ln_transient_[i]));
-      ln_transient_[i] = last_ln;
+    for (int g = 0; g < levels(); ++g) {
+      DescentSurrogateInput in;
+      in.force_n = std::exp(ln_f_[g]);
+      in.c_e_n_per_mm2 = std::exp(l);
+      in.alpha_per_s = std::exp(a);
+      in.radius_mm = radius_mm_;
+      const double ln = std::log(InitialTransientFactor(in));
+      change = std::max(change, std::abs(ln - ln_transient_[g]));
+      ln_transient_[g] = ln;
     }
     return change;
   }
-  double PredictLogV(int i, double l, double a) const {
-    return a + Shape(i, l);
+  // Model log v at level g.
+  double PredictLogV(int g, double l, double a) const {
+    return a + Shape(g, l);
   }
 
   double Rss(double l, double a) const {
-    double rss = 0.0;
-    for (int i = 0; i < size(); ++i) {
-      const double r = ln_v_[i] - PredictLogV(i, l, a);
-      rss += r * r;
+    double rss = within_;
+    for (int g = 0; g < levels(); ++g) {
+      const double r = mean_ln_v_[g] - PredictLogV(g, l, a);
+      rss += runs_at_[g] * r * r;
     }
     return rss;
   }
-  // The best log alpha for log c_e = l: the mean offset. alpha has no box: a
-  // box would cut the valley of a non-identifiable fit and fake a closed
-  // profile.
+  // The best log alpha for log c_e = l: the mean offset over the runs. alpha
+  // has no box: a box would cut the valley of a non-identifiable fit and
+  // fake a closed profile.
   double BestA(double l) const {
     double sum = 0.0;
-    for (int i = 0; i < size(); ++i) sum += ln_v_[i] - Shape(i, l);
-    return sum / size();
+    for (int g = 0; g < levels(); ++g) {
+      sum += runs_at_[g] * (mean_ln_v_[g] - Shape(g, l));
+    }
+    return sum / runs();
   }
   double ProfileRss(double l) const { return Rss(l, BestA(l)); }
-  // Replaces the measured log velocities (parametric bootstrap).
-  void set_ln_v(std::vector<double> ln_v) { ln_v_ = std::move(ln_v); }
+  // Replaces the measured log velocities, one per run (parametric bootstrap):
+  // the levels' means, then the runs' spread about them.
+  void set_ln_v(std::span<const double> ln_v) {
+    mean_ln_v_.assign(ln_f_.size(), 0.0);
+    for (std::size_t i = 0; i < ln_v.size(); ++i) {
+      mean_ln_v_[level_of_run_[i]] += ln_v[i];
+    }
+    for (std::size_t g = 0; g < mean_ln_v_.size(); ++g) {
+      mean_ln_v_[g] /= runs_at_[g];
+    }
+    within_ = 0.0;
+    for (std::size_t i = 0; i < ln_v.size(); ++i) {
+      const double d = ln_v[i] - mean_ln_v_[level_of_run_[i]];
+      within_ += d * d;
+    }
+  }
 
  private:
-  std::vector<double> ln_f_, ln_v_, ln_transient_;
+  // Per level: log force, runs, mean log v, log transient factor.
+  std::vector<double> ln_f_, runs_at_, mean_ln_v_, ln_transient_;
+  std::vector<int> level_of_run_;
+  double within_ = 0.0;  // sum of squares of the runs about their level
   double ln_r_, radius_mm_, l_domain_ = 0.0, l_min_ = 0.0, l_max_ = 0.0;
   sim::VelocityDefinition definition_;
 };
@@ -481,16 +523,21 @@ Result<CalibrationSummary> Calibrate(const MeasuredData& data,
   out.sigma_log_v = std::sqrt(rss_min / (n - kCalibrationParameters));
   for (int i = 0; i < n; ++i) {
     out.fitted_velocity_mm_s.push_back(
-        std::exp(problem.PredictLogV(i, l_hat, a_hat)));
+        std::exp(problem.PredictLogV(problem.LevelOf(i), l_hat, a_hat)));
   }
 
-  // Jacobian of log v with respect to (log c_e, log alpha) and its SVD.
-  Eigen::MatrixXd jacobian(n, 2);
+  // Jacobian of log v with respect to (log c_e, log alpha) and its SVD. The
+  // n_g runs of a level share one row; J^T J is that of the levels' rows
+  // scaled by sqrt(n_g), which therefore has the runs' singular values.
+  const int levels = problem.levels();
+  Eigen::MatrixXd jacobian(levels, 2);
   double mean_slope = 0.0;
-  for (int i = 0; i < n; ++i) {
-    jacobian(i, 0) = problem.ShapeSlope(i, l_hat);
-    jacobian(i, 1) = 1.0;
-    mean_slope += jacobian(i, 0) / n;
+  for (int g = 0; g < levels; ++g) {
+    const double slope = problem.ShapeSlope(g, l_hat);
+    const double weight = std::sqrt(problem.RunsAt(g));
+    jacobian(g, 0) = weight * slope;
+    jacobian(g, 1) = weight;
+    mean_slope += problem.RunsAt(g) * slope / n;
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian);
   out.singular_values = {svd.singularValues()(0), svd.singularValues()(1)};
@@ -530,7 +577,7 @@ Result<CalibrationSummary> Calibrate(const MeasuredData& data,
     std::vector<double> ln_v(n);
     for (int r = 0; r < options.bootstrap_replicates; ++r) {
       for (int i = 0; i < n; ++i) {
-        ln_v[i] = problem.PredictLogV(i, l_hat, a_hat) +
+        ln_v[i] = problem.PredictLogV(problem.LevelOf(i), l_hat, a_hat) +
                   out.sigma_log_v * normal(rng);
       }
       replicate.set_ln_v(ln_v);

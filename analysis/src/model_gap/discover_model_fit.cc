@@ -163,12 +163,22 @@ std::vector<double> Predict(const Runs& runs,
                             const std::vector<ActiveEffect>& active,
                             const Point& p) {
   const sim::Effects effects = MakeEffects(active, p);
+  // The runs of a level share their force and transient factor, so the
+  // model (a steady-state solve) runs once per level, in whatever order the
+  // runs come.
+  std::vector<double> at_level(static_cast<std::size_t>(runs.levels), kNaN);
+  std::vector<char> known(at_level.size(), 0);
   std::vector<double> y(runs.size());
   for (int i = 0; i < runs.size(); ++i) {
-    y[i] = ModelLogVelocity(runs.force_n[i], std::exp(p.ln_c_e),
-                            std::exp(p.ln_alpha), runs.radius_mm, effects,
-                            runs.definition,
-                            runs.transient.empty() ? 1.0 : runs.transient[i]);
+    const std::size_t g = static_cast<std::size_t>(runs.level[i]);
+    if (!known[g]) {
+      at_level[g] = ModelLogVelocity(
+          runs.force_n[i], std::exp(p.ln_c_e), std::exp(p.ln_alpha),
+          runs.radius_mm, effects, runs.definition,
+          runs.transient.empty() ? 1.0 : runs.transient[i]);
+      known[g] = 1;
+    }
+    y[i] = at_level[g];
   }
   return y;
 }
@@ -179,21 +189,22 @@ double RefreshTransient(Runs* runs, const std::vector<ActiveEffect>& active,
   const sim::Effects effects = MakeEffects(active, p);
   runs->transient.resize(runs->size(), 1.0);
   double change = 0.0;
-  // Replicates share their level's factor (milliseconds each).
-  double last_force_n = kInf, factor = 1.0;
+  // Replicates share their level's factor (milliseconds each): one per
+  // level, in whatever order the runs come.
+  std::vector<double> factor(static_cast<std::size_t>(runs->levels), 0.0);
   for (int i = 0; i < runs->size(); ++i) {
-    if (runs->force_n[i] != last_force_n) {
+    double& f = factor[static_cast<std::size_t>(runs->level[i])];
+    if (f == 0.0) {
       DescentSurrogateInput in;
       in.force_n = runs->force_n[i];
       in.c_e_n_per_mm2 = std::exp(p.ln_c_e);
       in.alpha_per_s = std::exp(p.ln_alpha);
       in.radius_mm = runs->radius_mm;
       in.effects = effects;
-      factor = InitialTransientFactor(in);
-      last_force_n = runs->force_n[i];
+      f = InitialTransientFactor(in);
     }
-    change = std::max(change, std::abs(std::log(factor / runs->transient[i])));
-    runs->transient[i] = factor;
+    change = std::max(change, std::abs(std::log(f / runs->transient[i])));
+    runs->transient[i] = f;
   }
   return change;
 }

@@ -97,6 +97,56 @@ TEST(Calibrate, RefusesDataThatNameAnotherVelocityThanTheModels) {
             "settled)");
 }
 
+// Runs of `data` dealt out level by level (the first run of every level,
+// then the second, ...), as a lab's file interleaves its forces.
+MeasuredData Interleaved(const MeasuredData& data, int replicates) {
+  MeasuredData out = data;
+  out.runs.clear();
+  const std::size_t levels = data.runs.size() / replicates;
+  for (int k = 0; k < replicates; ++k) {
+    for (std::size_t g = 0; g < levels; ++g) {
+      out.runs.push_back(data.runs[g * replicates + k]);
+    }
+  }
+  return out;
+}
+
+// The fit keeps one level per force with its runs' mean and spread. Truths:
+// the RSS summed here run by run from the fitted velocities (the identity
+// sum_i (y_i - p)^2 = within + sum_g n_g (ybar_g - p_g)^2 checked by the
+// definition, not by the code's formula), and the same fit with the runs in
+// another order.
+TEST(Calibrate, PoolsTheRunsAtAForceWhateverTheirOrder) {
+  const Truth truth;
+  const int replicates = 40;
+  const MeasuredData sorted = MakeData(truth, kWideLoads, replicates, 0.08, 5);
+  const MeasuredData mixed = Interleaved(sorted, replicates);
+  CalibrationOptions options = SettledOptions(truth.radius_mm);
+  options.bootstrap_replicates = 0;  // its draws follow the runs' order
+  Result<CalibrationSummary> a = Calibrate(sorted, options);
+  Result<CalibrationSummary> b = Calibrate(mixed, options);
+  ASSERT_TRUE(a.ok() && b.ok());
+  double rss = 0.0;
+  for (std::size_t i = 0; i < mixed.runs.size(); ++i) {
+    const double r =
+        std::log(mixed.runs[i].velocity_mm_s / b->fitted_velocity_mm_s[i]);
+    rss += r * r;
+  }
+  EXPECT_NEAR(b->rss_log_v / rss, 1.0, 1e-12);
+  EXPECT_NEAR(a->rss_log_v / b->rss_log_v, 1.0, 1e-12);
+  EXPECT_NEAR(a->c_e_n_per_mm2 / b->c_e_n_per_mm2, 1.0, 1e-9);
+  EXPECT_NEAR(a->alpha_per_s / b->alpha_per_s, 1.0, 1e-9);
+  EXPECT_NEAR(a->condition_number / b->condition_number, 1.0, 1e-9);
+  ASSERT_TRUE(a->c_e_ci && b->c_e_ci);
+  EXPECT_NEAR((*a->c_e_ci)[0] / (*b->c_e_ci)[0], 1.0, 1e-9);
+  EXPECT_NEAR((*a->c_e_ci)[1] / (*b->c_e_ci)[1], 1.0, 1e-9);
+  // Fitted velocities follow the runs: run i's is its own level's.
+  for (std::size_t i = 0; i < mixed.runs.size(); ++i) {
+    const std::size_t g = i % kWideLoads.size();
+    EXPECT_DOUBLE_EQ(b->fitted_velocity_mm_s[i], b->fitted_velocity_mm_s[g]);
+  }
+}
+
 // Options for a fit of initial velocities at burr radius `radius_mm`, point
 // estimates only.
 CalibrationOptions InitialWithoutBootstrap(double radius_mm) {

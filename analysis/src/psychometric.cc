@@ -795,6 +795,7 @@ Result<PsychometricAnalysis> AnalyzePsychometric(
   if (Status s = ValidateData(data, options.sigmoid); !s.ok()) return s.error();
   PsychometricAnalysis out;
   out.options = options;
+  out.options.progress = nullptr;  // the caller's, which may not outlive out
   Fitter fitter(data, options);
   const Outcome best = fitter.FitFromScratch();
   out.fit = MakeFit(fitter, best);
@@ -900,6 +901,7 @@ Result<PsychometricAnalysis> AnalyzePsychometric(
     for (std::size_t q = 0; q < 2 * cuts; ++q) {
       scores[q][b] = ldot.dot(directions[q]);
     }
+    if (options.progress) options.progress(static_cast<int>(b) + 1, samples);
   }
   if (out.bootstrap_not_converged > 0) {
     out.warnings.push_back(fmt::format(

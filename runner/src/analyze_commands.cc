@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -25,6 +26,7 @@
 #include "burrlab/analysis/sdt.h"
 #include "flags.h"
 #include "json_number.h"
+#include "progress.h"
 
 namespace burrlab::runner {
 namespace {
@@ -277,8 +279,16 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
         << '\n';
     return 1;
   }
-  Result<analysis::PsychometricAnalysis> result =
-      analysis::AnalyzePsychometric(file->blocks, options);
+  Result<analysis::PsychometricAnalysis> result = [&] {
+    // Bootstrap progress on a terminal, redrawn once per percent.
+    ProgressBar bar(err, options.bootstrap_samples);
+    options.progress = [&bar](int done, int total) {
+      const int step = std::max(total / 100, 1);
+      if (done % step == 0 || done == total)
+        bar.Update(done, "bootstrap refits");
+    };
+    return analysis::AnalyzePsychometric(file->blocks, options);
+  }();
   if (!result.ok()) return Fail(err, "analyze fit: " + result.error().message);
   const analysis::PsychometricAnalysis& a = *result;
   if (!plot_path.empty()) {

@@ -706,6 +706,26 @@ TEST(AnalyzePsychometric, TheSeedMakesTheBootstrapReproducible) {
   EXPECT_GT(a->thresholds[1].percentile[3], a->thresholds[1].value);
 }
 
+TEST(AnalyzePsychometric, ReportsEachBootstrapRefitInOrderWithoutChangingIt) {
+  PsychometricOptions o;
+  o.bootstrap_samples = 49;
+  o.seed = 7;
+  Result<PsychometricAnalysis> quiet = AnalyzePsychometric(TwoAfcData(), o);
+  std::vector<std::pair<int, int>> calls;
+  o.progress = [&calls](int done, int total) {
+    calls.emplace_back(done, total);
+  };
+  Result<PsychometricAnalysis> watched = AnalyzePsychometric(TwoAfcData(), o);
+  ASSERT_TRUE(quiet.ok() && watched.ok());
+  ASSERT_EQ(calls.size(), 49u);
+  for (std::size_t k = 0; k < calls.size(); ++k) {
+    EXPECT_EQ(calls[k], std::make_pair(static_cast<int>(k) + 1, 49));
+  }
+  EXPECT_EQ(quiet->thresholds[1].replicates, watched->thresholds[1].replicates);
+  // The analysis keeps no callback that may outlive the caller's state.
+  EXPECT_FALSE(watched->options.progress);
+}
+
 TEST(AnalyzePsychometric, BriefReportIsOneLine) {
   PsychometricOptions o;
   o.bootstrap_samples = 0;

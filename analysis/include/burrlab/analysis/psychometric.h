@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -84,6 +85,10 @@ struct PsychometricOptions {
   // Threads a likelihood evaluation shares the levels between, 4096 or
   // more each (1 to 64; 0: one per core). The results do not depend on it.
   int threads = 0;
+  // Called after each bootstrap refit with (refits done, bootstrap_samples);
+  // a large data set refits for minutes (each refit costs one fit's
+  // likelihood evaluations over every level). Empty: not called.
+  std::function<void(int done, int total)> progress;
 
   // Names the first bad field, its value and the rule it breaks.
   Status Validate() const;

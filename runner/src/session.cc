@@ -20,6 +20,7 @@
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/results_schema/records.h"
+#include "burrlab/sim/printable.h"
 #include "burrlab/stimuli/interval.h"
 #include "burrlab_version.h"
 
@@ -330,8 +331,10 @@ Result<protocols::Response> SessionRunner::SimulatedResponse(
 Result<protocols::Response> SessionRunner::TerminalResponse(
     const TrialSpec& trial) {
   std::ostream& out = *options_.prompt;
+  // The block name, question and answers come from the protocol file: any
+  // control byte in them is escaped, never sent to the terminal.
   out << fmt::format("\ntrial {} - block \"{}\" ({}, {})\n",
-                     trial.trial_index + 1, trial.block,
+                     trial.trial_index + 1, PrintableText(trial.block),
                      protocols::MethodName(trial.method),
                      protocols::TaskName(trial.task));
   for (std::size_t i = 0; i < trial.intervals.size(); ++i) {
@@ -344,13 +347,14 @@ Result<protocols::Response> SessionRunner::TerminalResponse(
   }
   std::string options;
   for (const std::string& o : trial.response_options) {
-    options += (options.empty() ? "" : "/") + o;
+    options += (options.empty() ? "" : "/") + PrintableText(o);
   }
+  const std::string question = PrintableText(trial.question);
   for (;;) {
     if (trial.method == protocols::Method::kAdjustment) {
-      out << trial.question << " [path of + and - ending in =]: ";
+      out << question << " [path of + and - ending in =]: ";
     } else {
-      out << trial.question << " [" << options << "]: ";
+      out << question << " [" << options << "]: ";
     }
     out.flush();
     std::string line;

@@ -327,6 +327,32 @@ TEST_F(SessionTest, TypedAnswersAtThePromptAreRecorded) {
   EXPECT_EQ(trials[0].source, "typed");
 }
 
+// A protocol file may hold any bytes: the block name and question reach the
+// prompt with their control characters escaped, never raw.
+TEST_F(SessionTest, ThePromptEscapesControlBytesFromTheProtocol) {
+  std::string text = kProtocol;
+  const std::string name = "name = \"sd\"\n";
+  ASSERT_NE(text.find(name), std::string::npos);
+  text.replace(text.find(name), name.size(),
+               "name = \"sd\\u001b[2J\"\nquestion = \"Same?\\u0007\"\n");
+  Write(protocol_, text);
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  std::istringstream in("same\n");
+  std::ostringstream prompt;
+  SessionOptions options;
+  options.out_dir = dir_ / "typed";
+  options.subject = "05";
+  options.responder = Responder::kTerminal;
+  options.in = &in;
+  options.prompt = &prompt;
+  ASSERT_TRUE(RunSession(*loaded, options).ok());
+  EXPECT_THAT(prompt.str(), HasSubstr("block \"sd\\x1b[2J\" (same_different"));
+  EXPECT_THAT(prompt.str(), HasSubstr("Same?\\x07 [same/different]: "));
+  EXPECT_EQ(prompt.str().find('\x1b'), std::string::npos);
+  EXPECT_EQ(prompt.str().find('\x07'), std::string::npos);
+}
+
 TEST_F(SessionTest, PlanPrintsTheTrialSequenceAsJson) {
   const CliRun run =
       RunBurrlab({"plan", protocol_, "--seed", "3", "--json", "--responses",

@@ -33,7 +33,7 @@ for entry in "${all[@]}"; do
   code=$?
   set -e
   seconds=$(($(date +%s) - start))
-  executed=$(sed -n 's/^stat::number_executed_units: *//p' "$dir/log" | tail -1)
+  executed=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/log" | tail -1)
   crashes=$(find "$dir/artifacts" -name 'crash-*' -o -name 'leak-*' -o -name 'oom-*' | wc -l)
   timeouts=$(find "$dir/artifacts" -name 'timeout-*' | wc -l)
   if [ "$code" -ne 0 ] && [ "$crashes" -eq 0 ] && [ "$timeouts" -eq 0 ]; then

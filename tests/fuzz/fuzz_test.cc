@@ -25,7 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Mutated inputs per target (the sanitizer build runs fewer: about 10x
+// Mutated inputs per target (the sanitizer build runs fewer: about 5x
 // slower per input); BURRLAB_FUZZ_EXECS in the environment overrides it.
 #ifndef BURRLAB_FUZZ_EXECS
 #define BURRLAB_FUZZ_EXECS 30000

@@ -16,7 +16,13 @@ PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchm
 
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps build build-asan demo test test-release test-asan bench format clean
+# `make fuzz` only: clang and libFuzzer's runtime (libclang_rt.fuzzer-x86_64.a).
+FUZZ_PACKAGES := clang libclang-rt-14-dev
+# Executions per target of `make fuzz`.
+FUZZ_RUNS ?= 1000000
+
+.PHONY: all deps fuzz-deps build build-asan demo test test-release test-asan bench fuzz \
+  format clean
 
 all: build
 
@@ -67,6 +73,26 @@ test-asan: build-asan
 # The whole suite: optimised build first, then the same tests under ASan+UBSan; the last
 # lines are ctest's summary of the sanitizer run.
 test: test-release test-asan
+
+fuzz-deps: deps
+	@missing=$$(for p in $(FUZZ_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing missing Debian packages:" $$missing; \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get update -qq && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
+	fi
+
+$(BUILD_DIR)/fuzz/build.ninja: | fuzz-deps
+	CC=clang CXX=clang++ cmake -S . -B $(BUILD_DIR)/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DBURRLAB_LIBFUZZER=ON -DBURRLAB_BUILD_TESTS=OFF \
+	  -DCMAKE_UNITY_BUILD=ON $(CMAKE_FLAGS)
+
+# libFuzzer over every parser (tests/fuzz/README.md): FUZZ_RUNS executions per target from a
+# copy of its corpus, then a table of executions, crashes and timeouts per target.
+fuzz: fuzz-deps $(BUILD_DIR)/fuzz/build.ninja
+	cmake --build $(BUILD_DIR)/fuzz -j $(JOBS) --target fuzzers
+	tests/fuzz/run_libfuzzer.sh $(BUILD_DIR)/fuzz $(FUZZ_RUNS)
 
 bench: build
 	$(BUILD_DIR)/release/runner/burrlab sim bench

@@ -8,6 +8,17 @@ if(BURRLAB_SANITIZE)
     -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   target_link_options(burrlab_options INTERFACE -fsanitize=address,undefined)
 endif()
+# libFuzzer builds (tests/fuzz): every library instrumented for coverage and
+# checked by ASan and UBSan; the fuzz_<target> executables add libFuzzer's main.
+if(BURRLAB_LIBFUZZER)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "BURRLAB_LIBFUZZER needs clang (CXX=clang++)")
+  endif()
+  target_compile_options(burrlab_options INTERFACE
+    -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all
+    -fno-omit-frame-pointer)
+  target_link_options(burrlab_options INTERFACE -fsanitize=address,undefined)
+endif()
 find_program(CCACHE_PROGRAM ccache)
 if(CCACHE_PROGRAM)
   set(CMAKE_CXX_COMPILER_LAUNCHER "${CCACHE_PROGRAM}")

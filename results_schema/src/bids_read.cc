@@ -297,10 +297,9 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
   return table;
 }
 
-Result<PhysioFile> ReadPhysioSidecar(const fs::path& json_path) {
-  Result<std::string> text = ReadSmallFile(json_path, 16u << 20);
-  if (!text) return text.error();
-  const auto j = nlohmann::json::parse(*text, nullptr, false);
+Result<PhysioFile> ParsePhysioSidecar(const fs::path& json_path,
+                                      std::string_view text) {
+  const auto j = nlohmann::json::parse(text, nullptr, false);
   const auto fail = [&](const std::string& what) {
     return Error{fmt::format("{}: error: {}", json_path.string(), what)};
   };
@@ -332,6 +331,106 @@ Result<PhysioFile> ReadPhysioSidecar(const fs::path& json_path) {
   return f;
 }
 
+Result<PhysioFile> ReadPhysioSidecar(const fs::path& json_path) {
+  Result<std::string> text = ReadSmallFile(json_path, 16u << 20);
+  if (!text) return text.error();
+  return ParsePhysioSidecar(json_path, *text);
+}
+
+namespace {
+
+// The rows of a _physio.tsv fed in pieces (as zlib inflates them, or all at
+// once): lines end in LF (a CR before it is dropped), blank lines are
+// skipped, each other line gives one value per column to `row`.
+class PhysioRowReader {
+ public:
+  PhysioRowReader(std::string_view path, std::span<const std::string> columns,
+                  const std::function<bool(std::span<const double>)>& row)
+      : path_(path), columns_(columns), row_(row), values_(columns.size()) {}
+
+  // Parses the complete lines of `bytes`, keeping a last partial line for
+  // the next call. Sets *stopped when `row` asked to stop.
+  Status Feed(std::string_view bytes, bool* stopped) {
+    while (!bytes.empty() && !*stopped) {
+      const std::size_t newline = bytes.find('\n');
+      const std::string_view piece = bytes.substr(0, newline);
+      if (line_.size() + piece.size() > kMaxPhysioLineBytes) {
+        return Error{fmt::format(
+            "{}:{}:1: error: the line is longer than {} bytes (a physio row "
+            "has one number per column)",
+            path_, line_number_ + 1, kMaxPhysioLineBytes)};
+      }
+      line_ += piece;
+      if (newline == std::string_view::npos) break;
+      bytes.remove_prefix(newline + 1);
+      if (Status s = EndLine(stopped); !s) return s;
+    }
+    return {};
+  }
+
+  // Parses a last line without a line break.
+  Status Finish(bool* stopped) {
+    if (line_.empty() || *stopped) return {};
+    return EndLine(stopped);
+  }
+
+ private:
+  Status EndLine(bool* stopped) {
+    ++line_number_;
+    if (!line_.empty() && line_.back() == '\r') line_.pop_back();
+    if (line_.empty()) return {};
+    std::size_t k = 0, start = 0;
+    while (true) {
+      const std::size_t tab = line_.find('\t', start);
+      const std::string_view cell =
+          std::string_view(line_).substr(start, tab - start);
+      if (k >= values_.size()) break;
+      if (cell == kNa) {
+        values_[k] = std::numeric_limits<double>::quiet_NaN();
+      } else if (const std::optional<double> v = ParseDouble(cell)) {
+        values_[k] = *v;
+      } else {
+        return Error{fmt::format(
+            "{}:{}:{}: error: {} {} is not a number or n/a", path_,
+            line_number_, start + 1, Quoted(columns_[k]), Quoted(cell))};
+      }
+      ++k;
+      if (tab == std::string::npos) break;
+      start = tab + 1;
+    }
+    const std::size_t cells =
+        static_cast<std::size_t>(std::count(line_.begin(), line_.end(), '\t')) +
+        1;
+    if (cells != values_.size()) {
+      return Error{fmt::format(
+          "{}:{}:1: error: {} cells, but the sidecar names {} columns", path_,
+          line_number_, cells, values_.size())};
+    }
+    line_.clear();
+    if (!row_(values_)) *stopped = true;
+    return {};
+  }
+
+  std::string_view path_;
+  std::span<const std::string> columns_;
+  const std::function<bool(std::span<const double>)>& row_;
+  std::vector<double> values_;
+  std::string line_;  // the line read so far
+  int line_number_ = 0;
+};
+
+}  // namespace
+
+Status ForEachPhysioRowOfText(
+    std::string_view path, std::span<const std::string> columns,
+    std::string_view text,
+    const std::function<bool(std::span<const double>)>& row) {
+  PhysioRowReader reader(path, columns, row);
+  bool stopped = false;
+  if (Status s = reader.Feed(text, &stopped); !s) return s;
+  return reader.Finish(&stopped);
+}
+
 Status ForEachPhysioRow(
     const PhysioFile& file,
     const std::function<bool(std::span<const double>)>& row) {
@@ -342,64 +441,26 @@ Status ForEachPhysioRow(
     return Error{fmt::format("cannot read {}: {}", file.data_path.string(),
                              std::strerror(errno != 0 ? errno : ENOMEM))};
   }
-  std::vector<double> values(file.columns.size());
-  std::string line;
-  char buffer[1 << 16];
-  int line_number = 0;
-  const auto parse = [&]() -> Status {
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::size_t k = 0, start = 0;
-    while (true) {
-      const std::size_t tab = line.find('\t', start);
-      const std::string_view cell =
-          std::string_view(line).substr(start, tab - start);
-      if (k >= values.size()) break;
-      if (cell == kNa) {
-        values[k] = std::numeric_limits<double>::quiet_NaN();
-      } else if (const std::optional<double> v = ParseDouble(cell)) {
-        values[k] = *v;
-      } else {
-        return Error{
-            fmt::format("{}:{}:{}: error: {} {} is not a number or n/a",
-                        file.data_path.string(), line_number, start + 1,
-                        file.columns[k], Quoted(cell))};
-      }
-      ++k;
-      if (tab == std::string::npos) break;
-      start = tab + 1;
-    }
-    const std::size_t cells =
-        static_cast<std::size_t>(std::count(line.begin(), line.end(), '\t')) +
-        1;
-    if (cells != values.size()) {
-      return Error{fmt::format(
-          "{}:{}:1: error: {} cells, but the sidecar names {} columns",
-          file.data_path.string(), line_number, cells, values.size())};
-    }
-    return {};
-  };
-  while (true) {
-    if (gzgets(gz.get(), buffer, sizeof buffer) == nullptr) break;
-    line += buffer;
-    if (line.empty() || line.back() != '\n') {
-      if (!gzeof(gz.get())) continue;  // a longer line: read on
-    } else {
-      line.pop_back();
-    }
-    if (line.empty()) continue;
-    if (Status s = parse(); !s) return s;
-    line.clear();
-    if (!row(values)) return {};
+  const std::string path = file.data_path.string();
+  PhysioRowReader reader(path, file.columns, row);
+  bool stopped = false;
+  std::vector<char> buffer(1 << 16);
+  while (!stopped) {
+    const int n =
+        gzread(gz.get(), buffer.data(), static_cast<unsigned>(buffer.size()));
+    if (n <= 0) break;
+    const std::string_view chunk(buffer.data(), static_cast<std::size_t>(n));
+    if (Status s = reader.Feed(chunk, &stopped); !s) return s;
   }
+  if (stopped) return {};
   int errnum = 0;
   const char* message = gzerror(gz.get(), &errnum);
   if (errnum != Z_OK && errnum != Z_STREAM_END) {
     return Error{
-        fmt::format("cannot read {}: {}", file.data_path.string(),
+        fmt::format("cannot read {}: {}", path,
                     errnum == Z_ERRNO ? std::strerror(errno) : message)};
   }
-  return {};
+  return reader.Finish(&stopped);
 }
 
 std::vector<UnexportedTrials> FindUnexportedTrials(

@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include "burrlab/sim/printable.h"
+
 namespace burrlab::stimuli {
 
 // Line and column (in code points, like toml++) of byte `offset` of `text`.
@@ -76,13 +78,17 @@ std::optional<std::size_t> ExcessDotOffset(std::string_view text,
 
 // toml++'s parse error as "invalid TOML ...".
 std::string SyntaxMessage(std::string_view description) {
+  // toml++ quotes the character it did not expect as it is: a C1 control
+  // (U+0085 is a line break to some terminals) is escaped, like every other
+  // piece of file text in a message.
   constexpr std::string_view kPrefix = "Error while parsing ";
   if (description.starts_with(kPrefix)) {
     description.remove_prefix(kPrefix.size());
-    return fmt::format("invalid TOML in {}", description);
+    return fmt::format("invalid TOML in {}", PrintableText(description));
   }
   if (description.empty()) return "invalid TOML";
-  std::string message = fmt::format("invalid TOML: {}", description);
+  std::string message =
+      fmt::format("invalid TOML: {}", PrintableText(description));
   constexpr std::size_t kFirst = std::string_view("invalid TOML: ").size();
   if (message[kFirst] >= 'A' && message[kFirst] <= 'Z') {
     message[kFirst] = static_cast<char>(message[kFirst] - 'A' + 'a');

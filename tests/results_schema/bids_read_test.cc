@@ -165,5 +165,51 @@ TEST(BidsRead, MalformedTablesNameFileLineAndColumn) {
   EXPECT_EQ(ok->trials[0].extra, "{}");
 }
 
+TEST(BidsRead, PhysioTextRowsNameTheLineCountingBlankLines) {
+  const std::vector<std::string> columns = {"trial_index", "time"};
+  std::vector<std::vector<double>> rows;
+  const auto collect = [&](std::span<const double> row) {
+    rows.emplace_back(row.begin(), row.end());
+    return true;
+  };
+  ASSERT_TRUE(
+      ForEachPhysioRowOfText("p.tsv", columns, "0\t0.5\r\n\n1\tn/a", collect)
+          .ok());
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1][0], 1.0);
+  EXPECT_TRUE(std::isnan(rows[1][1]));
+  // Blank lines count: the bad cell is on line 3.
+  const Status bad =
+      ForEachPhysioRowOfText("p.tsv", columns, "0\t1\n\n0\tx\x1b", collect);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message,
+            "p.tsv:3:3: error: \"time\" \"x\\x1B\" is not a number or n/a");
+}
+
+TEST(BidsRead, PhysioLineLongerThanTheLimitIsRefusedBeforeItIsHeld) {
+  const std::vector<std::string> columns = {"time"};
+  // What a few kilobytes of gzip inflate to: no line break for 2 MiB.
+  const std::string text = "0\n" + std::string(2u << 20, '7');
+  const Status s = ForEachPhysioRowOfText(
+      "p.tsv", columns, text, [](std::span<const double>) { return true; });
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().message,
+            "p.tsv:2:1: error: the line is longer than 1048576 bytes (a physio "
+            "row has one number per column)");
+}
+
+TEST(BidsRead, PhysioSidecarTextNamesTheFile) {
+  const Result<PhysioFile> f = ParsePhysioSidecar(
+      "d/sub-1_task-a_physio.json",
+      R"({"SamplingFrequency": 500, "Columns": ["trial_index", "time"]})");
+  ASSERT_TRUE(f.ok());
+  EXPECT_EQ(f->data_path, "d/sub-1_task-a_physio.tsv.gz");
+  EXPECT_EQ(f->sampling_frequency_hz, 500.0);
+  EXPECT_EQ(
+      ParsePhysioSidecar("d/x_physio.json", "{\"Columns\": 1}").error().message,
+      "d/x_physio.json: error: SamplingFrequency must be a number above "
+      "0");
+}
+
 }  // namespace
 }  // namespace burrlab::results_schema

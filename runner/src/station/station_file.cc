@@ -7,6 +7,7 @@
 #include <cmath>
 #include <set>
 
+#include "burrlab/sim/printable.h"
 #include "burrlab/stimuli/toml_guard.h"
 #include "station/toml_location.h"
 
@@ -36,7 +37,7 @@ class Parser {
         out_->push_back({{static_cast<int>(key.source().begin.line),
                           static_cast<int>(key.source().begin.column)},
                          fmt::format("unknown key '{}' in {} (known: {})",
-                                     key.str(), where, list)});
+                                     PrintableText(key.str()), where, list)});
       }
     }
   }
@@ -195,7 +196,7 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
           if (!digits || number < 1 || number > 512) {
             d.push_back({where, fmt::format("button '{}' must be a number "
                                             "from 1 to 512",
-                                            k)});
+                                            PrintableText(k))});
             ok = false;
             continue;
           }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <set>
 
+#include "burrlab/sim/printable.h"
 #include "burrlab/stimuli/toml_guard.h"
 #include "station/toml_location.h"
 
@@ -31,8 +32,9 @@ void OnlyKeys(const toml::table& table, std::string_view where,
     for (std::string_view k : known) {
       list += (list.empty() ? "" : ", ") + std::string(k);
     }
-    d->push_back({AtKey(key), fmt::format("unknown key '{}' in {} (known: {})",
-                                          key.str(), where, list)});
+    d->push_back(
+        {AtKey(key), fmt::format("unknown key '{}' in {} (known: {})",
+                                 PrintableText(key.str()), where, list)});
   }
 }
 

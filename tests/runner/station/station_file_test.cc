@@ -141,5 +141,21 @@ TEST(ValidateCommand, ChecksStationFiles) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(ParseStation, EscapesControlCharactersOfKeysInMessages) {
+  // Quoted keys may hold any character; the message (one printable line)
+  // shows an ESC or a tab escaped.
+  const StationParseOutcome o =
+      ParseStation("station.toml",
+                   "format = \"burrlab-station/1\"\n\"\\u001b[2J\\t\" = 1\n"
+                   "[response_box]\nvendor_id = 1\nproduct_id = 2\n"
+                   "buttons = { \"\\u001b\" = \"1\" }\n");
+  ASSERT_EQ(o.diagnostics.size(), 2u);
+  EXPECT_EQ(o.diagnostics[0].message,
+            "unknown key '\\x1b[2J\\x09' in the station file (known: device, "
+            "format, response_box, screen)");
+  EXPECT_EQ(o.diagnostics[1].message,
+            "button '\\x1b' must be a number from 1 to 512");
+}
+
 }  // namespace
 }  // namespace burrlab::runner

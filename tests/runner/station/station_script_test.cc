@@ -105,5 +105,17 @@ TEST(ParseStationScript, NamesEachProblemWithItsPlace) {
             "         ^\n");
 }
 
+TEST(ParseStationScript, EscapesControlCharactersOfKeysInMessages) {
+  const StationScriptParseOutcome o = ParseStationScript(
+      "script.toml",
+      "format = \"burrlab-station-script/1\"\npath = [[0.0, 0, 0, 1]]\n"
+      "\" \\t f\\t\" = \"p\"\n");
+  ASSERT_EQ(o.diagnostics.size(), 1u);
+  EXPECT_EQ(
+      o.diagnostics[0].message,
+      "unknown key ' \\x09 f\\x09' in the station script (known: answers, "
+      "format, path, response_delay_s, start_delay_s, unplug)");
+}
+
 }  // namespace
 }  // namespace burrlab::runner

@@ -70,13 +70,28 @@ struct UnexportedTrials {
 std::vector<UnexportedTrials> FindUnexportedTrials(
     const std::filesystem::path& dir, const std::vector<BehFile>& files);
 
-// Reads a _physio.json sidecar; data_path is the .tsv.gz beside it.
+// Parses a _physio.json sidecar's text; `json_path` names it in errors and
+// gives data_path, the .tsv.gz beside it.
+Result<PhysioFile> ParsePhysioSidecar(const std::filesystem::path& json_path,
+                                      std::string_view text);
+// Reads and parses a _physio.json sidecar.
 Result<PhysioFile> ReadPhysioSidecar(const std::filesystem::path& json_path);
+
+// Longest line of a _physio.tsv read (bytes): thousands of columns. A longer
+// line is refused before it is held whole (a small .gz can inflate to
+// gigabytes without a line break).
+inline constexpr std::size_t kMaxPhysioLineBytes = 1 << 20;
 
 // Streams the rows of `file`'s data: `row` gets one value per column (n/a as
 // NaN) and returns false to stop early. Errors name the file and line.
 Status ForEachPhysioRow(
     const PhysioFile& file,
+    const std::function<bool(std::span<const double>)>& row);
+// The same for the decompressed text of a data file with `columns`; `path`
+// names it in errors.
+Status ForEachPhysioRowOfText(
+    std::string_view path, std::span<const std::string> columns,
+    std::string_view text,
     const std::function<bool(std::span<const double>)>& row);
 
 }  // namespace burrlab::results_schema

@@ -23,7 +23,8 @@ toml::source_position PositionOf(std::string_view text, std::size_t offset);
 std::optional<std::size_t> ExcessDotOffset(std::string_view text,
                                            std::size_t max_dots);
 
-// toml++'s parse error as "invalid TOML ...".
+// toml++'s parse error as "invalid TOML ...", its quoted text made
+// printable (burrlab/sim/printable.h).
 std::string SyntaxMessage(std::string_view description);
 
 }  // namespace burrlab::stimuli

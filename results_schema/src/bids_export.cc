@@ -232,7 +232,7 @@ Result<std::vector<std::string>> BehRow(const TrialRecord& t,
       OrNa(t.reversal),
       OrNa(t.step_size),
       OrNa(t.estimate),
-      std::to_string(session.master_seed),
+      SeedText(session.master_seed),
       extra.empty() ? std::string(kNa)
                     : extra.dump(-1, ' ', false,
                                  nlohmann::json::error_handler_t::replace)};
@@ -305,8 +305,12 @@ std::string BehSidecar(const std::string& block,
   j["estimate"] = Column(
       "Threshold estimate after this trial (n/a for non-adaptive methods)");
   if (uniform_units) j["estimate"]["Units"] = *uniform_units;
-  j["seed"] =
-      Column("Master seed of the session; every random stream derives from it");
+  j["seed"] = Column(
+      "Master seed of the session; every random stream derives from it. "
+      "Written as text, \"seed-\" and the decimal digits of the 64-bit "
+      "number, so that no reader rounds it (R's read.delim and pandas read a "
+      "long integer as a double, exact only below 2^53); `burrlab run "
+      "--seed` takes it as written to run the session again");
   j["extra"] =
       Column("Method-specific fields as a compact JSON object (n/a when none)");
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";

@@ -264,9 +264,13 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
     if (!number(kEstimate, &t.estimate)) {
       return bad(kEstimate, "is not a finite number or n/a");
     }
-    const std::optional<std::uint64_t> seed =
-        ParseInt<std::uint64_t>(cell(kSeed).text);
-    if (!seed) return bad(kSeed, "is not a whole number of at least 0");
+    // "seed-N", or the bare N of exports before the seed became text.
+    const std::optional<std::uint64_t> seed = ParseSeedText(cell(kSeed).text);
+    if (!seed) {
+      return bad(kSeed,
+                 "is not seed-N (or N) with N a whole number from 0 to "
+                 "18446744073709551615");
+    }
     if (have_seed && *seed != table.seed) {
       return bad(kSeed, fmt::format("differs from the seed {} of the rows "
                                     "above (one file holds one session)",

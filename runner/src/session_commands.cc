@@ -152,7 +152,10 @@ int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
   bool json = false;
   app.add_option("file", path, "the protocol file")->required();
   FlagSet flags(&app);
-  flags.AddUnsigned("--seed", "master seed (default 1)", &seed);
+  flags.AddSeed("--seed",
+                "master seed (default 1; seed-N, as the exports write it, "
+                "also works)",
+                &seed);
   flags.AddText("--subject", "subject label (default 01)", &subject);
   flags.AddInteger("--subject-index",
                    "counterbalancing row (default: the label's number - 1)", 0,
@@ -443,7 +446,10 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddText("--subject", "subject label: letters and digits (required)",
                 &subject);
   flags.AddText("--out", "output folder (required)", &out_dir);
-  flags.AddUnsigned("--seed", "master seed (default 1)", &seed);
+  flags.AddSeed("--seed",
+                "master seed (default 1; seed-N, as the exports write it, "
+                "also works)",
+                &seed);
   flags.AddInteger("--subject-index",
                    "counterbalancing row (default: the label's number - 1)", 0,
                    1000000, &subject_index);

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/results_schema/records.h"
 #include "burrlab/results_schema/schemas.h"
@@ -176,7 +177,7 @@ TEST_F(BidsExport, BehTsvReadsBackWithColumnsAndNa) {
       {"reversal", "n/a"},
       {"step_size", "n/a"},
       {"estimate", "n/a"},
-      {"seed", "1234567890123"},
+      {"seed", "seed-1234567890123"},
       {"extra", "n/a"}};
   EXPECT_EQ(rows[0], first);
   // Trial 5 timed out: no response, correctness or time.
@@ -294,6 +295,37 @@ TEST_F(BidsExport, ReExportIsByteIdenticalAndKeepsADatasetDescription) {
   for (const auto& [path, bytes] : before) {
     EXPECT_EQ(ReadFile(path), bytes) << path;
   }
+}
+
+// Seeds beyond 2^53 (where a double has no room for the last digits) and
+// beyond 2^63 (where a signed 64-bit integer ends) are written whole, as
+// text no table reader turns into a number, and read back exactly.
+TEST(BidsExportCases, SeedsAboveTwoToThe53And63AreWrittenWholeAsText) {
+  for (const std::uint64_t seed :
+       {9007199254740993ull, 9223372036854775809ull, 18446744073709551615ull}) {
+    TempDir dir;
+    SessionInfo session = FixtureSession("03");
+    session.master_seed = seed;
+    auto journal = Journal::Create(dir.path(), session);
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    ASSERT_TRUE(journal->Append(FixtureTrial(0), {}).ok());
+    ASSERT_TRUE(ExportBids(dir.path(), "03").ok());
+    const auto rows = Records(ParseTsv(ReadFile(
+        dir.path() / "sub-03" / "beh" / "sub-03_task-practice_beh.tsv")));
+    const std::string cell = rows.at(0).at("seed");
+    EXPECT_EQ(cell, "seed-" + std::to_string(seed));
+    // What a reader that converts numbers finds there: no number at all.
+    char* end = nullptr;
+    std::strtod(cell.c_str(), &end);
+    EXPECT_EQ(end, cell.c_str()) << cell;
+    Result<std::vector<BehFile>> read = ReadBidsDataset(dir.path());
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ(read->at(0).table.seed, seed);
+  }
+  // The reason: the nearest double to 2^53 + 1 is 2^53.
+  EXPECT_NE(
+      static_cast<std::uint64_t>(static_cast<double>(9007199254740993ull)),
+      9007199254740993ull);
 }
 
 TEST(BidsExportCases, DistinctBlocksGetDistinctTaskLabels) {

@@ -97,6 +97,32 @@ TEST_F(SessionTest, SimulatedRunWritesJournalAndBidsExport) {
   EXPECT_TRUE(fs::exists(out / "dataset_description.json"));
 }
 
+// The seed column holds text that `--seed` takes back as written: a seed
+// above 2^63 read from one session's export runs the same session again.
+TEST_F(SessionTest, TheExportedSeedRunsTheSessionAgain) {
+  const fs::path first = dir_ / "first";
+  ASSERT_EQ(
+      RunBurrlab({"run", protocol_, "--subject", "04", "--out", first.string(),
+                  "--seed", "9223372036854775809", "--observer", "simulated"})
+          .code,
+      0);
+  const std::string tsv = "sub-04/beh/sub-04_task-sd_beh.tsv";
+  // The cell as written, between the last two tabs of the first row.
+  const std::string text = Read(first / tsv);
+  const std::string row = text.substr(text.find('\n') + 1);
+  const std::size_t last_tab = row.rfind('\t', row.find('\n'));
+  const std::size_t seed_tab = row.rfind('\t', last_tab - 1);
+  const std::string cell = row.substr(seed_tab + 1, last_tab - seed_tab - 1);
+  EXPECT_EQ(cell, "seed-9223372036854775809");
+  const fs::path again = dir_ / "again";
+  ASSERT_EQ(
+      RunBurrlab({"run", protocol_, "--subject", "04", "--out", again.string(),
+                  "--seed", cell, "--observer", "simulated"})
+          .code,
+      0);
+  EXPECT_EQ(Read(first / tsv), Read(again / tsv));
+}
+
 TEST_F(SessionTest, SameSeedGivesByteIdenticalExports) {
   for (const char* name : {"a", "b"}) {
     const CliRun run = RunBurrlab({"run", protocol_, "--subject", "03", "--out",

@@ -438,6 +438,27 @@ std::vector<UnexportedTrials> FindUnexportedTrials(
   return found;
 }
 
+std::vector<IncompleteSession> FindIncompleteSessions(const fs::path& dir) {
+  std::vector<IncompleteSession> found;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!name.starts_with("sub-")) continue;
+    const std::string label = name.substr(4);
+    std::error_code exists_ec;
+    if (!fs::is_regular_file(JournalPath(dir, label), exists_ec)) continue;
+    Result<SessionProgress> progress = ReadSessionProgress(dir, label);
+    if (!progress || progress->complete != false) continue;
+    found.push_back({label, progress->trials, progress->planned_trials});
+  }
+  std::sort(found.begin(), found.end(),
+            [](const IncompleteSession& a, const IncompleteSession& b) {
+              return a.subject < b.subject;
+            });
+  return found;
+}
+
 Result<std::vector<BehFile>> ReadBidsDataset(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) {

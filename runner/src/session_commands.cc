@@ -104,27 +104,6 @@ std::string Diagnostics(const std::string& path, const std::string& text,
   return out;
 }
 
-// The number of trials `protocol` presents when every answer is correct (the
-// station's "Trial k of N"); 0 when that is not known ahead (adaptive blocks
-// depend on the answers).
-int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
-                  std::uint64_t seed) {
-  for (const protocols::Block& b : protocol.blocks) {
-    if (IsAdaptive(b.method)) return 0;
-  }
-  Result<protocols::Engine> engine =
-      protocols::Engine::Create(protocol, subject_index, seed);
-  if (!engine.ok()) return 0;
-  int n = 0;
-  while (!engine->finished() && n < 1'000'000) {
-    Result<protocols::Response> r =
-        protocols::ScriptedResponse(engine->current(), "1");
-    if (!r.ok() || !engine->Respond(*r).ok()) return 0;
-    ++n;
-  }
-  return engine->finished() ? n : 0;
-}
-
 }  // namespace
 
 int DefaultSubjectIndex(std::string_view label) {

@@ -126,10 +126,42 @@ TEST_F(BidsExport, WritesTheBidsFileSet) {
       "sub-01/beh/sub-01_task-sameDifferentMain_physio.tsv.gz",
       "sub-01/journal.sqlite",
       "sub-01/journal.sqlite.lock",
+      "sub-01/sub-01_scans.json",
+      "sub-01/sub-01_scans.tsv",
   };
   // The journal's -wal/-shm files are gone once every connection closed.
   EXPECT_EQ(files, expected);
   EXPECT_EQ(ReadFile(dir_.path() / ".bidsignore"), "journal.sqlite*\n");
+  // The fixture's session never ran to its end (nothing marked it so), and
+  // its plan was not recorded.
+  EXPECT_EQ(ReadFile(dir_.path() / "sub-01" / "sub-01_scans.tsv"),
+            "filename\tsession_status\tsession_trials\tsession_planned_trials\n"
+            "beh/sub-01_task-practice_beh.tsv\tincomplete\t10\tn/a\n"
+            "beh/sub-01_task-practice_physio.tsv.gz\tincomplete\t10\tn/a\n"
+            "beh/sub-01_task-sameDifferentMain_beh.tsv\tincomplete\t10\tn/a\n"
+            "beh/sub-01_task-sameDifferentMain_physio.tsv.gz\tincomplete\t10\t"
+            "n/a\n");
+  const Json scans =
+      Json::parse(ReadFile(dir_.path() / "sub-01" / "sub-01_scans.json"));
+  for (const std::string& column : ScansColumns()) {
+    EXPECT_TRUE(scans.contains(column)) << column;
+  }
+}
+
+TEST(BidsExportCases, ScansMarkACompleteSessionAndItsPlan) {
+  TempDir dir;
+  WriteJournal(dir.path(), "05", 4);
+  {
+    auto journal = Journal::Open(dir.path(), "05");
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    ASSERT_TRUE(journal->SetPlannedTrials(4).ok());
+    ASSERT_TRUE(journal->MarkComplete().ok());
+  }
+  ASSERT_TRUE(ExportBids(dir.path(), "05").ok());
+  EXPECT_EQ(ReadFile(dir.path() / "sub-05" / "sub-05_scans.tsv"),
+            "filename\tsession_status\tsession_trials\tsession_planned_trials\n"
+            "beh/sub-05_task-practice_beh.tsv\tcomplete\t4\t4\n"
+            "beh/sub-05_task-practice_physio.tsv.gz\tcomplete\t4\t4\n");
 }
 
 TEST_F(BidsExport, BehTsvReadsBackWithColumnsAndNa) {

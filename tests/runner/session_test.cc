@@ -4,6 +4,7 @@
 // seed or set-up) — each a clear error, exit 1, nothing lost.
 #include "session.h"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -311,6 +312,24 @@ TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
   std::size_t rows = 0;
   for (const rs::BehFile& f : *exported) rows += f.table.trials.size();
   EXPECT_EQ(rows, static_cast<std::size_t>(saved));
+  // ... and the subject's scans.tsv marks them as an incomplete session (the
+  // staircase's trial count depends on the answers: n/a planned).
+  const fs::path scans = options.out_dir / "sub-04" / "sub-04_scans.tsv";
+  // One row per exported file: the same-different block's (trials 0-11),
+  // then the staircase's once a trial of it is saved.
+  const auto expected_scans = [](const std::string& status, int trials) {
+    std::string text =
+        "filename\tsession_status\tsession_trials\tsession_planned_trials\n";
+    for (const char* block : {"sd", "stairs"}) {
+      if (std::string(block) == "stairs" && trials <= 12) break;
+      for (const char* suffix : {"_beh.tsv", "_physio.tsv.gz"}) {
+        text += fmt::format("beh/sub-04_task-{}{}\t{}\t{}\tn/a\n", block,
+                            suffix, status, trials);
+      }
+    }
+    return text;
+  };
+  EXPECT_EQ(Read(scans), expected_scans("incomplete", saved));
 
   options.journal_limit_bytes_for_testing = 0;
   options.resume = true;
@@ -318,6 +337,7 @@ TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
   ASSERT_TRUE(resumed.ok()) << resumed.error().message;
   EXPECT_EQ(resumed->trials_resumed, saved);
   EXPECT_EQ(resumed->trials_total, 20);
+  EXPECT_EQ(Read(scans), expected_scans("complete", 20));
 
   SessionOptions clean = options;
   clean.out_dir = dir_ / "clean";

@@ -95,8 +95,10 @@ Result<Adjustment> Adjustment::Create(const AdjustmentOptions& options,
 }
 
 double Adjustment::GridLevel(int k) const {
-  return ApplyStep(options_.start_level, (jitter_steps_ + k) * options_.step,
-                   options_.step_scale);
+  const double offset =
+      RoundToStep((jitter_steps_ + k) * options_.step, options_.step);
+  return LevelAt(options_.start_level, offset, options_.step,
+                 options_.step_scale);
 }
 
 Status Adjustment::Step(int direction) {

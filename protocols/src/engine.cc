@@ -432,7 +432,9 @@ Status Engine::Impl::PlanTrial() {
           auto [lo, hi] = AxisDomain(*protocol, *axis);
           lo = std::max(lo, b.quest_floor_level);
           hi = std::max(lo, std::min(hi, b.quest_ceiling_level));
-          const double raw = std::pow(10.0, s.intensity_log10);
+          // Rounded like every level (levels.h): QUEST has no step.
+          const double raw =
+              RoundSignificant(std::pow(10.0, s.intensity_log10));
           s.level = std::clamp(raw, lo, hi);
           s.clamped = s.level != raw;
           t.level = s.level;

@@ -120,8 +120,10 @@ Result<MethodOfLimits> MethodOfLimits::Create(
     const double start = direction == SeriesDirection::kAscending
                              ? options.ascending_start
                              : options.descending_start;
-    s.start_level = std::clamp(start + s.jitter_steps * options.step,
-                               options.floor_level, options.ceiling_level);
+    s.start_level = std::clamp(
+        LevelAt(start, RoundToStep(s.jitter_steps * options.step, options.step),
+                options.step, StepScale::kLinear),
+        options.floor_level, options.ceiling_level);
     direction = direction == SeriesDirection::kAscending
                     ? SeriesDirection::kDescending
                     : SeriesDirection::kAscending;
@@ -129,10 +131,12 @@ Result<MethodOfLimits> MethodOfLimits::Create(
   return MethodOfLimits(options, std::move(series));
 }
 
-std::optional<double> MethodOfLimits::LevelAt(const LimitsSeries& s,
-                                              int i) const {
+std::optional<double> MethodOfLimits::SeriesLevel(const LimitsSeries& s,
+                                                  int i) const {
   const double sign = s.direction == SeriesDirection::kAscending ? 1.0 : -1.0;
-  const double raw = s.start_level + sign * i * options_.step;
+  const double raw = LevelAt(
+      s.start_level, RoundToStep(sign * i * options_.step, options_.step),
+      options_.step, StepScale::kLinear);
   const double tolerance = kBoundToleranceSteps * options_.step;
   if (raw > options_.ceiling_level + tolerance ||
       raw < options_.floor_level - tolerance) {
@@ -159,8 +163,9 @@ Result<LimitsTrial> MethodOfLimits::Update(bool response) {
   if (s.n_trials > 0 && trials_.back().response != response) {
     trial.transition = true;
     trial.ends_series = true;
-    s.transition_level = 0.5 * (trials_.back().level + trial.level);
-  } else if (std::optional<double> next = LevelAt(s, s.n_trials + 1)) {
+    s.transition_level =
+        RoundToStep(0.5 * (trials_.back().level + trial.level), options_.step);
+  } else if (std::optional<double> next = SeriesLevel(s, s.n_trials + 1)) {
     level_ = *next;
   } else {
     trial.ends_series = true;

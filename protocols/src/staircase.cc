@@ -28,54 +28,6 @@ Status CheckStepSize(std::string_view name, double value) {
 
 }  // namespace
 
-std::string_view StepScaleName(StepScale scale) {
-  switch (scale) {
-    case StepScale::kLinear:
-      return "linear";
-    case StepScale::kLog10:
-      return "log10";
-    case StepScale::kDecibel:
-      return "db";
-  }
-  return "?";
-}
-
-double ApplyStep(double level, double steps, StepScale scale) {
-  switch (scale) {
-    case StepScale::kLinear:
-      return level + steps;
-    case StepScale::kLog10:
-      return level * std::pow(10.0, steps);
-    case StepScale::kDecibel:
-      return level * std::pow(10.0, steps / 20.0);
-  }
-  return level;
-}
-
-double ToScaleDomain(double level, StepScale scale) {
-  switch (scale) {
-    case StepScale::kLinear:
-      return level;
-    case StepScale::kLog10:
-      return std::log10(level);
-    case StepScale::kDecibel:
-      return 20.0 * std::log10(level);
-  }
-  return level;
-}
-
-double FromScaleDomain(double value, StepScale scale) {
-  switch (scale) {
-    case StepScale::kLinear:
-      return value;
-    case StepScale::kLog10:
-      return std::pow(10.0, value);
-    case StepScale::kDecibel:
-      return std::pow(10.0, value / 20.0);
-  }
-  return value;
-}
-
 std::string_view MoveName(Move move) {
   switch (move) {
     case Move::kNone:
@@ -170,7 +122,34 @@ Status StaircaseOptions::Validate() const {
 }
 
 Staircase::Staircase(StaircaseOptions options)
-    : options_(std::move(options)), level_(options_.start_level) {}
+    : options_(std::move(options)), anchor_(options_.start_level) {
+  smallest_step_ = std::min(options_.step_down, options_.step_up);
+  for (const StepChange& change : options_.step_schedule) {
+    smallest_step_ =
+        std::min({smallest_step_, change.step_down, change.step_up});
+  }
+  level_ =
+      std::clamp(LevelAt(anchor_, 0.0, smallest_step_, options_.step_scale),
+                 options_.floor_level, options_.ceiling_level);
+}
+
+void Staircase::StopAt(double bound) {
+  level_ = bound;
+  // The bound stays on the track's grid when its offset from the anchor is
+  // a decimal of the step's resolution up to rounding error (a floor of 0.01
+  // under a start of 1 in log10 steps: offset -2); otherwise (a ceiling of 4
+  // in log10 steps: offset 0.60206...) the bound becomes the anchor, so the
+  // next move goes one step from it.
+  const double exact = ToScaleDomain(bound, options_.step_scale) -
+                       ToScaleDomain(anchor_, options_.step_scale);
+  const double offset = RoundToStep(exact, smallest_step_);
+  if (std::fabs(exact - offset) <= 0.01 * StepResolution(smallest_step_)) {
+    offset_ = offset;
+  } else {
+    anchor_ = bound;
+    offset_ = 0.0;
+  }
+}
 
 Result<Staircase> Staircase::Create(StaircaseOptions options) {
   if (Status s = options.Validate(); !s.ok()) return s.error();
@@ -229,15 +208,19 @@ Result<StaircaseTrial> Staircase::Update(bool correct) {
 
     const double signed_step =
         trial.move == Move::kDown ? -trial.step_size : trial.step_size;
-    double next = ApplyStep(level_, signed_step, options_.step_scale);
+    const double offset = RoundToStep(offset_ + signed_step, smallest_step_);
+    const double next =
+        LevelAt(anchor_, offset, smallest_step_, options_.step_scale);
     if (next < options_.floor_level) {
-      next = options_.floor_level;
+      StopAt(options_.floor_level);
       trial.clamped = true;
     } else if (next > options_.ceiling_level) {
-      next = options_.ceiling_level;
+      StopAt(options_.ceiling_level);
       trial.clamped = true;
+    } else {
+      offset_ = offset;
+      level_ = next;
     }
-    level_ = next;
   }
   trials_.push_back(trial);
   return trial;

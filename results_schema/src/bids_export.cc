@@ -232,7 +232,7 @@ Result<std::vector<std::string>> BehRow(const TrialRecord& t,
       OrNa(t.reversal),
       OrNa(t.step_size),
       OrNa(t.estimate),
-      std::to_string(session.master_seed),
+      SeedText(session.master_seed),
       extra.empty() ? std::string(kNa)
                     : extra.dump(-1, ' ', false,
                                  nlohmann::json::error_handler_t::replace)};
@@ -305,10 +305,34 @@ std::string BehSidecar(const std::string& block,
   j["estimate"] = Column(
       "Threshold estimate after this trial (n/a for non-adaptive methods)");
   if (uniform_units) j["estimate"]["Units"] = *uniform_units;
-  j["seed"] =
-      Column("Master seed of the session; every random stream derives from it");
+  j["seed"] = Column(
+      "Master seed of the session; every random stream derives from it. "
+      "Written as text, \"seed-\" and the decimal digits of the 64-bit "
+      "number, so that no reader rounds it (R's read.delim and pandas read a "
+      "long integer as a double, exact only below 2^53); `burrlab run "
+      "--seed` takes it as written to run the session again");
   j["extra"] =
       Column("Method-specific fields as a compact JSON object (n/a when none)");
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+// Describes the columns of sub-<id>_scans.tsv.
+std::string ScansSidecar() {
+  OrderedJson j;
+  j["filename"] = Column("A data file of the subject, relative to its folder");
+  j["session_status"] = Column(
+      "Whether the session that produced the file ran to its end; a file of "
+      "an incomplete session holds the trials saved before it stopped (on an "
+      "error, a stop or a kill), and `burrlab run PROTOCOL --subject <id> "
+      "--out DIR --resume` finishes it (n/a: the journal predates this "
+      "record)");
+  j["session_status"]["Levels"]["complete"] = "the session ran to its end";
+  j["session_status"]["Levels"]["incomplete"] =
+      "the session stopped before its end";
+  j["session_trials"] = Column("Trials the session has saved");
+  j["session_planned_trials"] = Column(
+      "Trials the session presents when it runs to its end (n/a when its "
+      "adaptive blocks decide)");
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
@@ -428,6 +452,8 @@ Status Export(const fs::path& dir, std::string_view label) {
   Result<std::vector<db::TraceHeader>> headers =
       db::ReadTraceHeaders(db, journal_path);
   if (!headers) return headers.error();
+  Result<SessionProgress> progress = db::ReadProgress(db, journal_path);
+  if (!progress) return progress.error();
   for (const TrialRecord& t : *trials) {
     if (Status s = ValidateTrial(t); !s) {
       return Error{
@@ -487,6 +513,7 @@ Status Export(const fs::path& dir, std::string_view label) {
     return Error{fmt::format("cannot create folder {}: {}", beh_dir.string(),
                              ec.message())};
   }
+  std::vector<std::string> scanned;  // files for the scans.tsv, in order
   for (const std::string& block : blocks) {
     const std::vector<const TrialRecord*>& list = block_trials[block];
     const std::string stem =
@@ -505,6 +532,8 @@ Status Export(const fs::path& dir, std::string_view label) {
         !s) {
       return s;
     }
+
+    scanned.push_back("beh/" + stem + "_beh.tsv");
 
     std::set<int> in_block;
     for (const TrialRecord* t : list) in_block.insert(t->trial_index);
@@ -541,12 +570,35 @@ Status Export(const fs::path& dir, std::string_view label) {
           !s) {
         return s;
       }
+      scanned.push_back("beh/" + physio_stem + ".tsv.gz");
     }
   }
-  return {};
+  // The subject's scans.tsv marks every file with the state of its session.
+  const fs::path subject_dir = dir / subject;
+  RemoveStaleTempFiles(subject_dir);
+  std::string scans = Joined(ScansColumns(), "\t") + "\n";
+  for (const std::string& file : scanned) {
+    scans += fmt::format(
+        "{}\t{}\t{}\t{}\n", file,
+        !progress->complete
+            ? std::string(kNa)
+            : std::string(*progress->complete ? "complete" : "incomplete"),
+        progress->trials, OrNa(progress->planned_trials));
+  }
+  if (Status s = ReplaceFile(subject_dir / (subject + "_scans.tsv"), scans);
+      !s) {
+    return s;
+  }
+  return ReplaceFile(subject_dir / (subject + "_scans.json"), ScansSidecar());
 }
 
 }  // namespace
+
+const std::vector<std::string>& ScansColumns() {
+  static const std::vector<std::string> kColumns = {
+      "filename", "session_status", "session_trials", "session_planned_trials"};
+  return kColumns;
+}
 
 const std::vector<std::string>& BehColumns() {
   static const std::vector<std::string> kColumns = {

@@ -264,9 +264,13 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
     if (!number(kEstimate, &t.estimate)) {
       return bad(kEstimate, "is not a finite number or n/a");
     }
-    const std::optional<std::uint64_t> seed =
-        ParseInt<std::uint64_t>(cell(kSeed).text);
-    if (!seed) return bad(kSeed, "is not a whole number of at least 0");
+    // "seed-N", or the bare N of exports before the seed became text.
+    const std::optional<std::uint64_t> seed = ParseSeedText(cell(kSeed).text);
+    if (!seed) {
+      return bad(kSeed,
+                 "is not seed-N (or N) with N a whole number from 0 to "
+                 "18446744073709551615");
+    }
     if (have_seed && *seed != table.seed) {
       return bad(kSeed, fmt::format("differs from the seed {} of the rows "
                                     "above (one file holds one session)",
@@ -490,6 +494,27 @@ std::vector<UnexportedTrials> FindUnexportedTrials(
   }
   std::sort(found.begin(), found.end(),
             [](const UnexportedTrials& a, const UnexportedTrials& b) {
+              return a.subject < b.subject;
+            });
+  return found;
+}
+
+std::vector<IncompleteSession> FindIncompleteSessions(const fs::path& dir) {
+  std::vector<IncompleteSession> found;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!name.starts_with("sub-")) continue;
+    const std::string label = name.substr(4);
+    std::error_code exists_ec;
+    if (!fs::is_regular_file(JournalPath(dir, label), exists_ec)) continue;
+    Result<SessionProgress> progress = ReadSessionProgress(dir, label);
+    if (!progress || progress->complete != false) continue;
+    found.push_back({label, progress->trials, progress->planned_trials});
+  }
+  std::sort(found.begin(), found.end(),
+            [](const IncompleteSession& a, const IncompleteSession& b) {
               return a.subject < b.subject;
             });
   return found;

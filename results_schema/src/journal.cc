@@ -283,7 +283,8 @@ Result<Journal> Journal::OpenLocked(const fs::path& dir,
   if (Status s = db::Exec(h, "BEGIN IMMEDIATE", "cannot upgrade", path); !s) {
     return s.error();
   }
-  if (Status s = db::UpgradeSchema(h, path, "an upgrade from version 1"); !s) {
+  if (Status s = db::UpgradeSchema(h, path, "an upgrade of an older journal");
+      !s) {
     db::RollbackIfOpen(h);
     return s.error();
   }
@@ -425,6 +426,45 @@ Status Journal::Append(const TrialRecord& trial,
   } catch (const std::exception& e) {
     db::RollbackIfOpen(impl_->db.get());
     return Internal("cannot append a trial", e);
+  }
+}
+
+Status Journal::SetPlannedTrials(int planned_trials) {
+  try {
+    return db::WritePlannedTrials(impl_->db.get(), impl_->path, planned_trials);
+  } catch (const std::exception& e) {
+    return Internal("cannot write the planned trials", e);
+  }
+}
+
+Status Journal::MarkComplete() {
+  try {
+    return db::WriteCompleted(impl_->db.get(), impl_->path);
+  } catch (const std::exception& e) {
+    return Internal("cannot mark the session complete", e);
+  }
+}
+
+Result<SessionProgress> Journal::Progress() const {
+  try {
+    return db::ReadProgress(impl_->db.get(), impl_->path);
+  } catch (const std::exception& e) {
+    return Internal("cannot read the progress", e);
+  }
+}
+
+Result<SessionProgress> ReadSessionProgress(const fs::path& dir,
+                                            std::string_view subject_label) {
+  const fs::path path = JournalPath(dir, subject_label);
+  try {
+    auto db = db::OpenDb(path, /*create=*/false);
+    if (!db) return db.error();
+    if (auto version = db::CheckSchemaVersion(db->get(), path); !version) {
+      return version.error();
+    }
+    return db::ReadProgress(db->get(), path);
+  } catch (const std::exception& e) {
+    return Internal("cannot read the progress", e);
   }
 }
 

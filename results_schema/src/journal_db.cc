@@ -174,7 +174,9 @@ CREATE TABLE session (
   master_seed TEXT NOT NULL,
   burrlab_version TEXT NOT NULL,
   started_utc TEXT NOT NULL,
-  setup TEXT NOT NULL DEFAULT '{}' CHECK (json_valid(setup))
+  setup TEXT NOT NULL DEFAULT '{}' CHECK (json_valid(setup)),
+  planned_trials INTEGER CHECK (planned_trials > 0),
+  completed_utc TEXT
 );
 CREATE TABLE trial (
   trial_index INTEGER PRIMARY KEY CHECK (trial_index >= 0),
@@ -359,14 +361,21 @@ Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,
     const char* column;
     const char* sql;
   };
-  static constexpr Added kVersion2[] = {
+  static constexpr Added kAdded[] = {
+      // Version 2.
       {"session", "setup",
        "ALTER TABLE session ADD COLUMN setup TEXT NOT NULL DEFAULT '{}' CHECK "
        "(json_valid(setup))"},
       {"trial", "source",
-       "ALTER TABLE trial ADD COLUMN source TEXT NOT NULL DEFAULT ''"}};
+       "ALTER TABLE trial ADD COLUMN source TEXT NOT NULL DEFAULT ''"},
+      // Version 3.
+      {"session", "planned_trials",
+       "ALTER TABLE session ADD COLUMN planned_trials INTEGER CHECK "
+       "(planned_trials > 0)"},
+      {"session", "completed_utc",
+       "ALTER TABLE session ADD COLUMN completed_utc TEXT"}};
   bool upgraded = false;
-  for (const Added& added : kVersion2) {
+  for (const Added& added : kAdded) {
     Result<bool> has = HasColumn(db, path, added.table, added.column);
     if (!has) return has.error();
     if (*has) continue;
@@ -378,6 +387,54 @@ Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,
   }
   if (!upgraded) return {};
   return InsertSchemaVersion(db, path, written_by);
+}
+
+Result<SessionProgress> ReadProgress(sqlite3* db,
+                                     const std::filesystem::path& path) {
+  SessionProgress progress;
+  Result<int> trials = CountTrials(db, path);
+  if (!trials) return trials.error();
+  progress.trials = *trials;
+  Result<bool> has = HasColumn(db, path, "session", "completed_utc");
+  if (!has) return has.error();
+  if (!*has) return progress;  // schema version 1 or 2: not recorded
+  auto query = Prepare(db,
+                       "SELECT planned_trials, completed_utc FROM session "
+                       "WHERE id = 1",
+                       "cannot read the session of", path);
+  if (!query) return query.error();
+  if (sqlite3_step(query->get()) != SQLITE_ROW) {
+    return SqliteError(db, "cannot read the session of", path);
+  }
+  if (!IsNull(query->get(), 0)) {
+    progress.planned_trials = sqlite3_column_int(query->get(), 0);
+  }
+  progress.complete = !IsNull(query->get(), 1);
+  return progress;
+}
+
+Status WritePlannedTrials(sqlite3* db, const std::filesystem::path& path,
+                          int planned_trials) {
+  auto update =
+      Prepare(db, "UPDATE session SET planned_trials = ?1 WHERE id = 1",
+              "cannot write the session of", path);
+  if (!update) return update.error();
+  if (planned_trials > 0) {
+    sqlite3_bind_int(update->get(), 1, planned_trials);
+  } else {
+    sqlite3_bind_null(update->get(), 1);
+  }
+  return StepDone(db, update->get(), "cannot write the session of", path);
+}
+
+Status WriteCompleted(sqlite3* db, const std::filesystem::path& path) {
+  auto update = Prepare(db,
+                        "UPDATE session SET completed_utc = ?1 "
+                        "WHERE id = 1 AND completed_utc IS NULL",
+                        "cannot write the session of", path);
+  if (!update) return update.error();
+  BindText(update->get(), 1, NowUtc());
+  return StepDone(db, update->get(), "cannot write the session of", path);
 }
 
 Result<int> CheckSchemaVersion(sqlite3* db, const std::filesystem::path& path) {

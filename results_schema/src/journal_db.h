@@ -71,11 +71,23 @@ Status WriteSession(sqlite3* db, const std::filesystem::path& path,
 Result<bool> HasColumn(sqlite3* db, const std::filesystem::path& path,
                        std::string_view table, std::string_view column);
 
-// Gives a schema version 1 journal what version 2 added (the session's setup,
-// the trials' source) and records version 2; nothing when it has them. In
-// the caller's transaction.
+// Gives an older journal what later versions added (2: the session's setup,
+// the trials' source; 3: the session's planned trials and completion) and
+// records the current version; nothing when it has them. In the caller's
+// transaction.
 Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,
                      std::string_view written_by);
+
+// Trials stored, planned trials and completion (unknown before version 3).
+Result<SessionProgress> ReadProgress(sqlite3* db,
+                                     const std::filesystem::path& path);
+
+// Records the trials the session will present (NULL for 0: not known).
+Status WritePlannedTrials(sqlite3* db, const std::filesystem::path& path,
+                          int planned_trials);
+
+// Records that the session ran to its end, now (the first time only).
+Status WriteCompleted(sqlite3* db, const std::filesystem::path& path);
 
 // Reads the schema version; refuses a missing table or a newer version.
 Result<int> CheckSchemaVersion(sqlite3* db, const std::filesystem::path& path);

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cmath>
 #include <exception>
 #include <nlohmann/json.hpp>
@@ -255,6 +256,24 @@ Status ValidateTrace(const TraceSamples& trace, int trial_index) {
     }
   }
   return {};
+}
+
+std::string SeedText(std::uint64_t seed) {
+  return fmt::format("{}{}", kSeedPrefix, seed);
+}
+
+std::optional<std::uint64_t> ParseSeedText(std::string_view text) {
+  if (text.starts_with(kSeedPrefix)) text.remove_prefix(kSeedPrefix.size());
+  if (text.empty() || text.front() < '0' || text.front() > '9') {
+    return std::nullopt;
+  }
+  std::uint64_t seed = 0;
+  const auto [end, ec] =
+      std::from_chars(text.data(), text.data() + text.size(), seed);
+  if (ec != std::errc() || end != text.data() + text.size()) {
+    return std::nullopt;
+  }
+  return seed;
 }
 
 std::string SessionToJson(const SessionInfo& session) {

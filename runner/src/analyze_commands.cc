@@ -253,6 +253,21 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
     return Fail(err, "analyze fit: " + s.error().message);
   }
 
+  // A subject's _beh.tsv in a results folder (DIR/sub-<id>/beh/): warn when
+  // its session stopped before its end.
+  const std::filesystem::path data(data_path);
+  const std::string subject_dir = data.parent_path().parent_path().filename();
+  if (data.parent_path().filename() == "beh" &&
+      subject_dir.starts_with("sub-")) {
+    const std::filesystem::path dir =
+        data.parent_path().parent_path().parent_path();
+    for (const results_schema::IncompleteSession& s :
+         results_schema::FindIncompleteSessions(dir.empty() ? "." : dir)) {
+      if ("sub-" + s.subject == subject_dir) {
+        err << IncompleteSessionWarning(s, dir.empty() ? "." : dir.string());
+      }
+    }
+  }
   Result<std::string> text = ReadText(data_path);
   if (!text.ok()) return Fail(err, text.error().message);
   Result<analysis::PsychometricDataFile> file =

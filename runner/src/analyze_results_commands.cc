@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -37,14 +38,16 @@ Json Optional(const std::optional<double>& value) {
 
 // The study's exports, or one error line. First warns on `err` of every
 // subject whose journal holds trials its exports do not, so no subject is
-// left out silently.
+// left out silently, then of every other subject whose session stopped
+// before its end (one warning per subject).
 Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
                                                          std::ostream& err) {
   results_schema::Result<std::vector<results_schema::BehFile>> files =
       results_schema::ReadBidsDataset(dir);
   const std::vector<results_schema::BehFile> none;
-  for (const results_schema::UnexportedTrials& u :
-       results_schema::FindUnexportedTrials(dir, files.ok() ? *files : none)) {
+  const std::vector<results_schema::UnexportedTrials> unexported =
+      results_schema::FindUnexportedTrials(dir, files.ok() ? *files : none);
+  for (const results_schema::UnexportedTrials& u : unexported) {
     err << fmt::format(
         "burrlab: warning: sub-{}'s journal holds {} trials but its exports "
         "only {}, and analyses read the exports; `burrlab run PROTOCOL "
@@ -55,9 +58,35 @@ Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
                              : std::to_string(u.journal_trials),
         u.exported_trials, u.subject, dir);
   }
+  for (const results_schema::IncompleteSession& s :
+       results_schema::FindIncompleteSessions(dir)) {
+    const bool warned =
+        std::any_of(unexported.begin(), unexported.end(),
+                    [&](const results_schema::UnexportedTrials& u) {
+                      return u.subject == s.subject;
+                    });
+    if (!warned) err << IncompleteSessionWarning(s, dir);
+  }
   if (!files.ok()) return Error{files.error().message};
   return std::move(files.value());
 }
+
+}  // namespace
+
+std::string IncompleteSessionWarning(
+    const results_schema::IncompleteSession& session, const std::string& dir) {
+  return fmt::format(
+      "burrlab: warning: sub-{0}'s session is incomplete: it stopped after "
+      "{1}{2} trials; its {1} trials are analysed, and `burrlab run PROTOCOL "
+      "--subject {0} --out {3} --resume` finishes it\n",
+      session.subject, session.trials,
+      session.planned_trials
+          ? fmt::format(" of {} planned", *session.planned_trials)
+          : std::string(),
+      dir);
+}
+
+namespace {
 
 // Creates the figure folder; an error names it.
 Status MakePlotDir(const std::string& dir) {

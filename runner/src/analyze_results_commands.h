@@ -5,10 +5,21 @@
 #define BURRLAB_RUNNER_ANALYZE_RESULTS_COMMANDS_H_
 
 #include <ostream>
+#include <string>
 
+#include "burrlab/results_schema/bids_read.h"
 #include "command_table.h"
 
 namespace burrlab::runner {
+
+// The warning for a subject whose session stopped before its end, whose
+// saved trials (in the exports of results folder `dir`) are analysed all the
+// same: "burrlab: warning: sub-02's session is incomplete: it stopped after 6
+// of 10 planned trials; its 6 trials are analysed, and `burrlab run PROTOCOL
+// --subject 02 --out DIR --resume` finishes it\n" ("after 6 trials" when the
+// plan depends on the answers).
+std::string IncompleteSessionWarning(
+    const results_schema::IncompleteSession& session, const std::string& dir);
 
 // Scores, significance and same-different d' per block.
 int RunScoresCommand(const Args& args, std::ostream& out, std::ostream& err);

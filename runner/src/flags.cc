@@ -11,6 +11,7 @@
 #include <system_error>
 #include <utility>
 
+#include "burrlab/results_schema/records.h"
 #include "burrlab/sim/spelling.h"
 
 namespace burrlab::runner {
@@ -123,6 +124,17 @@ Result<std::uint64_t> ParseUnsigned(std::string_view flag,
   return value;
 }
 
+Result<std::uint64_t> ParseSeed(std::string_view flag, std::string_view text) {
+  const std::optional<std::uint64_t> seed = results_schema::ParseSeedText(text);
+  if (!seed) {
+    return Error{fmt::format(
+        "{} must be a whole number from 0 to {}, bare or as the exports write "
+        "it (seed-N), got '{}'",
+        flag, std::numeric_limits<std::uint64_t>::max(), text)};
+  }
+  return *seed;
+}
+
 Result<glm::dvec3> ParseDirection(std::string_view flag,
                                   std::string_view text) {
   std::vector<std::string_view> parts;
@@ -216,6 +228,16 @@ CLI::Option* FlagSet::AddUnsigned(const std::string& name,
                                   std::uint64_t* value) {
   return Add(name, help, "N", [name, value](std::string_view text) -> Status {
     Result<std::uint64_t> parsed = ParseUnsigned(name, text);
+    if (!parsed.ok()) return parsed.error();
+    *value = *parsed;
+    return {};
+  });
+}
+
+CLI::Option* FlagSet::AddSeed(const std::string& name, const std::string& help,
+                              std::uint64_t* value) {
+  return Add(name, help, "N", [name, value](std::string_view text) -> Status {
+    Result<std::uint64_t> parsed = ParseSeed(name, text);
     if (!parsed.ok()) return parsed.error();
     *value = *parsed;
     return {};

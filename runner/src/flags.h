@@ -39,6 +39,9 @@ Result<std::int64_t> ParseInteger(std::string_view flag, std::string_view text,
 // A whole number in [0, 2^64).
 Result<std::uint64_t> ParseUnsigned(std::string_view flag,
                                     std::string_view text);
+// A master seed: a whole number in [0, 2^64), bare or as the exports write
+// it ("seed-N", results_schema::SeedText).
+Result<std::uint64_t> ParseSeed(std::string_view flag, std::string_view text);
 // "X,Y,Z": three finite numbers, not all zero.
 Result<glm::dvec3> ParseDirection(std::string_view flag, std::string_view text);
 
@@ -65,6 +68,8 @@ class FlagSet {
                           int min, int max, int* value);
   CLI::Option* AddUnsigned(const std::string& name, const std::string& help,
                            std::uint64_t* value);
+  CLI::Option* AddSeed(const std::string& name, const std::string& help,
+                       std::uint64_t* value);
   CLI::Option* AddDirection(const std::string& name, const std::string& help,
                             glm::dvec3* value);
   // One of `choices`, stored as its index.

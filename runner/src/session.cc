@@ -103,6 +103,12 @@ class SessionRunner {
   Status Replay(const std::vector<rs::TrialRecord>& records);
   Result<SessionSummary> Run();
   // Trials in the journal now (0 when it cannot be read).
+  // Records in the journal that the session ran to its end.
+  Status MarkComplete() {
+    rs::Status s = journal_.MarkComplete();
+    if (!s.ok()) return Error{s.error().message};
+    return {};
+  }
   int StoredTrials() const {
     rs::Result<int> n = journal_.NextTrialIndex();
     return n.ok() ? n.value() : 0;
@@ -603,6 +609,28 @@ std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
   };
 }
 
+int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
+                  std::uint64_t seed) {
+  for (const protocols::Block& b : protocol.blocks) {
+    if (b.method == protocols::Method::kLimits ||
+        b.method == protocols::Method::kAdjustment ||
+        b.method == protocols::Method::kStaircase ||
+        b.method == protocols::Method::kQuest) {
+      return 0;
+    }
+  }
+  Result<Engine> engine = Engine::Create(protocol, subject_index, seed);
+  if (!engine.ok()) return 0;
+  int n = 0;
+  while (!engine->finished() && n < 1'000'000) {
+    Result<protocols::Response> r =
+        protocols::ScriptedResponse(engine->current(), "1");
+    if (!r.ok() || !engine->Respond(*r).ok()) return 0;
+    ++n;
+  }
+  return engine->finished() ? n : 0;
+}
+
 Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
                                   const SessionOptions& options) {
   rs::SessionInfo info;
@@ -646,6 +674,11 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
     return opened;
   }();
   if (!journal.ok()) return Error{journal.error().message};
+  if (rs::Status s = journal->SetPlannedTrials(
+          PlannedTrials(loaded.protocol, options.subject_index, options.seed));
+      !s.ok()) {
+    return Error{s.error().message};
+  }
   if (options.journal_limit_bytes_for_testing > 0) {
     if (rs::Status s = journal->LimitSizeForTesting(
             options.journal_limit_bytes_for_testing);
@@ -673,6 +706,9 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
                    " (the trials saved so far are exported)"};
     }
     return summary;
+  }
+  if (summary->finished) {
+    if (Status s = runner.MarkComplete(); !s.ok()) return s.error();
   }
   // The journal (and with it the session's lock) stays open through the
   // export, so no other run writes the session meanwhile.

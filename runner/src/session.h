@@ -171,9 +171,19 @@ struct SessionSummary {
 std::vector<results_schema::SetupField> SessionSetup(
     const SessionOptions& options);
 
+// The number of trials `protocol` presents for this subject and seed (the
+// station's "Trial k of N", the journal's planned trials); 0 when that is not
+// known ahead (limits, adjustment, staircase and QUEST blocks depend on the
+// answers).
+int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
+                  std::uint64_t seed);
+
 // Runs (or resumes) one subject's session. The session's lock is held from
 // the journal's opening to the end of the export; a --resume of a journal
-// with no trial starts it again with the protocol and set-up given now.
+// with no trial starts it again with the protocol and set-up given now. The
+// journal records the planned trials when it opens and the session's
+// completion when the protocol has run to its end, before the export (which
+// marks a session that stopped early as incomplete).
 Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
                                   const SessionOptions& options);
 

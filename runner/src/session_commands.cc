@@ -104,27 +104,6 @@ std::string Diagnostics(const std::string& path, const std::string& text,
   return out;
 }
 
-// The number of trials `protocol` presents when every answer is correct (the
-// station's "Trial k of N"); 0 when that is not known ahead (adaptive blocks
-// depend on the answers).
-int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
-                  std::uint64_t seed) {
-  for (const protocols::Block& b : protocol.blocks) {
-    if (IsAdaptive(b.method)) return 0;
-  }
-  Result<protocols::Engine> engine =
-      protocols::Engine::Create(protocol, subject_index, seed);
-  if (!engine.ok()) return 0;
-  int n = 0;
-  while (!engine->finished() && n < 1'000'000) {
-    Result<protocols::Response> r =
-        protocols::ScriptedResponse(engine->current(), "1");
-    if (!r.ok() || !engine->Respond(*r).ok()) return 0;
-    ++n;
-  }
-  return engine->finished() ? n : 0;
-}
-
 }  // namespace
 
 int DefaultSubjectIndex(std::string_view label) {
@@ -152,7 +131,10 @@ int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
   bool json = false;
   app.add_option("file", path, "the protocol file")->required();
   FlagSet flags(&app);
-  flags.AddUnsigned("--seed", "master seed (default 1)", &seed);
+  flags.AddSeed("--seed",
+                "master seed (default 1; seed-N, as the exports write it, "
+                "also works)",
+                &seed);
   flags.AddText("--subject", "subject label (default 01)", &subject);
   flags.AddInteger("--subject-index",
                    "counterbalancing row (default: the label's number - 1)", 0,
@@ -443,7 +425,10 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddText("--subject", "subject label: letters and digits (required)",
                 &subject);
   flags.AddText("--out", "output folder (required)", &out_dir);
-  flags.AddUnsigned("--seed", "master seed (default 1)", &seed);
+  flags.AddSeed("--seed",
+                "master seed (default 1; seed-N, as the exports write it, "
+                "also works)",
+                &seed);
   flags.AddInteger("--subject-index",
                    "counterbalancing row (default: the label's number - 1)", 0,
                    1000000, &subject_index);

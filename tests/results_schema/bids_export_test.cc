@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/results_schema/records.h"
 #include "burrlab/results_schema/schemas.h"
@@ -125,10 +126,42 @@ TEST_F(BidsExport, WritesTheBidsFileSet) {
       "sub-01/beh/sub-01_task-sameDifferentMain_physio.tsv.gz",
       "sub-01/journal.sqlite",
       "sub-01/journal.sqlite.lock",
+      "sub-01/sub-01_scans.json",
+      "sub-01/sub-01_scans.tsv",
   };
   // The journal's -wal/-shm files are gone once every connection closed.
   EXPECT_EQ(files, expected);
   EXPECT_EQ(ReadFile(dir_.path() / ".bidsignore"), "journal.sqlite*\n");
+  // The fixture's session never ran to its end (nothing marked it so), and
+  // its plan was not recorded.
+  EXPECT_EQ(ReadFile(dir_.path() / "sub-01" / "sub-01_scans.tsv"),
+            "filename\tsession_status\tsession_trials\tsession_planned_trials\n"
+            "beh/sub-01_task-practice_beh.tsv\tincomplete\t10\tn/a\n"
+            "beh/sub-01_task-practice_physio.tsv.gz\tincomplete\t10\tn/a\n"
+            "beh/sub-01_task-sameDifferentMain_beh.tsv\tincomplete\t10\tn/a\n"
+            "beh/sub-01_task-sameDifferentMain_physio.tsv.gz\tincomplete\t10\t"
+            "n/a\n");
+  const Json scans =
+      Json::parse(ReadFile(dir_.path() / "sub-01" / "sub-01_scans.json"));
+  for (const std::string& column : ScansColumns()) {
+    EXPECT_TRUE(scans.contains(column)) << column;
+  }
+}
+
+TEST(BidsExportCases, ScansMarkACompleteSessionAndItsPlan) {
+  TempDir dir;
+  WriteJournal(dir.path(), "05", 4);
+  {
+    auto journal = Journal::Open(dir.path(), "05");
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    ASSERT_TRUE(journal->SetPlannedTrials(4).ok());
+    ASSERT_TRUE(journal->MarkComplete().ok());
+  }
+  ASSERT_TRUE(ExportBids(dir.path(), "05").ok());
+  EXPECT_EQ(ReadFile(dir.path() / "sub-05" / "sub-05_scans.tsv"),
+            "filename\tsession_status\tsession_trials\tsession_planned_trials\n"
+            "beh/sub-05_task-practice_beh.tsv\tcomplete\t4\t4\n"
+            "beh/sub-05_task-practice_physio.tsv.gz\tcomplete\t4\t4\n");
 }
 
 TEST_F(BidsExport, BehTsvReadsBackWithColumnsAndNa) {
@@ -176,7 +209,7 @@ TEST_F(BidsExport, BehTsvReadsBackWithColumnsAndNa) {
       {"reversal", "n/a"},
       {"step_size", "n/a"},
       {"estimate", "n/a"},
-      {"seed", "1234567890123"},
+      {"seed", "seed-1234567890123"},
       {"extra", "n/a"}};
   EXPECT_EQ(rows[0], first);
   // Trial 5 timed out: no response, correctness or time.
@@ -294,6 +327,37 @@ TEST_F(BidsExport, ReExportIsByteIdenticalAndKeepsADatasetDescription) {
   for (const auto& [path, bytes] : before) {
     EXPECT_EQ(ReadFile(path), bytes) << path;
   }
+}
+
+// Seeds beyond 2^53 (where a double has no room for the last digits) and
+// beyond 2^63 (where a signed 64-bit integer ends) are written whole, as
+// text no table reader turns into a number, and read back exactly.
+TEST(BidsExportCases, SeedsAboveTwoToThe53And63AreWrittenWholeAsText) {
+  for (const std::uint64_t seed :
+       {9007199254740993ull, 9223372036854775809ull, 18446744073709551615ull}) {
+    TempDir dir;
+    SessionInfo session = FixtureSession("03");
+    session.master_seed = seed;
+    auto journal = Journal::Create(dir.path(), session);
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    ASSERT_TRUE(journal->Append(FixtureTrial(0), {}).ok());
+    ASSERT_TRUE(ExportBids(dir.path(), "03").ok());
+    const auto rows = Records(ParseTsv(ReadFile(
+        dir.path() / "sub-03" / "beh" / "sub-03_task-practice_beh.tsv")));
+    const std::string cell = rows.at(0).at("seed");
+    EXPECT_EQ(cell, "seed-" + std::to_string(seed));
+    // What a reader that converts numbers finds there: no number at all.
+    char* end = nullptr;
+    std::strtod(cell.c_str(), &end);
+    EXPECT_EQ(end, cell.c_str()) << cell;
+    Result<std::vector<BehFile>> read = ReadBidsDataset(dir.path());
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ(read->at(0).table.seed, seed);
+  }
+  // The reason: the nearest double to 2^53 + 1 is 2^53.
+  EXPECT_NE(
+      static_cast<std::uint64_t>(static_cast<double>(9007199254740993ull)),
+      9007199254740993ull);
 }
 
 TEST(BidsExportCases, DistinctBlocksGetDistinctTaskLabels) {

@@ -150,6 +150,16 @@ TEST(BidsRead, MalformedTablesNameFileLineAndColumn) {
   EXPECT_EQ(error(seeds),
             "b.tsv:3:70: error: seed \"6\" differs from the seed 5 of the rows "
             "above (one file holds one session)");
+  std::string bad_seed = std::string(kHeader) + Row("1", "1", "seed-1.5");
+  EXPECT_EQ(
+      error(bad_seed),
+      "b.tsv:2:70: error: seed \"seed-1.5\" is not seed-N (or N) with N a "
+      "whole number from 0 to 18446744073709551615");
+  // Exports before the seed became text wrote the bare number.
+  Result<BehTable> bare = ParseBehTsv(
+      "b.tsv", std::string(kHeader) + Row("1", "1", "18446744073709551615"));
+  ASSERT_TRUE(bare.ok()) << bare.error().message;
+  EXPECT_EQ(bare->seed, 18446744073709551615ull);
   std::string no_task = kHeader;
   no_task.replace(no_task.find("\ttask\t"), 6, "\tjob\t");
   EXPECT_EQ(error(no_task + Row("1", "1")).substr(0, 50),

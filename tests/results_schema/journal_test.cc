@@ -432,6 +432,8 @@ TEST(Journal, ReadsASchemaVersion1JournalAndRestartsIt) {
   const fs::path path = JournalPath(dir.path(), "01");
   // A journal as burrlab wrote it before the setup column existed.
   RawSql(path, "ALTER TABLE session DROP COLUMN setup");
+  RawSql(path, "ALTER TABLE session DROP COLUMN planned_trials");
+  RawSql(path, "ALTER TABLE session DROP COLUMN completed_utc");
   RawSql(path, "ALTER TABLE trial DROP COLUMN source");
   RawSql(path, "UPDATE schema_version SET version = 1");
   {
@@ -462,14 +464,52 @@ TEST(Journal, RefusesANewerSchemaVersion) {
   TempDir dir;
   ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
   const fs::path path = JournalPath(dir.path(), "01");
-  RawSql(path, "UPDATE schema_version SET version = 3");
+  RawSql(path, "UPDATE schema_version SET version = 4");
   auto journal = Journal::Open(dir.path(), "01");
   ASSERT_FALSE(journal.ok());
   EXPECT_EQ(journal.error().message,
             path.string() +
-                " was written by a newer burrlab (journal schema version 3; "
-                "this burrlab reads up to version 2); use a newer burrlab to "
+                " was written by a newer burrlab (journal schema version 4; "
+                "this burrlab reads up to version 3); use a newer burrlab to "
                 "resume or export it");
+}
+
+TEST(Journal, RecordsPlannedTrialsAndCompletion) {
+  TempDir dir;
+  auto journal = Journal::Create(dir.path(), MakeSession("01"));
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  Result<SessionProgress> p = journal->Progress();
+  ASSERT_TRUE(p.ok()) << p.error().message;
+  EXPECT_EQ(p->trials, 0);
+  EXPECT_EQ(p->planned_trials, std::nullopt);
+  EXPECT_EQ(p->complete, false);
+  ASSERT_TRUE(journal->SetPlannedTrials(10).ok());
+  ASSERT_TRUE(journal->Append(MakeTrial(0), MakeTraces(0)).ok());
+  p = ReadSessionProgress(dir.path(), "01");  // read beside the open journal
+  ASSERT_TRUE(p.ok()) << p.error().message;
+  EXPECT_EQ(p->trials, 1);
+  EXPECT_EQ(p->planned_trials, 10);
+  EXPECT_EQ(p->complete, false);
+  ASSERT_TRUE(journal->MarkComplete().ok());
+  EXPECT_EQ(ReadSessionProgress(dir.path(), "01")->complete, true);
+  ASSERT_TRUE(journal->SetPlannedTrials(0).ok());  // 0: not known
+  EXPECT_EQ(journal->Progress()->planned_trials, std::nullopt);
+}
+
+// A version 2 journal does not say whether its session ended; resuming it
+// upgrades it to version 3, from when on it does.
+TEST(Journal, AVersion2JournalLearnsItsCompletionWhenResumed) {
+  TempDir dir;
+  ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
+  const fs::path path = JournalPath(dir.path(), "01");
+  RawSql(path, "ALTER TABLE session DROP COLUMN planned_trials");
+  RawSql(path, "ALTER TABLE session DROP COLUMN completed_utc");
+  RawSql(path, "UPDATE schema_version SET version = 2");
+  EXPECT_EQ(ReadSessionProgress(dir.path(), "01")->complete, std::nullopt);
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  EXPECT_EQ(journal->Settings()->schema_version, 3);
+  EXPECT_EQ(journal->Progress()->complete, false);
 }
 
 TEST(Journal, RefusesFilesThatAreNotJournals) {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "burrlab/results_schema/schemas.h"
@@ -180,6 +181,22 @@ TEST(Json, TrialSchemaRejectsAnUnknownTask) {
   EXPECT_EQ(Message(CheckJsonAgainst("trial_record", json.dump())),
             "trial_record.schema.json: /task: \"cut\" is not one of "
             "[\"probe\",\"drill\"]");
+}
+
+TEST(Seed, TextKeepsEverySeedAndReadsBack) {
+  for (const std::uint64_t seed :
+       {0ull, 1ull, 9007199254740993ull, 9223372036854775809ull,
+        18446744073709551615ull}) {
+    const std::string text = SeedText(seed);
+    EXPECT_EQ(text, "seed-" + std::to_string(seed));
+    EXPECT_EQ(ParseSeedText(text), seed) << text;
+    EXPECT_EQ(ParseSeedText(std::to_string(seed)), seed);  // bare digits
+  }
+  for (const char* bad :
+       {"", "seed-", "seed-x", "-1", "+1", "seed--1", "18446744073709551616",
+        "seed-1 ", " 1", "1e3", "0x10", "Seed-1"}) {
+    EXPECT_EQ(ParseSeedText(bad), std::nullopt) << bad;
+  }
 }
 
 }  // namespace

@@ -154,6 +154,87 @@ TEST_F(AnalyzeResults, SubjectsWithTrialsMissingFromTheExportsAreNamed) {
       << none.err;
 }
 
+// A subject whose session stopped on an error has all its saved trials
+// exported, but its session is incomplete: every analysis names it once,
+// with the trials done of those planned and the command that finishes it,
+// and analyses its trials all the same. Truth: the journal's own trial
+// count; 3 levels x 4 repetitions = 12 planned trials.
+TEST_F(AnalyzeResults, SubjectsWhoseSessionStoppedEarlyAreNamed) {
+  const std::string protocol = (dir_ / "protocol.toml").string();
+  std::ofstream(protocol) << R"(format = "burrlab-protocol/1"
+[study]
+name = "stopped early"
+[recording]
+trace_hz = 100
+[materials.bone]
+builtin = "human_temporal_bone"
+[axes.ce]
+kind = "ratio"
+parameter = "c_e"
+reference = "bone"
+[[blocks]]
+name = "constant"
+method = "constant_stimuli"
+task = "probe"
+axis = "ce"
+standard_level = 1.0
+levels = [1.1, 1.3, 1.6]
+repetitions = 4
+response = "2afc"
+interval_s = 0.5
+)";
+  const std::string results = (dir_ / "out").string();
+  ASSERT_EQ(RunBurrlab({"run", protocol, "--subject", "01", "--out", results,
+                        "--observer", "simulated"})
+                .code,
+            0);
+  // sub-02's journal fills up part way: the run stops on the error.
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  SessionOptions options;
+  options.out_dir = results;
+  options.subject = "02";
+  options.subject_index = 1;
+  options.journal_limit_bytes_for_testing = 64 * 1024;
+  ASSERT_FALSE(RunSession(*loaded, options).ok());
+  int saved = 0;
+  {
+    auto journal = results_schema::Journal::Open(results, "02");
+    ASSERT_TRUE(journal.ok());
+    saved = journal->NextTrialIndex().value();
+  }
+  ASSERT_GT(saved, 0);
+  ASSERT_LT(saved, 12);
+  const std::string warning =
+      "burrlab: warning: sub-02's session is incomplete: it stopped after " +
+      std::to_string(saved) + " of 12 planned trials; its " +
+      std::to_string(saved) +
+      " trials are analysed, and `burrlab run PROTOCOL --subject 02 --out " +
+      results + " --resume` finishes it\n";
+  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+    const CliRun run = RunBurrlab({"analyze", command, results, "--json"});
+    EXPECT_EQ(run.code, 0) << command << run.err;
+    EXPECT_EQ(run.err, warning) << command;
+    EXPECT_NE(run.out.find("\"02\""), std::string::npos) << command;
+  }
+  const std::string beh = results + "/sub-02/beh/sub-02_task-constant_beh.tsv";
+  const CliRun fit =
+      RunBurrlab({"analyze", "fit", "--data", beh, "--task", "2afc",
+                  "--sigmoid", "logistic", "--bootstrap", "0"});
+  EXPECT_TRUE(fit.err.starts_with(warning)) << fit.err;
+  // sub-01 ran to its end: no warning for its file.
+  const CliRun fit01 = RunBurrlab(
+      {"analyze", "fit", "--data",
+       results + "/sub-01/beh/sub-01_task-constant_beh.tsv", "--task", "2afc",
+       "--sigmoid", "logistic", "--bootstrap", "0"});
+  EXPECT_EQ(fit01.err.find("sub-01"), std::string::npos) << fit01.err;
+  // Finishing it ends the warnings.
+  options.journal_limit_bytes_for_testing = 0;
+  options.resume = true;
+  ASSERT_TRUE(RunSession(*loaded, options).ok());
+  EXPECT_EQ(RunBurrlab({"analyze", "scores", results}).err, "");
+}
+
 TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {
   for (const std::string command : {"scores", "thresholds", "kinematics"}) {
     const CliRun run = RunBurrlab({"analyze", command, dir_.string()});

@@ -75,6 +75,17 @@ TEST(ParseUnsigned, TakesTheWholeSixtyFourBitRange) {
   EXPECT_FALSE(ParseUnsigned("--seed", "18446744073709551616").ok());
 }
 
+TEST(ParseSeed, TakesTheSeedAsTheExportsWriteItOrBare) {
+  EXPECT_EQ(*ParseSeed("--seed", "seed-18446744073709551615"),
+            18446744073709551615u);
+  EXPECT_EQ(*ParseSeed("--seed", "9223372036854775809"), 9223372036854775809u);
+  const Result<std::uint64_t> bad = ParseSeed("--seed", "seed-1.5");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message,
+            "--seed must be a whole number from 0 to 18446744073709551615, "
+            "bare or as the exports write it (seed-N), got 'seed-1.5'");
+}
+
 TEST(ParseDirection, ReadsThreeCommaSeparatedNumbers) {
   const Result<glm::dvec3> direction = ParseDirection("--normal", "0,-1,2.5");
   ASSERT_TRUE(direction.ok());

@@ -4,6 +4,7 @@
 // seed or set-up) — each a clear error, exit 1, nothing lost.
 #include "session.h"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -95,6 +96,32 @@ TEST_F(SessionTest, SimulatedRunWritesJournalAndBidsExport) {
   EXPECT_TRUE(
       fs::exists(out / "sub-01" / "beh" / "sub-01_task-stairs_physio.tsv.gz"));
   EXPECT_TRUE(fs::exists(out / "dataset_description.json"));
+}
+
+// The seed column holds text that `--seed` takes back as written: a seed
+// above 2^63 read from one session's export runs the same session again.
+TEST_F(SessionTest, TheExportedSeedRunsTheSessionAgain) {
+  const fs::path first = dir_ / "first";
+  ASSERT_EQ(
+      RunBurrlab({"run", protocol_, "--subject", "04", "--out", first.string(),
+                  "--seed", "9223372036854775809", "--observer", "simulated"})
+          .code,
+      0);
+  const std::string tsv = "sub-04/beh/sub-04_task-sd_beh.tsv";
+  // The cell as written, between the last two tabs of the first row.
+  const std::string text = Read(first / tsv);
+  const std::string row = text.substr(text.find('\n') + 1);
+  const std::size_t last_tab = row.rfind('\t', row.find('\n'));
+  const std::size_t seed_tab = row.rfind('\t', last_tab - 1);
+  const std::string cell = row.substr(seed_tab + 1, last_tab - seed_tab - 1);
+  EXPECT_EQ(cell, "seed-9223372036854775809");
+  const fs::path again = dir_ / "again";
+  ASSERT_EQ(
+      RunBurrlab({"run", protocol_, "--subject", "04", "--out", again.string(),
+                  "--seed", cell, "--observer", "simulated"})
+          .code,
+      0);
+  EXPECT_EQ(Read(first / tsv), Read(again / tsv));
 }
 
 TEST_F(SessionTest, SameSeedGivesByteIdenticalExports) {
@@ -285,6 +312,24 @@ TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
   std::size_t rows = 0;
   for (const rs::BehFile& f : *exported) rows += f.table.trials.size();
   EXPECT_EQ(rows, static_cast<std::size_t>(saved));
+  // ... and the subject's scans.tsv marks them as an incomplete session (the
+  // staircase's trial count depends on the answers: n/a planned).
+  const fs::path scans = options.out_dir / "sub-04" / "sub-04_scans.tsv";
+  // One row per exported file: the same-different block's (trials 0-11),
+  // then the staircase's once a trial of it is saved.
+  const auto expected_scans = [](const std::string& status, int trials) {
+    std::string text =
+        "filename\tsession_status\tsession_trials\tsession_planned_trials\n";
+    for (const char* block : {"sd", "stairs"}) {
+      if (std::string(block) == "stairs" && trials <= 12) break;
+      for (const char* suffix : {"_beh.tsv", "_physio.tsv.gz"}) {
+        text += fmt::format("beh/sub-04_task-{}{}\t{}\t{}\tn/a\n", block,
+                            suffix, status, trials);
+      }
+    }
+    return text;
+  };
+  EXPECT_EQ(Read(scans), expected_scans("incomplete", saved));
 
   options.journal_limit_bytes_for_testing = 0;
   options.resume = true;
@@ -292,6 +337,7 @@ TEST_F(SessionTest, FailingWriteKeepsTheJournalConsistentAndResumes) {
   ASSERT_TRUE(resumed.ok()) << resumed.error().message;
   EXPECT_EQ(resumed->trials_resumed, saved);
   EXPECT_EQ(resumed->trials_total, 20);
+  EXPECT_EQ(Read(scans), expected_scans("complete", 20));
 
   SessionOptions clean = options;
   clean.out_dir = dir_ / "clean";

@@ -5,8 +5,10 @@
 // the final level. Pure and deterministic: the jitter is drawn once, at
 // creation, from the caller's stream.
 //
-// Levels: after k net steps the level is ApplyStep(start, k * step, scale)
-// computed afresh (no accumulated rounding), clamped to [floor_level,
+// Levels: after k net steps (jitter included) the level is LevelAt(start,
+// k * step, step, scale) (levels.h): computed afresh, no accumulated
+// rounding, rounded to the step on a linear scale and to 12 significant
+// digits on log10 and dB scales, then clamped to [floor_level,
 // ceiling_level]. A step up at the ceiling (or down at the floor) leaves the
 // level there and is still recorded; the next step the other way returns to
 // the grid level below (above) the bound.

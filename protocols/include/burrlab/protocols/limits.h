@@ -12,11 +12,13 @@
 //    it by a change). The responses are booleans of any meaning ("yes,
 //    detected", "comparison stiffer").
 //  - Series k presents start + i * step (ascending) or start - i * step
-//    (descending), i = 0, 1, ... Levels beyond [floor_level, ceiling_level]
-//    are never presented (a level within 1e-9 steps of a bound is presented
-//    as the bound). When the next level would lie beyond the bound, the
-//    series ends without a transition ("no transition"); it counts as a
-//    series but not in the threshold.
+//    (descending), i = 0, 1, ..., each computed afresh and rounded to the
+//    step (levels.h: 0.6 - 2 x 0.05 is 0.5, not 0.49999999999999994), as
+//    are the jittered starts and the transition points. Levels beyond
+//    [floor_level, ceiling_level] are never presented (a level within 1e-9
+//    steps of a bound is presented as the bound). When the next level would lie
+//    beyond the bound, the series ends without a transition ("no transition");
+//    it counts as a series but not in the threshold.
 #ifndef BURRLAB_PROTOCOLS_LIMITS_H_
 #define BURRLAB_PROTOCOLS_LIMITS_H_
 
@@ -25,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/protocols/levels.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::protocols {
@@ -114,7 +117,7 @@ class MethodOfLimits {
  private:
   MethodOfLimits(LimitsOptions options, std::vector<LimitsSeries> series);
   // Level i steps into series s, or none beyond its bound.
-  std::optional<double> LevelAt(const LimitsSeries& s, int i) const;
+  std::optional<double> SeriesLevel(const LimitsSeries& s, int i) const;
 
   LimitsOptions options_;
   std::vector<LimitsSeries> series_;

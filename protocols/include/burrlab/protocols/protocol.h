@@ -198,7 +198,8 @@ struct Block {
   AdaptiveResponse adaptive_response = AdaptiveResponse::k2Afc;
   QuestOptions quest;  // intensities are log10(level)
   int quest_trials = 40;
-  // QUEST placements are clamped to [floor, ceiling] (and to AxisDomain).
+  // QUEST placements, 10^intensity rounded to 12 significant digits
+  // (levels.h), are clamped to [floor, ceiling] (and to AxisDomain).
   double quest_floor_level = -std::numeric_limits<double>::infinity();
   double quest_ceiling_level = std::numeric_limits<double>::infinity();
 

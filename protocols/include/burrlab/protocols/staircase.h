@@ -23,10 +23,16 @@
 //    (the base step_down/step_up before any entry applies). So the step size
 //    shrinks on the very move that turns the track (PsychoPy PR #539 fixed
 //    the opposite behaviour).
+//  - Levels (levels.h): the track keeps an anchor (start_level) and an offset,
+//    the sum of its signed moves in step-scale units rounded to the smallest
+//    step after each move; the level is LevelAt(anchor, offset), computed
+//    afresh, so a level reached twice is the same double. The first level is
+//    start_level rounded so too.
 //  - Bounds: a move that would leave [floor_level, ceiling_level] stops at the
 //    bound; a move at the bound leaves the level there. Such a move still has
 //    its direction, so the first move back from the bound is a reversal and
-//    its level is the bound.
+//    its level is the bound. Moves from the bound go on from it: on the same
+//    grid when the bound is one of its levels, else from the bound as anchor.
 //  - Stop: finished once max_trials trials or max_reversals reversals have
 //    happened, whichever comes first (0 = that limit unset).
 #ifndef BURRLAB_PROTOCOLS_STAIRCASE_H_
@@ -38,25 +44,10 @@
 #include <utility>
 #include <vector>
 
+#include "burrlab/protocols/levels.h"
 #include "burrlab/sim/result.h"
 
 namespace burrlab::protocols {
-
-// How a step size changes a level (staircases and the method of adjustment).
-enum class StepScale {
-  kLinear,   // a step s adds s to the level (level in any unit)
-  kLog10,    // a step s multiplies the level by 10^s (level > 0)
-  kDecibel,  // a step s multiplies the level by 10^(s/20) (level > 0)
-};
-
-// "linear", "log10" or "db".
-std::string_view StepScaleName(StepScale scale);
-// `level` moved by `steps` step units (signed; negative moves down).
-double ApplyStep(double level, double steps, StepScale scale);
-// The level in the scale's own domain: level, log10(level) or 20 log10(level).
-double ToScaleDomain(double level, StepScale scale);
-// Inverse of ToScaleDomain.
-double FromScaleDomain(double value, StepScale scale);
 
 // Step sizes that take over from the move making the after_reversals-th
 // reversal on.
@@ -143,9 +134,14 @@ class Staircase {
 
  private:
   explicit Staircase(StaircaseOptions options);
+  // Puts the level at `bound` (floor or ceiling).
+  void StopAt(double bound);
 
   StaircaseOptions options_;
-  double level_ = 0.0;
+  double smallest_step_ = 1.0;  // smallest step size of options_, > 0
+  double anchor_ = 0.0;         // level the offset counts from
+  double offset_ = 0.0;         // sum of moves from anchor_, step-scale units
+  double level_ = 0.0;          // LevelAt(anchor_, offset_) or a bound
   int correct_run_ = 0;
   int incorrect_run_ = 0;
   Move last_move_ = Move::kNone;

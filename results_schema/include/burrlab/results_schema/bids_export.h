@@ -6,6 +6,13 @@
 //   DIR/sub-<id>/beh/sub-<id>_task-<task>_beh.tsv   one row per trial
 //   DIR/sub-<id>/beh/sub-<id>_task-<task>_beh.json  describes every column
 //   DIR/sub-<id>/beh/sub-<id>_task-<task>_physio.tsv.gz + _physio.json
+//   DIR/sub-<id>/sub-<id>_scans.tsv + .json  one row per data file above:
+//                                           filename, session_status
+//                                           (complete, incomplete, or n/a for
+//                                           a journal older than the
+//                                           record), session_trials,
+//                                           session_planned_trials (n/a when
+//                                           not known ahead)
 // with one <task> per protocol block (see TaskLabel). Exports are derived from
 // the journal and are rewritten whole (temporary file, then rename) on every
 // export (temporary files that an export killed before its rename left behind
@@ -29,6 +36,9 @@ inline constexpr std::string_view kBidsVersion = "1.9.0";
 
 // Columns of every _beh.tsv, in order.
 const std::vector<std::string>& BehColumns();
+
+// Columns of every sub-<id>_scans.tsv, in order.
+const std::vector<std::string>& ScansColumns();
 
 // Columns that start every _physio.tsv.gz row, before the trace's own columns.
 const std::vector<std::string>& PhysioLeadingColumns();

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -69,6 +70,22 @@ struct UnexportedTrials {
 // journal that cannot be read counts as holding trials (-1).
 std::vector<UnexportedTrials> FindUnexportedTrials(
     const std::filesystem::path& dir, const std::vector<BehFile>& files);
+
+// A subject whose journal says its session stopped before its end (an
+// error, a stop at the station, a kill not yet resumed, or a run still
+// going).
+struct IncompleteSession {
+  std::string subject;                // label without "sub-"
+  int trials = 0;                     // trials its journal holds
+  std::optional<int> planned_trials;  // when known ahead
+};
+
+// Every DIR/sub-*/journal.sqlite whose session has not run to its end,
+// sorted by label. Journals older than the record (schema version < 3, not
+// resumed since) do not say and are not listed; nor are unreadable ones
+// (FindUnexportedTrials lists those).
+std::vector<IncompleteSession> FindIncompleteSessions(
+    const std::filesystem::path& dir);
 
 // Parses a _physio.json sidecar's text; `json_path` names it in errors and
 // gives data_path, the .tsv.gz beside it.

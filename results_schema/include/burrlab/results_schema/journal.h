@@ -7,11 +7,14 @@
 // An open journal holds the session's lock (session_lock.h): one process per
 // session.
 //
-// Tables (schema version 2; every statement is parametrized):
+// Tables (schema version 3; every statement is parametrized):
 //   schema_version(version, written_by)          one row per version written
 //   session(id = 1, study, protocol_path, protocol_sha256, subject_label,
 //           master_seed TEXT (decimal), burrlab_version, started_utc,
-//           setup TEXT (a JSON object of text values; version 2 added it))
+//           setup TEXT (a JSON object of text values; version 2 added it),
+//           planned_trials INTEGER (NULL: not known ahead) and
+//           completed_utc TEXT (NULL until the session ran to its end);
+//           version 3 added these two)
 //   trial(trial_index PRIMARY KEY, the TrialRecord fields, interval_materials
 //         and extra as JSON text, committed_utc)
 //   trace(trial_index REFERENCES trial, interval_index, sampling_frequency_hz,
@@ -25,6 +28,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,7 +40,7 @@
 namespace burrlab::results_schema {
 
 // Journal schema version this burrlab writes and the newest it reads.
-inline constexpr int kJournalSchemaVersion = 2;
+inline constexpr int kJournalSchemaVersion = 3;
 
 // DIR/sub-<label>/journal.sqlite.
 std::filesystem::path JournalPath(const std::filesystem::path& dir,
@@ -50,6 +54,20 @@ struct JournalSettings {
   bool foreign_keys = false;  // true
   int schema_version = 0;     // kJournalSchemaVersion
 };
+
+// How far a session got.
+struct SessionProgress {
+  int trials = 0;                     // trials stored
+  std::optional<int> planned_trials;  // trials the protocol presents, when
+                                      // known ahead (no adaptive block)
+  std::optional<bool> complete;       // the session ran to its end; none: the
+                                 // journal predates the record (version < 3)
+};
+
+// The progress recorded in DIR/sub-<label>/journal.sqlite, read without
+// taking the session's lock (a running session's journal can be read).
+Result<SessionProgress> ReadSessionProgress(const std::filesystem::path& dir,
+                                            std::string_view subject_label);
 
 // An open journal. Move-only; closing is the destructor.
 class Journal {
@@ -104,6 +122,15 @@ class Journal {
   // the trial is stored.
   Status Append(const TrialRecord& trial,
                 const std::vector<TraceSamples>& traces);
+
+  // Records how many trials the session will present; 0: not known ahead.
+  Status SetPlannedTrials(int planned_trials);
+
+  // Records that the session ran to its end (its time, the first time).
+  Status MarkComplete();
+
+  // Trials stored, planned trials and whether the session is complete.
+  Result<SessionProgress> Progress() const;
 
   // Index the next appended trial must have (= number of trials stored).
   Result<int> NextTrialIndex() const;

@@ -111,6 +111,20 @@ Status ValidateTrace(const TraceSamples& trace, int trial_index);
 // string because JSON readers lose integers above 2^53.
 std::string SessionToJson(const SessionInfo& session);
 
+// Prefix of a master seed written as text (SeedText).
+inline constexpr std::string_view kSeedPrefix = "seed-";
+
+// A master seed as the exports write it: "seed-" and its decimal digits
+// ("seed-18446744073709551615"). A seed is any 64-bit number, but R's
+// read.delim reads a long integer as a double (exact only below 2^53), and
+// so does pandas once a column holds n/a; every reader leaves this text as
+// text, and `burrlab run --seed` takes it as written.
+std::string SeedText(std::uint64_t seed);
+
+// The seed written as SeedText does or as its bare decimal digits (0 to
+// 2^64 - 1); none for anything else.
+std::optional<std::uint64_t> ParseSeedText(std::string_view text);
+
 // JSON object for `trial` (trial_record.schema.json); absent optionals are
 // null.
 Result<std::string> TrialToJson(const TrialRecord& trial);

@@ -467,6 +467,27 @@ Status ForEachPhysioRow(
   return reader.Finish(&stopped);
 }
 
+namespace {
+
+// The labels (without "sub-") of DIR/sub-*/ that hold a journal, sorted.
+std::vector<std::string> SubjectsWithJournals(const fs::path& dir) {
+  std::vector<std::string> labels;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec);
+       !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!name.starts_with("sub-")) continue;
+    std::error_code exists_ec;
+    if (fs::is_regular_file(JournalPath(dir, name.substr(4)), exists_ec)) {
+      labels.push_back(name.substr(4));
+    }
+  }
+  std::sort(labels.begin(), labels.end());
+  return labels;
+}
+
+}  // namespace
+
 std::vector<UnexportedTrials> FindUnexportedTrials(
     const fs::path& dir, const std::vector<BehFile>& files) {
   std::map<std::string, int> exported;
@@ -474,15 +495,8 @@ std::vector<UnexportedTrials> FindUnexportedTrials(
     exported[f.subject] += static_cast<int>(f.table.trials.size());
   }
   std::vector<UnexportedTrials> found;
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec);
-       !ec && it != fs::directory_iterator(); it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (!name.starts_with("sub-")) continue;
-    const std::string label = name.substr(4);
+  for (const std::string& label : SubjectsWithJournals(dir)) {
     const fs::path journal = JournalPath(dir, label);
-    std::error_code exists_ec;
-    if (!fs::is_regular_file(journal, exists_ec)) continue;
     int trials = -1;
     if (auto db = db::OpenDb(journal, /*create=*/false)) {
       if (auto count = db::CountTrials(db->get(), journal)) trials = *count;
@@ -492,31 +506,16 @@ std::vector<UnexportedTrials> FindUnexportedTrials(
       found.push_back({label, trials, in_exports});
     }
   }
-  std::sort(found.begin(), found.end(),
-            [](const UnexportedTrials& a, const UnexportedTrials& b) {
-              return a.subject < b.subject;
-            });
   return found;
 }
 
 std::vector<IncompleteSession> FindIncompleteSessions(const fs::path& dir) {
   std::vector<IncompleteSession> found;
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec);
-       !ec && it != fs::directory_iterator(); it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (!name.starts_with("sub-")) continue;
-    const std::string label = name.substr(4);
-    std::error_code exists_ec;
-    if (!fs::is_regular_file(JournalPath(dir, label), exists_ec)) continue;
+  for (const std::string& label : SubjectsWithJournals(dir)) {
     Result<SessionProgress> progress = ReadSessionProgress(dir, label);
     if (!progress || progress->complete != false) continue;
     found.push_back({label, progress->trials, progress->planned_trials});
   }
-  std::sort(found.begin(), found.end(),
-            [](const IncompleteSession& a, const IncompleteSession& b) {
-              return a.subject < b.subject;
-            });
   return found;
 }
 

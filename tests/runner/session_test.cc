@@ -60,6 +60,16 @@ class SessionTest : public ::testing::Test {
     EXPECT_TRUE(trials.ok());
     return trials.value();
   }
+  // Options for subject 05 answering at the prompt from `in`.
+  SessionOptions Typed(std::istream* in, std::ostream* prompt) const {
+    SessionOptions options;
+    options.out_dir = dir_ / "typed";
+    options.subject = "05";
+    options.responder = Responder::kTerminal;
+    options.in = in;
+    options.prompt = prompt;
+    return options;
+  }
   fs::path dir_;
   std::string protocol_;
 };
@@ -351,12 +361,7 @@ TEST_F(SessionTest, TypedAnswersAtThePromptAreRecorded) {
   ASSERT_TRUE(loaded.ok());
   std::istringstream in("maybe\nsame\ndifferent\n");
   std::ostringstream prompt;
-  SessionOptions options;
-  options.out_dir = dir_ / "typed";
-  options.subject = "05";
-  options.responder = Responder::kTerminal;
-  options.in = &in;
-  options.prompt = &prompt;
+  const SessionOptions options = Typed(&in, &prompt);
   Result<SessionSummary> summary = RunSession(*loaded, options);
   ASSERT_TRUE(summary.ok()) << summary.error().message;
   EXPECT_FALSE(summary->finished);  // input ended after two answers
@@ -386,13 +391,7 @@ TEST_F(SessionTest, ThePromptEscapesControlBytesFromTheProtocol) {
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   std::istringstream in("same\n");
   std::ostringstream prompt;
-  SessionOptions options;
-  options.out_dir = dir_ / "typed";
-  options.subject = "05";
-  options.responder = Responder::kTerminal;
-  options.in = &in;
-  options.prompt = &prompt;
-  ASSERT_TRUE(RunSession(*loaded, options).ok());
+  ASSERT_TRUE(RunSession(*loaded, Typed(&in, &prompt)).ok());
   EXPECT_THAT(prompt.str(), HasSubstr("block \"sd\\x1b[2J\" (same_different"));
   EXPECT_THAT(prompt.str(), HasSubstr("Same?\\x07 [same/different]: "));
   EXPECT_EQ(prompt.str().find('\x1b'), std::string::npos);

@@ -52,6 +52,9 @@ std::string FormatDataDiagnostic(std::string_view path, std::string_view text,
   if (line <= 0) {
     return fmt::format("{}: error: {}", path, PrintableText(message));
   }
+  // The parsers count columns after a UTF-8 byte-order mark, and a terminal
+  // shows none: the quoted line starts after it too.
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   std::string_view source;
   for (const Line& l : SplitLines(text)) {
     if (l.number == line) {

@@ -74,6 +74,11 @@ TEST(ParseMeasuredData, RefusesADuplicateColumn) {
   EXPECT_EQ(ErrorOf("force_n,velocity_mm_s,force_n\n1,2,3\n"),
             "m.csv:1:23: error: the column force_n appears twice in the "
             "header\nforce_n,velocity_mm_s,force_n\n                      ^");
+  // A spreadsheet's byte-order mark moves neither the column nor the caret.
+  EXPECT_EQ(ErrorOf("\xEF\xBB\xBF"
+                    "force_n,velocity_mm_s,force_n\n1,2,3\n"),
+            "m.csv:1:23: error: the column force_n appears twice in the "
+            "header\nforce_n,velocity_mm_s,force_n\n                      ^");
 }
 
 TEST(ParseMeasuredData, RefusesNonPositiveOrNonFiniteForces) {

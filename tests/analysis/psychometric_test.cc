@@ -619,18 +619,31 @@ TEST(FitPsychometric, FindsAStepBetweenNeighbouringLevelsAmongManyLevels) {
   EXPECT_LT(fit->params.alpha, 138.0);
 }
 
-TEST(FitPsychometric, RecoversTheFunctionFromOneTrialPerLevel) {
-  // 5000 trials, each at a level of its own (as adaptive methods log them).
-  const PsychometricParams truth{3.0, 0.6, 0.5, 0.02};
-  std::mt19937_64 rng(19);
+// The observer of the single-trial tests: 2AFC logistic, alpha 3, beta 0.6,
+// lambda 0.02.
+const PsychometricParams kSingleTrialTruth{3.0, 0.6, 0.5, 0.02};
+
+// `n` trials of kSingleTrialTruth, each at a level of its own drawn uniformly
+// from [0.5, 5.5] (as adaptive methods log them).
+std::vector<DataBlock> SingleTrialLevels(int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
   const auto uniform = [&] {
     return static_cast<double>(rng() >> 11) * 0x1.0p-53;
   };
   std::vector<DataBlock> d;
-  for (int k = 0; k < 5000; ++k) {
+  for (int k = 0; k < n; ++k) {
     const double x = 0.5 + 5.0 * uniform();
-    d.push_back({x, uniform() < Psi(Sigmoid::kLogistic, truth, x) ? 1 : 0, 1});
+    d.push_back(
+        {x, uniform() < Psi(Sigmoid::kLogistic, kSingleTrialTruth, x) ? 1 : 0,
+         1});
   }
+  return d;
+}
+
+TEST(FitPsychometric, RecoversTheFunctionFromOneTrialPerLevel) {
+  // 5000 trials, each at a level of its own (as adaptive methods log them).
+  const PsychometricParams truth = kSingleTrialTruth;
+  const std::vector<DataBlock> d = SingleTrialLevels(5000, 19);
   PsychometricOptions o;
   Result<PsychometricFit> fit = FitPsychometric(d, o);
   ASSERT_TRUE(fit.ok()) << fit.error().message;
@@ -645,16 +658,7 @@ TEST(FitPsychometric, RecoversTheFunctionFromOneTrialPerLevel) {
 
 TEST(AnalyzePsychometric, TheThreadsDoNotChangeTheResults) {
   // 12,289 single-trial levels: enough for three threads.
-  const PsychometricParams truth{3.0, 0.6, 0.5, 0.02};
-  std::mt19937_64 rng(7);
-  const auto uniform = [&] {
-    return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-  };
-  std::vector<DataBlock> d;
-  for (int k = 0; k < 12289; ++k) {
-    const double x = 0.5 + 5.0 * uniform();
-    d.push_back({x, uniform() < Psi(Sigmoid::kLogistic, truth, x) ? 1 : 0, 1});
-  }
+  const std::vector<DataBlock> d = SingleTrialLevels(12289, 7);
   PsychometricOptions o;
   o.bootstrap_samples = 3;
   o.threads = 1;

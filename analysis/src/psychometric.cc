@@ -7,7 +7,10 @@
 // location-scale form in sigmoids.h, with levels normalised to the tested
 // range; gamma and lambda are box-constrained, m and s are kept in a wide box
 // (kLocationLimit, kScaleMin, kScaleMax) so degenerate data end at a reported
-// bound instead of running off to infinity.
+// bound instead of running off to infinity. The bootstrap's refits start at
+// the fit and take Newton steps instead (Fitter::RefitByScoring), each one
+// pass over the levels, with SLSQP as their fallback; the refits run in
+// threads, each simulated data set drawn from a generator of its own.
 #include "burrlab/analysis/psychometric.h"
 
 #include <fmt/format.h>
@@ -15,13 +18,17 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <boost/random/binomial_distribution.hpp>
 #include <boost/random/mersenne_twister.hpp>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <numeric>
+#include <random>
 #include <set>
 #include <system_error>
 #include <thread>
@@ -54,6 +61,21 @@ constexpr double kTinyProbability = 1e-300;
 constexpr double kParameterTolerance = 1e-8;
 constexpr double kLogLikelihoodTolerance = 1e-12;  // per trial
 constexpr int kMaxBootstrapSamples = 1000000;
+// A bootstrap refit by Fisher scoring takes at most this many steps, and
+// halves a step at most this many times, before it hands over to SLSQP.
+constexpr int kMaxScoringSteps = 50;
+constexpr int kMaxStepHalvings = 30;
+// A bootstrap refit of data with kFinalStepTrials trials or more (where a
+// pass over the levels costs milliseconds) ends with a Newton step it does
+// not evaluate when that step is predicted to raise log L by at most
+// kFinalStepGain, a step of at most sqrt(2 * 0.01) = 0.14 standard errors,
+// and the step before it rose log L by its predicted amount within
+// kFinalStepAgreement: there log L is quadratic to third-order terms, which
+// shrink as 1 / sqrt(trials). Smaller data sets, and likelihoods far from
+// quadratic (a flat ridge towards a step function), converge step by step.
+constexpr double kFinalStepTrials = 1e4;
+constexpr double kFinalStepGain = 0.01;
+constexpr double kFinalStepAgreement = 0.25;
 // Step starts go into at most this many gaps between neighbouring levels:
 // every gap of a design of up to 33 levels.
 constexpr std::size_t kMaxStepGaps = 32;
@@ -61,6 +83,9 @@ constexpr std::size_t kMaxStepGaps = 32;
 // at least this many (starting a thread costs about as much as 500 levels),
 // so from twice as many levels on.
 constexpr std::size_t kLevelsPerThread = 4096;
+// The likelihood goes through the levels in chunks of this many (its sums
+// over a chunk, then over the chunks in order, whatever the threads).
+constexpr std::size_t kBlock = 256;
 
 const char* const kParamNames[4] = {"alpha", "beta", "gamma", "lambda"};
 
@@ -76,8 +101,9 @@ struct Problem {
   std::vector<double> r;  // correct responses of the data set being fitted
   double scale = 1.0;     // 1 / total trials: the objective is per trial
   int threads = 1;        // threads an evaluation of many levels may use
-  // Scratch, one per level: the level's log L term, then its d log L /
-  // d(m, ln s, gamma, lambda).
+  // Scratch, one per chunk of kBlock levels: the chunk's log L, then its
+  // d log L / d(m, ln s, gamma, lambda), each summed in the order of the
+  // levels.
   std::vector<std::array<double, 5>> terms;
   int evaluations = 0;
 };
@@ -97,36 +123,93 @@ Psi4 Unpack(const Problem& problem, const double* v) {
   return p;
 }
 
-// Each level's log-likelihood term and, with `gradient`, its d log L /
-// d(m, ln s, gamma, lambda), for the levels [begin, end), into
-// problem.terms.
+// A level's term of log L(saturated), r ln(r / n) + (n - r) ln((n - r) / n):
+// 0 when r is 0 or n.
+double SaturatedTerm(double r, double n) {
+  if (r == 0.0 || r == n) return 0.0;
+  return r * std::log(r / n) + (n - r) * std::log((n - r) / n);
+}
+
+// sum_j r_j ln yes_j + (n_j - r_j) ln no_j over a chunk, each term as
+// Objective has always computed it (a term with r_j or n_j - r_j = 0 has no
+// logarithm). A chunk of single trials (every n_j 0 or 1: each term is the
+// logarithm of yes_j or no_j) takes one logarithm of their product, kept
+// from underflow by moving its exponent aside (std::frexp) below 2^-500:
+// the logarithms are most of a pass over the levels.
+double ChunkLogLikelihood(const double* r, const double* n, const double* yes,
+                          const double* no, std::size_t count) {
+  bool single_trials = true;
+  for (std::size_t j = 0; j < count; ++j) {
+    single_trials = single_trials && (n[j] == 0.0 || n[j] == 1.0);
+  }
+  if (!single_trials) {
+    double log_l = 0.0;
+    for (std::size_t j = 0; j < count; ++j) {
+      const double wrong = n[j] - r[j];
+      log_l += (r[j] > 0.0 ? r[j] * std::log(yes[j]) : 0.0) +
+               (wrong > 0.0 ? wrong * std::log(no[j]) : 0.0);
+    }
+    return log_l;
+  }
+  double product = 1.0;
+  int exponent = 0;
+  for (std::size_t j = 0; j < count; ++j) {
+    // yes_j, no_j or 1, without a branch on r_j (a coin toss).
+    product *= r[j] * yes[j] + (n[j] - r[j]) * no[j] + (1.0 - n[j]);
+    if (product < 0x1p-500) {
+      int e = 0;
+      product = std::frexp(product, &e);
+      exponent += e;
+    }
+  }
+  return std::log(product) + exponent * std::numbers::ln2;
+}
+
+// The log-likelihood of each chunk of kBlock levels and, with `gradient`,
+// its d log L / d(m, ln s, gamma, lambda), for the chunks [first_chunk,
+// end_chunk), into problem.terms.
 void LevelTerms(Problem& problem, const Psi4& p, bool gradient,
-                std::size_t begin, std::size_t end) {
+                std::size_t first_chunk, std::size_t end_chunk) {
   const double w = 1.0 - p.gamma - p.lambda;
-  for (std::size_t i = begin; i < end; ++i) {
-    const double z = (problem.u[i] - p.m) / p.s;
-    const StandardPoint f = Standard(problem.sigmoid, z);
-    const double yes = std::max(p.gamma + w * f.f, kTinyProbability);
-    const double no = std::max(p.lambda + w * f.fc, kTinyProbability);
-    const double r = problem.r[i], wrong = problem.n[i] - r;
-    std::array<double, 5>& t = problem.terms[i];
-    t[0] = (r > 0.0 ? r * std::log(yes) : 0.0) +
-           (wrong > 0.0 ? wrong * std::log(no) : 0.0);
-    if (gradient) {
-      const double e = r / yes - wrong / no;  // d log L / d psi
-      t[1] = e * (-w * f.density / p.s);
-      t[2] = e * (-w * f.density * z);
-      t[3] = e * f.fc;
-      t[4] = e * (-f.f);
+  const std::size_t levels = problem.u.size();
+  // Each chunk through the sigmoid, then the logarithms, then the gradient,
+  // so the exp() and log() calls run in tight loops.
+  std::array<StandardPoint, kBlock> f;
+  std::array<double, kBlock> z, yes, no;
+  for (std::size_t chunk = first_chunk; chunk < end_chunk; ++chunk) {
+    const std::size_t first = chunk * kBlock;
+    const std::size_t count = std::min(kBlock, levels - first);
+    for (std::size_t j = 0; j < count; ++j) {
+      z[j] = (problem.u[first + j] - p.m) / p.s;
+    }
+    detail::StandardBlock(problem.sigmoid, z.data(), count, f.data());
+    for (std::size_t j = 0; j < count; ++j) {
+      yes[j] = std::max(p.gamma + w * f[j].f, kTinyProbability);
+      no[j] = std::max(p.lambda + w * f[j].fc, kTinyProbability);
+    }
+    std::array<double, 5>& t = problem.terms[chunk];
+    t = {};
+    t[0] =
+        ChunkLogLikelihood(problem.r.data() + first, problem.n.data() + first,
+                           yes.data(), no.data(), count);
+    if (!gradient) continue;
+    for (std::size_t j = 0; j < count; ++j) {
+      const double r = problem.r[first + j];
+      const double wrong = problem.n[first + j] - r;
+      const double e = r / yes[j] - wrong / no[j];  // d log L / d psi
+      t[1] += e * (-w * f[j].density / p.s);
+      t[2] += e * (-w * f[j].density * z[j]);
+      t[3] += e * f[j].fc;
+      t[4] += e * (-f[j].f);
     }
   }
 }
 
 // Negative log-likelihood per trial and its gradient (NLopt minimises; per
 // trial keeps the objective's size and tolerances independent of the number
-// of trials). The levels' terms are computed in up to problem.threads
+// of trials). The chunks' terms are computed in up to problem.threads
 // threads of at least kLevelsPerThread levels each, then summed in one
-// thread in the order of the levels, so the result does not depend on the
+// thread in the order of the chunks, so the result does not depend on the
 // threads.
 double Objective(unsigned /*dim*/, const double* v, double* gradient,
                  void* data) {
@@ -135,12 +218,13 @@ double Objective(unsigned /*dim*/, const double* v, double* gradient,
   const Psi4 p = Unpack(problem, v);
   const bool with_gradient = gradient != nullptr;
   const std::size_t levels = problem.u.size();
+  const std::size_t chunks = problem.terms.size();
   const std::size_t parts = std::clamp<std::size_t>(
       levels / kLevelsPerThread, 1, static_cast<std::size_t>(problem.threads));
   std::vector<std::thread> helpers;
   for (std::size_t k = 1; k < parts; ++k) {
-    const std::size_t begin = levels * k / parts;
-    const std::size_t end = levels * (k + 1) / parts;
+    const std::size_t begin = chunks * k / parts;
+    const std::size_t end = chunks * (k + 1) / parts;
     try {
       helpers.emplace_back(LevelTerms, std::ref(problem), std::cref(p),
                            with_gradient, begin, end);
@@ -148,7 +232,7 @@ double Objective(unsigned /*dim*/, const double* v, double* gradient,
       LevelTerms(problem, p, with_gradient, begin, end);
     }
   }
-  LevelTerms(problem, p, with_gradient, 0, levels / parts);
+  LevelTerms(problem, p, with_gradient, 0, chunks / parts);
   for (std::thread& helper : helpers) helper.join();
   double log_l = 0.0, d_m = 0.0, d_log_s = 0.0, d_gamma = 0.0, d_lambda = 0.0;
   for (const std::array<double, 5>& t : problem.terms) {
@@ -175,6 +259,28 @@ struct Outcome {
   double log_likelihood = 0.0;
   bool converged = false;
   int evaluations = 0;
+};
+
+// log L of one data set at a point, its gradient and the expected (Fisher)
+// information there, in the internal parameters (m, ln s, gamma, lambda),
+// all four whether free or not.
+struct LocalModel {
+  double log_likelihood = 0.0;
+  Eigen::Vector4d gradient = Eigen::Vector4d::Zero();
+  // The observed Hessian (ModelAt) or the expected information
+  // (ModelInCounts, InformationAt).
+  Eigen::Matrix4d hessian = Eigen::Matrix4d::Zero();
+  Eigen::Matrix4d information = Eigen::Matrix4d::Zero();
+  bool has_hessian = false;
+  bool has_information = false;
+};
+
+// The local model at a point of every data set with the same levels and
+// trials, as linear functions of the counts (Fitter::ModelInCounts).
+struct CountModel {
+  LocalModel base;  // at r = 0
+  // Per level: d log L / d r_i, then d gradient / d r_i.
+  std::vector<std::array<double, 5>> per_correct;
 };
 
 // The model and one NLopt optimiser, reused for every refit of a bootstrap.
@@ -204,7 +310,7 @@ class Fitter {
                            ? options.threads
                            : static_cast<int>(std::clamp(
                                  std::thread::hardware_concurrency(), 1u, 64u));
-    problem_.terms.resize(data.size());
+    problem_.terms.resize((data.size() + kBlock - 1) / kBlock);
     middle_ = 0.5 * (low + high);
     span_ = high - low;
     for (double x : u) problem_.u.push_back((x - middle_) / span_);
@@ -222,11 +328,6 @@ class Fitter {
     nlopt_set_xtol_rel(opt_.get(), kParameterTolerance);
     nlopt_set_ftol_abs(opt_.get(), kLogLikelihoodTolerance);
     nlopt_set_maxeval(opt_.get(), options.max_evaluations);
-  }
-
-  // The counts of the data set to fit next (one per block).
-  void SetCounts(std::span<const int> r) {
-    for (std::size_t i = 0; i < r.size(); ++i) problem_.r[i] = r[i];
   }
 
   // Starting points for the optimiser, with gamma and lambda at psignifit's
@@ -352,11 +453,334 @@ class Fitter {
     return Fit(warm);
   }
 
+  // The counts of the data set to fit next, written in place (one per
+  // level, as doubles).
+  std::span<double> Counts() { return problem_.r; }
+
+  // log L of the current counts, its gradient and Hessian at v: one pass
+  // over the levels in chunks of kBlock (the last padded with levels of no
+  // trials, which add nothing): the exp() and log() calls in loops of their
+  // own (ChunkLogLikelihood), the rest as Eigen array expressions (vector
+  // instructions), each sum over a chunk in Eigen's fixed order.
+  LocalModel ModelAt(const Internal& v) const {
+    using Block = Eigen::Array<double, kBlock, 1>;
+    const Psi4 p = Unpack(problem_, v.data());
+    const double w = 1.0 - p.gamma - p.lambda;
+    const double to_s = 1.0 / p.s;
+    Block z, f, fc, density, slope, yes, no, r, n, e, q, d0, d1;
+    Block large, small;  // scratch
+    double log_l = 0.0;
+    Eigen::Vector4d g = Eigen::Vector4d::Zero();
+    // sum q d d^T (q = r / psi^2 + (n - r) / (1 - psi)^2), and the
+    // non-zero entries of sum e d2psi (e = d log L / d psi): the Hessian is
+    // sum e d2psi - q d d^T.
+    Eigen::Matrix4d outer = Eigen::Matrix4d::Zero();
+    double e_mm = 0.0, e_ms = 0.0, e_ss = 0.0, e_m = 0.0, e_s = 0.0;
+    const std::size_t levels = problem_.u.size();
+    for (std::size_t begin = 0; begin < levels; begin += kBlock) {
+      const std::size_t count = std::min(kBlock, levels - begin);
+      for (std::size_t j = 0; j < count; ++j) {
+        const auto at = static_cast<Eigen::Index>(j);
+        z[at] = (problem_.u[begin + j] - p.m) * to_s;
+        r[at] = problem_.r[begin + j];
+        n[at] = problem_.n[begin + j];
+      }
+      for (std::size_t j = count; j < kBlock; ++j) {
+        const auto at = static_cast<Eigen::Index>(j);
+        z[at] = r[at] = n[at] = 0.0;
+      }
+      if (problem_.sigmoid == Sigmoid::kLogistic) {
+        // Standard()'s logistic, the exponentials first.
+        for (Eigen::Index j = 0; j < z.size(); ++j) {
+          density[j] = std::exp(-std::abs(z[j]));  // t, for now
+        }
+        large = 1.0 / (1.0 + density);
+        small = density * large;
+        f = (z >= 0.0).select(large, small);
+        fc = (z >= 0.0).select(small, large);
+        density = large * small;
+        slope = density * (fc - f);
+      } else {
+        for (Eigen::Index j = 0; j < z.size(); ++j) {
+          const StandardPoint point = Standard(problem_.sigmoid, z[j]);
+          f[j] = point.f;
+          fc[j] = point.fc;
+          density[j] = point.density;
+          slope[j] = point.density_slope;
+        }
+      }
+      yes = (p.gamma + w * f).max(kTinyProbability);
+      no = (p.lambda + w * fc).max(kTinyProbability);
+      log_l +=
+          ChunkLogLikelihood(r.data(), n.data(), yes.data(), no.data(), count);
+      large = 1.0 / (yes * no);  // 1 / (psi (1 - psi))
+      e = r * no * large - (n - r) * yes * large;
+      q = r * (no * large).square() + (n - r) * (yes * large).square();
+      d0 = -w * to_s * density;
+      d1 = -w * density * z;
+      // d = (d0, d1, fc, -f).
+      g[0] += (e * d0).sum();
+      g[1] += (e * d1).sum();
+      g[2] += (e * fc).sum();
+      g[3] -= (e * f).sum();
+      large = q * d0;
+      small = q * d1;
+      outer(0, 0) += (large * d0).sum();
+      outer(0, 1) += (large * d1).sum();
+      outer(0, 2) += (large * fc).sum();
+      outer(0, 3) -= (large * f).sum();
+      outer(1, 1) += (small * d1).sum();
+      outer(1, 2) += (small * fc).sum();
+      outer(1, 3) -= (small * f).sum();
+      outer(2, 2) += (q * fc * fc).sum();
+      outer(2, 3) -= (q * fc * f).sum();
+      outer(3, 3) += (q * f * f).sum();
+      // d2psi: (m, m) w g' / s^2, (m, ln s) w (g' z + g) / s,
+      // (ln s, ln s) w z (g' z + g), (m, gamma or lambda) g / s,
+      // (ln s, gamma or lambda) g z; the rest 0.
+      large = slope * z + density;  // g' z + g
+      e_mm += (e * slope).sum();
+      e_ms += (e * large).sum();
+      e_ss += (e * z * large).sum();
+      e_m += (e * density).sum();
+      e_s += (e * density * z).sum();
+    }
+    e_mm *= w * to_s * to_s;
+    e_ms *= w * to_s;
+    e_ss *= w;
+    e_m *= to_s;
+    LocalModel model;
+    model.log_likelihood = log_l;
+    model.gradient = g;
+    model.has_hessian = true;
+    model.hessian = outer.selfadjointView<Eigen::Upper>();
+    model.hessian = -model.hessian;
+    const double second[4][4] = {{e_mm, e_ms, e_m, e_m},
+                                 {e_ms, e_ss, e_s, e_s},
+                                 {e_m, e_s, 0.0, 0.0},
+                                 {e_m, e_s, 0.0, 0.0}};
+    for (int a = 0; a < 4; ++a) {
+      for (int b = 0; b < 4; ++b) model.hessian(a, b) += second[a][b];
+    }
+    return model;
+  }
+
+  // The expected information at v, sum n / (psi (1 - psi)) d d^T.
+  Eigen::Matrix4d InformationAt(const Internal& v) const {
+    const Psi4 p = Unpack(problem_, v.data());
+    const double w = 1.0 - p.gamma - p.lambda;
+    Eigen::Matrix4d information = Eigen::Matrix4d::Zero();
+    for (std::size_t i = 0; i < problem_.u.size(); ++i) {
+      const double z = (problem_.u[i] - p.m) / p.s;
+      const StandardPoint f = Standard(problem_.sigmoid, z);
+      const double yes = std::max(p.gamma + w * f.f, kTinyProbability);
+      const double no = std::max(p.lambda + w * f.fc, kTinyProbability);
+      const Eigen::Vector4d d(-w * f.density / p.s, -w * f.density * z, f.fc,
+                              -f.f);
+      information += (problem_.n[i] / (yes * no)) * d * d.transpose();
+    }
+    return information;
+  }
+
+  // The local model at v of any counts r: log L and its gradient are
+  // base + sum_i r_i per_correct[i] (the same formulas as ModelAt, r_i
+  // taken out), and the information does not depend on the counts.
+  CountModel ModelInCounts(const Internal& v) const {
+    const Psi4 p = Unpack(problem_, v.data());
+    const double w = 1.0 - p.gamma - p.lambda;
+    CountModel out;
+    out.base.has_information = true;
+    out.per_correct.resize(problem_.u.size());
+    for (std::size_t i = 0; i < problem_.u.size(); ++i) {
+      const double z = (problem_.u[i] - p.m) / p.s;
+      const StandardPoint f = Standard(problem_.sigmoid, z);
+      const double yes = std::max(p.gamma + w * f.f, kTinyProbability);
+      const double no = std::max(p.lambda + w * f.fc, kTinyProbability);
+      const double n = problem_.n[i];
+      const Eigen::Vector4d d(-w * f.density / p.s, -w * f.density * z, f.fc,
+                              -f.f);
+      out.base.log_likelihood += n * std::log(no);
+      out.base.gradient -= (n / no) * d;
+      out.base.information += (n / (yes * no)) * d * d.transpose();
+      std::array<double, 5>& per = out.per_correct[i];
+      per[0] = std::log(yes) - std::log(no);
+      for (int j = 0; j < 4; ++j) per[j + 1] = (1.0 / yes + 1.0 / no) * d[j];
+    }
+    return out;
+  }
+
+  // A refit of a bootstrap data set by Newton's method from the fit to the
+  // data, given `model`, the current counts' local model at `fit`.
+  // - A step solves H d = -gradient over the free parameters with the
+  //   observed Hessian H where -H is positive definite, else with the
+  //   expected information (Fisher scoring, as the first step from the fit,
+  //   whose model has no Hessian); a gamma or lambda on a limit its gradient
+  //   pushes against is held there. A step is halved while log L falls.
+  // - The refit has converged when the step's predicted rise of log L,
+  //   gradient.d / 2, is at most kLogLikelihoodTolerance per trial (where
+  //   SLSQP stops): it stays where it is. With kFinalStepTrials trials or
+  //   more, a Newton step that stays inside the limits, is predicted to
+  //   rise by at most kFinalStepGain, and follows a step that rose as its
+  //   quadratic model predicted (within kFinalStepAgreement) ends the refit
+  //   too: it is taken unevaluated, and log L there is the model's
+  //   L + gradient.d + d.H d / 2.
+  // - It hands over to SLSQP (Refit) when the location or scale reaches its
+  //   search limit, neither matrix is positive definite, or
+  //   kMaxScoringSteps steps do not converge.
+  Outcome RefitByScoring(const Internal& fit, LocalModel model) {
+    Internal v = fit;
+    int passes = 0;
+    const double trials = 1.0 / problem_.scale;
+    const double gain_tolerance = kLogLikelihoodTolerance * trials;
+    // The rise of log L the last step predicted, and what it achieved.
+    double predicted_rise = 0.0, actual_rise = 0.0;
+    using Small =
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+    using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
+    for (int step = 0; step < kMaxScoringSteps; ++step) {
+      // Internal index free[a] holds full parameter FullIndex(free[a]) (m,
+      // ln s, gamma, lambda); the free ones are those not held on a limit.
+      std::array<int, 4> free{};
+      int free_count = 0;
+      for (std::size_t k = 0; k < dimension_; ++k) {
+        const double slope = model.gradient[FullIndex(k)];
+        const bool held = (v[k] <= lower_[k] && slope <= 0.0) ||
+                          (v[k] >= upper_[k] && slope >= 0.0);
+        if (!held) free[free_count++] = static_cast<int>(k);
+      }
+      if (free_count == 0) return Converged(v, model, passes);
+      Small curvature(free_count, free_count),
+          information(free_count, free_count);
+      SmallVector gradient(free_count);
+      for (int a = 0; a < free_count; ++a) {
+        const int ja = FullIndex(free[a]);
+        gradient[a] = model.gradient[ja];
+        for (int b = 0; b < free_count; ++b) {
+          const int jb = FullIndex(free[b]);
+          curvature(a, b) = -model.hessian(ja, jb);
+          information(a, b) = model.information(ja, jb);
+        }
+      }
+      bool newton = false;
+      SmallVector direction;
+      if (model.has_hessian) {
+        const Eigen::LLT<Small> llt(curvature);
+        if (llt.info() == Eigen::Success) {
+          direction = llt.solve(gradient);
+          newton = true;
+        }
+      }
+      if (!newton) {
+        if (!model.has_information) {
+          model.information = InformationAt(v);
+          model.has_information = true;
+          for (int a = 0; a < free_count; ++a) {
+            for (int b = 0; b < free_count; ++b) {
+              information(a, b) =
+                  model.information(FullIndex(free[a]), FullIndex(free[b]));
+            }
+          }
+        }
+        const Eigen::LLT<Small> llt(information);
+        if (llt.info() != Eigen::Success) break;
+        direction = llt.solve(gradient);
+      }
+      const double gain = 0.5 * gradient.dot(direction);
+      if (!std::isfinite(gain)) break;
+      if (gain <= gain_tolerance) return Converged(v, model, passes);
+      const bool quadratic =
+          step > 0 && std::abs(actual_rise - predicted_rise) <=
+                          kFinalStepAgreement * predicted_rise;
+      if (newton && quadratic && trials >= kFinalStepTrials &&
+          gain <= kFinalStepGain) {
+        Internal next = v;
+        for (int a = 0; a < free_count; ++a) next[free[a]] += direction[a];
+        if (next == ClampToBox(next)) {
+          Outcome out = Converged(next, model, passes);
+          out.log_likelihood += gradient.dot(direction) -
+                                0.5 * direction.dot(curvature * direction);
+          return out;
+        }
+      }
+      bool moved = false, at_search_limit = false;
+      double length = 1.0;
+      for (int halving = 0; halving <= kMaxStepHalvings; ++halving) {
+        Internal next = v;
+        for (int a = 0; a < free_count; ++a) {
+          next[free[a]] += length * direction[a];
+        }
+        next = ClampToBox(next);
+        if (next[0] <= lower_[0] || next[0] >= upper_[0] ||
+            next[1] <= lower_[1] || next[1] >= upper_[1]) {
+          at_search_limit = true;
+          break;
+        }
+        LocalModel trial = ModelAt(next);
+        ++passes;
+        // Rounding in a sum over many levels may make log L appear to fall
+        // by a hair at the maximum: that much is no fall.
+        const double slack = 1e-12 * (1.0 + std::abs(model.log_likelihood));
+        if (trial.log_likelihood >= model.log_likelihood - slack) {
+          // The quadratic model's rise for this (possibly shortened) step.
+          predicted_rise = length * (1.0 - 0.5 * length) * 2.0 * gain;
+          actual_rise = trial.log_likelihood - model.log_likelihood;
+          v = next;
+          model = std::move(trial);
+          moved = true;
+          break;
+        }
+        length *= 0.5;
+      }
+      if (!moved || at_search_limit) break;
+    }
+    Outcome fallback = Refit(fit);
+    fallback.evaluations += passes;
+    return fallback;
+  }
+
   PsychometricParams ToParams(const Internal& v) const {
     const Psi4 p = Unpack(problem_, v.data());
     const std::array<double, 2> ab = detail::FromLocationScale(
         options_.sigmoid, {middle_ + span_ * p.m, span_ * p.s});
     return {ab[0], ab[1], p.gamma, p.lambda};
+  }
+
+  // The internal parameters of `params`, clamped to the search box.
+  Internal FromParams(const PsychometricParams& params) const {
+    const LocationScale ls =
+        detail::ToLocationScale(options_.sigmoid, params.alpha, params.beta);
+    return Pack({(ls.m - middle_) / span_, std::log(ls.s / span_), params.gamma,
+                 params.lambda});
+  }
+
+  // d(m, ln s, gamma, lambda) / d(alpha, beta, gamma, lambda) at `params`,
+  // with the columns of fixed parameters 0 (m = (location - middle) / span,
+  // s = scale / span; the Weibull's location is ln alpha and its scale
+  // 1 / beta).
+  Eigen::Matrix4d InternalJacobian(const PsychometricParams& params) const {
+    Eigen::Matrix4d jacobian = Eigen::Matrix4d::Zero();
+    const bool log_levels = detail::UsesLogLevels(options_.sigmoid);
+    jacobian(0, 0) = 1.0 / (span_ * (log_levels ? params.alpha : 1.0));
+    jacobian(1, 1) = (log_levels ? -1.0 : 1.0) / params.beta;
+    jacobian(2, 2) = problem_.gamma_free ? 1.0 : 0.0;
+    jacobian(3, 3) = problem_.lambda_free ? 1.0 : 0.0;
+    return jacobian;
+  }
+
+  // The current counts' local model at v from ModelInCounts (log L, its
+  // gradient and the expected information): what a refit from v starts
+  // with.
+  LocalModel FirstModel(const Internal& v) const {
+    const CountModel at = ModelInCounts(v);
+    LocalModel model = at.base;
+    for (std::size_t i = 0; i < problem_.r.size(); ++i) {
+      const double r = problem_.r[i];
+      model.log_likelihood += r * at.per_correct[i][0];
+      for (int j = 0; j < 4; ++j) {
+        model.gradient[j] += r * at.per_correct[i][j + 1];
+      }
+    }
+    return model;
   }
 
   // Which parameters of `v` sit on a limit of the search box.
@@ -384,9 +808,7 @@ class Fitter {
   double SaturatedLogLikelihood() const {
     double log_l = 0.0;
     for (std::size_t i = 0; i < problem_.n.size(); ++i) {
-      const double r = problem_.r[i], n = problem_.n[i];
-      if (r > 0.0) log_l += r * std::log(r / n);
-      if (n - r > 0.0) log_l += (n - r) * std::log((n - r) / n);
+      log_l += SaturatedTerm(problem_.r[i], problem_.n[i]);
     }
     return log_l;
   }
@@ -400,6 +822,23 @@ class Fitter {
   // it (the starting gamma and lambda), one pass over running sums; scoring
   // every gap's start with the full likelihood instead costs a pass over the
   // levels per gap, quadratic in the number of levels.
+  // The full parameter (0 m, 1 ln s, 2 gamma, 3 lambda) at internal index
+  // k.
+  int FullIndex(std::size_t k) const {
+    if (k < 2) return static_cast<int>(k);
+    return k == 2 && problem_.gamma_free ? 2 : 3;
+  }
+
+  Outcome Converged(const Internal& v, const LocalModel& model,
+                    int passes) const {
+    Outcome out;
+    out.v = v;
+    out.log_likelihood = model.log_likelihood;
+    out.converged = std::isfinite(model.log_likelihood);
+    out.evaluations = passes;
+    return out;
+  }
+
   std::vector<std::pair<double, double>> Steps() const {
     std::vector<std::size_t> order(problem_.u.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
@@ -732,6 +1171,17 @@ Result<PsychometricFit> FitPsychometric(std::span<const DataBlock> data,
   return MakeFit(fitter, fitter.FitFromScratch());
 }
 
+Result<PsychometricFit> RefitPsychometric(std::span<const DataBlock> data,
+                                          const PsychometricOptions& options,
+                                          const PsychometricParams& from) {
+  if (Status s = options.Validate(); !s.ok()) return s.error();
+  if (Status s = ValidateData(data, options.sigmoid); !s.ok()) return s.error();
+  Fitter fitter(data, options);
+  const Internal start = fitter.FromParams(from);
+  return MakeFit(fitter,
+                 fitter.RefitByScoring(start, fitter.FirstModel(start)));
+}
+
 std::array<std::array<double, 4>, 4> FisherInformation(
     std::span<const DataBlock> data, const PsychometricOptions& options,
     const PsychometricParams& params) {
@@ -860,48 +1310,108 @@ Result<PsychometricAnalysis> AnalyzePsychometric(
     directions.push_back(covariance * Eigen::Vector4d(g[0], g[1], 0.0, 0.0));
   }
 
-  // Score coefficients at the fit: ldot_j = sum_i (r_i - n_i psi_i) c_ij.
-  const LevelDerivatives at_fit = DerivativesAt(data, options, fitted);
-  std::vector<std::array<double, 4>> coefficient(data.size());
-  for (std::size_t i = 0; i < data.size(); ++i) {
-    for (std::size_t j = 0; j < 4; ++j) {
-      coefficient[i][j] = at_fit.d_psi[i][j] / (at_fit.yes[i] * at_fit.no[i]);
+  // What every simulated data set shares, at the fit: its log L and score
+  // in the internal parameters are linear in its counts r_i
+  // (Fitter::ModelInCounts), so the first, Fisher-scoring step of each
+  // refit costs no exp() or log() over the levels; its BCa score (Davison &
+  // Hinkley's ldot) is that score in the user parameters.
+  const std::size_t levels = data.size();
+  const CountModel at_counts = fitter.ModelInCounts(best.v);
+  // The score in (alpha, beta, gamma, lambda) is J^T times the score in the
+  // internal parameters, J = d(m, ln s, gamma, lambda) / d(alpha, beta,
+  // gamma, lambda) at the fit; fixed parameters score 0.
+  const Eigen::Matrix4d to_user = fitter.InternalJacobian(fitted);
+  // Each simulated data set draws from a Boost mt19937_64 of its own,
+  // seeded with (seed, its index), so the data sets do not depend on the
+  // threads that refit them or on their order. A level of one trial is
+  // correct when a 53-bit uniform integer is below ceil(psi 2^53) (a uniform
+  // in [0, 1) below psi); other levels draw a Boost binomial.
+  constexpr std::uint64_t kNotSingle =
+      std::numeric_limits<std::uint64_t>::max();
+  std::vector<std::uint64_t> below(levels, kNotSingle);
+  std::vector<boost::random::binomial_distribution<int, double>> binomial;
+  for (std::size_t i = 0; i < levels; ++i) {
+    const double psi =
+        std::clamp(Psi(options.sigmoid, fitted, data[i].level), 0.0, 1.0);
+    binomial.emplace_back(data[i].n_total, psi);
+    if (data[i].n_total == 1) {
+      below[i] = static_cast<std::uint64_t>(std::ceil(std::ldexp(psi, 53)));
     }
-  }
-
-  boost::random::mt19937_64 rng(options.seed);
-  std::vector<boost::random::binomial_distribution<int, double>> draw;
-  for (std::size_t i = 0; i < data.size(); ++i) {
-    draw.emplace_back(
-        data[i].n_total,
-        std::clamp(Psi(options.sigmoid, fitted, data[i].level), 0.0, 1.0));
   }
   const std::size_t count = static_cast<std::size_t>(samples);
   std::vector<std::vector<double>> values(2 * cuts, std::vector<double>(count));
   std::vector<std::vector<double>> scores(2 * cuts, std::vector<double>(count));
   std::vector<double> deviances(count);
-  std::vector<int> counts(data.size());
-  for (std::size_t b = 0; b < count; ++b) {
-    for (std::size_t i = 0; i < data.size(); ++i) counts[i] = draw[i](rng);
-    fitter.SetCounts(counts);
-    const Outcome refit = fitter.Refit(best.v);
-    out.bootstrap_not_converged += refit.converged ? 0 : 1;
-    const PsychometricParams p = fitter.ToParams(refit.v);
-    deviances[b] =
-        2.0 * (fitter.SaturatedLogLikelihood() - refit.log_likelihood);
-    Eigen::Vector4d ldot = Eigen::Vector4d::Zero();
-    for (std::size_t i = 0; i < data.size(); ++i) {
-      const double residual = counts[i] - data[i].n_total * at_fit.yes[i];
-      for (int j = 0; j < 4; ++j) ldot[j] += residual * coefficient[i][j];
+  std::vector<char> refit_converged(count);
+  std::atomic<std::size_t> next_sample{0};
+  std::mutex progress_mutex;
+  int done = 0;
+  const auto refit_samples = [&](Fitter& worker) {
+    for (std::size_t b = next_sample++; b < count; b = next_sample++) {
+      std::seed_seq seeds{static_cast<std::uint32_t>(options.seed),
+                          static_cast<std::uint32_t>(options.seed >> 32),
+                          static_cast<std::uint32_t>(b),
+                          static_cast<std::uint32_t>(b >> 32)};
+      boost::random::mt19937_64 rng(seeds);
+      const std::span<double> r = worker.Counts();
+      LocalModel model = at_counts.base;
+      // log L(saturated): 0 at a level of one trial.
+      double saturated = 0.0;
+      for (std::size_t i = 0; i < levels; ++i) {
+        double correct;
+        if (below[i] != kNotSingle) {
+          // Indexed, not branched on: the branch would be a coin toss.
+          constexpr double kBit[2] = {0.0, 1.0};
+          correct = kBit[(rng() >> 11) < below[i] ? 1 : 0];
+        } else {
+          correct = binomial[i](rng);
+          saturated += SaturatedTerm(correct, data[i].n_total);
+        }
+        r[i] = correct;
+        const std::array<double, 5>& per = at_counts.per_correct[i];
+        model.log_likelihood += correct * per[0];
+        for (int j = 0; j < 4; ++j) model.gradient[j] += correct * per[j + 1];
+      }
+      const Eigen::Vector4d ldot = to_user.transpose() * model.gradient;
+      const Outcome refit = worker.RefitByScoring(best.v, model);
+      refit_converged[b] = refit.converged;
+      const PsychometricParams p = worker.ToParams(refit.v);
+      deviances[b] = 2.0 * (saturated - refit.log_likelihood);
+      for (std::size_t c = 0; c < cuts; ++c) {
+        values[c][b] = Threshold(options, options.cuts[c], p);
+        values[cuts + c][b] = Slope(options, options.cuts[c], p);
+      }
+      for (std::size_t q = 0; q < 2 * cuts; ++q) {
+        scores[q][b] = ldot.dot(directions[q]);
+      }
+      if (options.progress) {
+        const std::lock_guard<std::mutex> lock(progress_mutex);
+        options.progress(++done, samples);
+      }
     }
-    for (std::size_t c = 0; c < cuts; ++c) {
-      values[c][b] = Threshold(options, options.cuts[c], p);
-      values[cuts + c][b] = Slope(options, options.cuts[c], p);
+  };
+  // One refitting thread per core (or options.threads), each with a fitter
+  // of its own; the first is this thread with `fitter`.
+  const std::size_t threads = std::min<std::size_t>(
+      count, options.threads > 0
+                 ? static_cast<std::size_t>(options.threads)
+                 : std::clamp(std::thread::hardware_concurrency(), 1u, 64u));
+  PsychometricOptions single = options;
+  single.threads = 1;
+  std::vector<std::unique_ptr<Fitter>> fitters;
+  std::vector<std::thread> helpers;
+  for (std::size_t t = 1; t < threads; ++t) {
+    fitters.push_back(std::make_unique<Fitter>(data, single));
+    try {
+      helpers.emplace_back(refit_samples, std::ref(*fitters.back()));
+    } catch (const std::system_error&) {
+      break;  // no more threads to be had: the others share the work
     }
-    for (std::size_t q = 0; q < 2 * cuts; ++q) {
-      scores[q][b] = ldot.dot(directions[q]);
-    }
-    if (options.progress) options.progress(static_cast<int>(b) + 1, samples);
+  }
+  refit_samples(fitter);
+  for (std::thread& helper : helpers) helper.join();
+  for (char converged : refit_converged) {
+    out.bootstrap_not_converged += converged ? 0 : 1;
   }
   if (out.bootstrap_not_converged > 0) {
     out.warnings.push_back(fmt::format(

@@ -11,32 +11,6 @@
 namespace burrlab::analysis {
 namespace detail {
 
-StandardPoint Standard(Sigmoid sigmoid, double z) {
-  StandardPoint p;
-  switch (sigmoid) {
-    case Sigmoid::kLogistic:
-      p.f = 1.0 / (1.0 + std::exp(-z));
-      p.fc = 1.0 / (1.0 + std::exp(z));
-      p.density = p.f * p.fc;
-      break;
-    case Sigmoid::kCumulativeNormal:
-      p.f = 0.5 * std::erfc(-z / std::numbers::sqrt2);
-      p.fc = 0.5 * std::erfc(z / std::numbers::sqrt2);
-      p.density = std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
-      break;
-    case Sigmoid::kWeibull:
-    case Sigmoid::kGumbel: {
-      // G(z) = 1 - exp(-exp(z)).
-      const double e = std::exp(z);
-      p.fc = std::exp(-e);
-      p.f = -std::expm1(-e);
-      p.density = std::exp(z - e);
-      break;
-    }
-  }
-  return p;
-}
-
 double StandardInverse(Sigmoid sigmoid, double cut) {
   switch (sigmoid) {
     case Sigmoid::kLogistic:

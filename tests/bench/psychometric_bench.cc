@@ -3,9 +3,9 @@
 // p-value) on 6-level data sets; tests/bench/psignifit_time.sh times the
 // psignifit 2.5.6 binary on the same data and options and prints the ratio.
 // Then what `burrlab analyze fit` does with a large file (parse, pool by
-// level, fit): 100,000 count rows at 6 levels, and 1,000 to 100,000
+// level, fit): 100,000 count rows at 6 levels, 1,000 to 100,000
 // single-trial rows at distinct levels (adaptive methods give one level per
-// trial).
+// trial), and 100,000 of them with the bootstrap.
 #include <benchmark/benchmark.h>
 
 #include <charconv>
@@ -118,6 +118,13 @@ BENCHMARK_CAPTURE(FitFile, distinct_levels, true, 0)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Complexity(benchmark::oN);
+// 100,000 single-trial levels with the default 1999-sample bootstrap: each
+// refit one or two passes over the levels (Newton steps from the fit), the
+// refits shared between the cores.
+BENCHMARK_CAPTURE(FitFile, distinct_levels_bootstrap, true, 1999)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace burrlab::analysis

@@ -78,16 +78,20 @@ struct PsychometricOptions {
   // Cumulative probabilities of the reported interval bounds.
   std::vector<double> conf = {0.023, 0.159, 0.841, 0.977, 0.025, 0.975};
   int bootstrap_samples = 1999;  // refitted simulated data sets; 0: none
-  std::uint64_t seed = 1;        // Boost mt19937_64 seed of the bootstrap
+  // Simulated data set b draws from a Boost mt19937_64 seeded with
+  // std::seed_seq{seed low 32 bits, seed high 32 bits, b low, b high}.
+  std::uint64_t seed = 1;
   // Likelihood evaluations allowed per optimiser start (as Palamedes'
   // MaxFunEvals); a start that needs more is not converged.
   int max_evaluations = 2000;
-  // Threads a likelihood evaluation shares the levels between, 4096 or
-  // more each (1 to 64; 0: one per core). The results do not depend on it.
+  // Threads the fit's likelihood evaluations share the levels between
+  // (4096 or more each) and the bootstrap shares its refits between (1 to
+  // 64; 0: one per core). The results do not depend on it.
   int threads = 0;
-  // Called after each bootstrap refit with (refits done, bootstrap_samples);
-  // a large data set refits for minutes (each refit costs one fit's
-  // likelihood evaluations over every level). Empty: not called.
+  // Called after each bootstrap refit with (refits done, bootstrap_samples),
+  // from the refitting threads one call at a time, `done` counting up; a
+  // refit of a large data set costs about one pass over its levels.
+  // Empty: not called.
   std::function<void(int done, int total)> progress;
 
   // Names the first bad field, its value and the rule it breaks.
@@ -160,6 +164,16 @@ Status ValidateData(std::span<const DataBlock> data, Sigmoid sigmoid,
 // The maximum-likelihood fit only.
 Result<PsychometricFit> FitPsychometric(std::span<const DataBlock> data,
                                         const PsychometricOptions& options);
+
+// The maximum-likelihood fit of `data` found from `from`, the parameters of
+// a fit to similar data, as the bootstrap refits each simulated data set:
+// Newton steps (the first by Fisher scoring), each a pass over the levels,
+// and SLSQP from `from` when they fail. Far cheaper than FitPsychometric,
+// which searches from scratch, and as good when the maximum is the one
+// nearest `from`.
+Result<PsychometricFit> RefitPsychometric(std::span<const DataBlock> data,
+                                          const PsychometricOptions& options,
+                                          const PsychometricParams& from);
 
 // The fit, thresholds and slopes at options.cuts, and options.bootstrap_samples
 // refitted parametric-bootstrap data sets for their intervals and the

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "devices/falcon_kinematics.h"
-#include "finite.h"
+#include "devices/finite.h"
 
 namespace burrlab::runner {
 namespace {

@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 #include <numbers>
 
-#include "finite.h"
+#include "devices/finite.h"
 
 namespace burrlab::runner::falcon {
 namespace {

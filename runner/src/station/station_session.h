@@ -18,15 +18,15 @@
 #include <string>
 
 #include "devices/device.h"
+#include "devices/haptic_loop.h"
 #include "devices/hid_response_box.h"
 #include "devices/mouse_device.h"
+#include "devices/sim_force_source.h"
 #include "devices/simulated_device.h"
-#include "haptic_loop.h"
-#include "session.h"
-#include "sim_force_source.h"
 #include "station/station_controller.h"
 #include "station/station_script.h"
 #include "station/window.h"
+#include "studies/session.h"
 
 namespace burrlab::runner {
 

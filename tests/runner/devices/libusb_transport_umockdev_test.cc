@@ -26,10 +26,10 @@
 #include <vector>
 
 #include "burrlab/runner/cli.h"
+#include "cli/devices_command.h"
 #include "devices/falcon_device.h"
 #include "devices/falcon_packet.h"
 #include "devices/libusb_transport.h"
-#include "devices_command.h"
 
 namespace burrlab::runner {
 namespace {

@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "burrlab/results_schema/journal.h"
-#include "session.h"
-#include "sim_force_source.h"
+#include "devices/sim_force_source.h"
+#include "studies/session.h"
 
 namespace burrlab::runner {
 namespace {

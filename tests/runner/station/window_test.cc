@@ -19,9 +19,9 @@
 #include "burrlab/protocols/protocol.h"
 #include "burrlab/sim/phantoms.h"
 #include "burrlab/sim/step.h"
+#include "devices/haptic_loop.h"
 #include "devices/mouse_device.h"
-#include "haptic_loop.h"
-#include "sim_force_source.h"
+#include "devices/sim_force_source.h"
 #include "station/station_controller.h"
 #include "station/surface_snapshot.h"
 

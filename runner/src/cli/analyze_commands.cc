@@ -1,0 +1,473 @@
+// `burrlab analyze fit` (maximum-likelihood psychometric fit, parametric
+// bootstrap, plot) and `burrlab analyze dprime` (signal-detection d').
+// Exit codes (analysis/README.md): 0 done; 1 bad flags or data, nothing
+// printed on stdout; 2 the fit did not converge (results printed, flagged).
+#include "cli/analyze_commands.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "burrlab/analysis/psychometric.h"
+#include "burrlab/analysis/psychometric_data.h"
+#include "burrlab/analysis/psychometric_plot.h"
+#include "burrlab/analysis/sdt.h"
+#include "cli/analyze_results_commands.h"
+#include "cli/flags.h"
+#include "cli/json_number.h"
+#include "studies/progress.h"
+
+namespace burrlab::runner {
+namespace {
+
+using analysis::PsychometricOptions;
+using Json = nlohmann::ordered_json;
+
+// Exit code when the results are printed but the fit did not converge.
+constexpr int kNotConverged = 2;
+
+// The whole file; an error names it.
+Result<std::string> ReadText(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    return Error{fmt::format("cannot read {}: it is a directory", path)};
+  }
+  errno = 0;
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    return Error{errno != 0 ? fmt::format("cannot read {}: {}", path,
+                                          std::strerror(errno))
+                            : fmt::format("cannot read {}", path)};
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) return Error{fmt::format("cannot read {}", path)};
+  return text.str();
+}
+
+// "2afc" -> 2, "yesno" -> 1, "nafc:N" -> N (2..100).
+Result<int> ParseTask(const std::string& text) {
+  if (text == "2afc") return 2;
+  if (text == "yesno") return 1;
+  if (text.starts_with("nafc:")) {
+    Result<std::int64_t> n =
+        ParseInteger("--task nafc:N", text.substr(5), 2, 100);
+    if (n.ok()) return static_cast<int>(*n);
+  }
+  return Error{fmt::format(
+      "--task must be '2afc', 'yesno' or 'nafc:N' with N from 2 to 100, got "
+      "'{}'",
+      text)};
+}
+
+// "0.2,0.5,0.8": each in (0, 1).
+Result<std::vector<double>> ParseCuts(const std::string& text) {
+  std::vector<double> cuts;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string word = text.substr(start, comma - start);
+    Result<double> cut = ParseNumber("--cuts", word);
+    if (!cut.ok() || !(*cut > 0.0 && *cut < 1.0)) {
+      return Error{fmt::format(
+          "--cuts must be numbers in (0, 1) separated by commas, got '{}'",
+          text)};
+    }
+    cuts.push_back(*cut);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return cuts;
+}
+
+std::string TaskName(int n_intervals) {
+  return n_intervals == 1 ? "yesno" : fmt::format("{}afc", n_intervals);
+}
+
+// One BootstrapEstimate's bounds as an object keyed by conf ("0.023": ...).
+Json Bounds(const PsychometricOptions& options,
+            const std::vector<double>& bounds) {
+  Json object = Json::object();
+  for (std::size_t k = 0; k < options.conf.size(); ++k) {
+    object[fmt::format("{}", options.conf[k])] = JsonNumber(bounds[k]);
+  }
+  return object;
+}
+
+Json AnalysisJson(const analysis::PsychometricAnalysis& a,
+                  const std::string& path,
+                  const analysis::PsychometricDataFile& file) {
+  const PsychometricOptions& o = a.options;
+  Json j;
+  j["alpha"] = JsonNumber(a.fit.params.alpha);
+  j["beta"] = JsonNumber(a.fit.params.beta);
+  j["gamma"] = JsonNumber(a.fit.params.gamma);
+  j["lambda"] = JsonNumber(a.fit.params.lambda);
+  j["log_likelihood"] = JsonNumber(a.fit.log_likelihood);
+  j["deviance"] = JsonNumber(a.fit.deviance);
+  j["deviance_p"] = JsonNumber(a.deviance_p);
+  j["converged"] = a.fit.converged;
+  j["thresholds"] = Json::array();
+  for (const analysis::BootstrapEstimate& t : a.thresholds) {
+    j["thresholds"].push_back({{"cut", t.cut},
+                               {"value", JsonNumber(t.value)},
+                               {"ci", Bounds(o, t.bca)},
+                               {"ci_percentile", Bounds(o, t.percentile)}});
+  }
+  j["slopes"] = Json::array();
+  for (const analysis::BootstrapEstimate& s : a.slopes) {
+    j["slopes"].push_back({{"cut", s.cut}, {"value", JsonNumber(s.value)}});
+  }
+  j["sigmoid"] = analysis::SigmoidName(o.sigmoid);
+  j["task"] = TaskName(o.n_intervals);
+  j["lambda_max"] = o.lambda_max;
+  j["gamma_max"] = o.n_intervals == 1 ? Json(o.gamma_max) : Json(nullptr);
+  j["bootstrap_samples"] = a.bootstrap_samples;
+  j["bootstrap_not_converged"] = a.bootstrap_not_converged;
+  j["seed"] = o.seed;
+  const char* const names[4] = {"alpha", "beta", "gamma", "lambda"};
+  j["at_bound"] = Json::object();
+  for (std::size_t k = 0; k < 4; ++k) {
+    const analysis::Bound b = a.fit.at_bound[k];
+    j["at_bound"][names[k]] =
+        b == analysis::Bound::kNone
+            ? Json(nullptr)
+            : Json(b == analysis::Bound::kLower ? "lower" : "upper");
+  }
+  j["warnings"] = a.warnings;
+  j["data"] = {
+      {"file", path},
+      {"format", file.format == analysis::PsychometricDataFile::Format::kCounts
+                     ? "counts"
+                     : "trials"},
+      {"levels", file.blocks.size()},
+      {"rows", file.rows},
+      {"skipped_rows", file.skipped_rows}};
+  return j;
+}
+
+int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Maximum-likelihood fit of psi = gamma + (1 - gamma - lambda) F(x; "
+      "alpha, beta) as psignifit 2.5.6 fits it, with thresholds F^-1(cut), "
+      "slopes dF/dx there, parametric-bootstrap BCa and percentile "
+      "intervals, and the deviance with its bootstrap p-value. DATA is a "
+      "CSV/TSV with the header level,n_correct,n_total, or a burrlab "
+      "_beh.tsv (stim_level and correct); rows at one level are pooled. Exit "
+      "code 2: the fit did not converge (results still printed).",
+      "burrlab analyze fit"};
+  PsychometricOptions options;
+  std::string data_path, task_text, plot_path, cuts_text = "0.2,0.5,0.8";
+  int sigmoid = 0;
+  bool json = false;
+  FlagSet flags(&app);
+  flags
+      .AddText("--data", "the data file (CSV/TSV counts or a _beh.tsv)",
+               &data_path)
+      ->type_name("FILE")
+      ->required();
+  flags
+      .AddText("--task",
+               "2afc, yesno (gamma free in [0, --gamma-max]) or nafc:N "
+               "(gamma = 1/N)",
+               &task_text)
+      ->type_name("2afc|yesno|nafc:N")
+      ->required();
+  flags
+      .AddChoice("--sigmoid", "the shape F (psignifit 2.5.6 parameterisation)",
+                 {"logistic", "cumnorm", "weibull", "gumbel"}, &sigmoid)
+      ->required();
+  flags.AddInteger(
+      "--bootstrap",
+      fmt::format("refitted bootstrap data sets, 0 for none (default {})",
+                  options.bootstrap_samples),
+      0, 1000000, &options.bootstrap_samples);
+  flags.AddUnsigned(
+      "--seed", fmt::format("bootstrap random seed (default {})", options.seed),
+      &options.seed);
+  flags
+      .AddText("--cuts",
+               "cuts of F for thresholds and slopes (default 0.2,0.5,0.8)",
+               &cuts_text)
+      ->type_name("C1,C2,...");
+  flags.AddNonNegative("--lambda-max",
+                       fmt::format("lapse rate range [0, L] (default {}; 0 "
+                                   "fixes lambda at 0)",
+                                   options.lambda_max),
+                       "", &options.lambda_max);
+  flags.AddNonNegative(
+      "--gamma-max",
+      fmt::format("yes/no guess rate range [0, G] (default {})",
+                  options.gamma_max),
+      "", &options.gamma_max);
+  flags.AddInteger("--max-evaluations",
+                   fmt::format("likelihood evaluations per optimiser start "
+                               "(default {}); fewer than needed: exit code 2",
+                               options.max_evaluations),
+                   1, 10000000, &options.max_evaluations);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  flags
+      .AddText("--plot",
+               "write the data, the fit and the threshold intervals as PNG",
+               &plot_path)
+      ->type_name("FILE.png");
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  Result<int> task = ParseTask(task_text);
+  if (!task.ok()) return Fail(err, task.error().message);
+  options.n_intervals = *task;
+  options.sigmoid = *analysis::SigmoidFromName(
+      std::vector<std::string>{"logistic", "cumnorm", "weibull",
+                               "gumbel"}[static_cast<std::size_t>(sigmoid)]);
+  Result<std::vector<double>> cuts = ParseCuts(cuts_text);
+  if (!cuts.ok()) return Fail(err, cuts.error().message);
+  options.cuts = *cuts;
+  if (!(options.lambda_max < 1.0)) {
+    return Fail(err, fmt::format("--lambda-max must be below 1, got '{}'",
+                                 options.lambda_max));
+  }
+  if (flags.Given("--gamma-max") && options.n_intervals != 1) {
+    return Fail(err,
+                "--gamma-max applies to --task yesno only (n-AFC fixes gamma "
+                "at 1/N)");
+  }
+  if (!(options.gamma_max < 1.0)) {
+    return Fail(err, fmt::format("--gamma-max must be below 1, got '{}'",
+                                 options.gamma_max));
+  }
+  if (flags.Given("--plot") && plot_path.empty()) {
+    return Fail(err, "--plot needs a file name, got ''");
+  }
+  if (Status s = options.Validate(); !s.ok()) {
+    return Fail(err, "analyze fit: " + s.error().message);
+  }
+
+  // A subject's _beh.tsv in a results folder (DIR/sub-<id>/beh/): warn when
+  // its session stopped before its end.
+  const std::filesystem::path data(data_path);
+  const std::string subject_dir = data.parent_path().parent_path().filename();
+  if (data.parent_path().filename() == "beh" &&
+      subject_dir.starts_with("sub-")) {
+    const std::filesystem::path dir =
+        data.parent_path().parent_path().parent_path();
+    for (const results_schema::IncompleteSession& s :
+         results_schema::FindIncompleteSessions(dir.empty() ? "." : dir)) {
+      if ("sub-" + s.subject == subject_dir) {
+        err << IncompleteSessionWarning(s, dir.empty() ? "." : dir.string());
+      }
+    }
+  }
+  Result<std::string> text = ReadText(data_path);
+  if (!text.ok()) return Fail(err, text.error().message);
+  Result<analysis::PsychometricDataFile> file =
+      analysis::ParsePsychometricData(data_path, *text);
+  if (!file.ok()) {
+    err << file.error().message << '\n';
+    return 1;
+  }
+  std::size_t bad = 0;
+  if (Status s = analysis::ValidateData(file->blocks, options.sigmoid, &bad);
+      !s.ok()) {
+    const bool has_line =
+        file->format == analysis::PsychometricDataFile::Format::kCounts &&
+        bad < file->lines.size();
+    std::string message = s.error().message;
+    if (has_line && message.starts_with("block ")) {
+      message = message.substr(message.find(": ") + 2);  // the line says it
+    }
+    err << analysis::FormatDataDiagnostic(
+               data_path, *text, has_line ? file->lines[bad] : 0, 1,
+               file->format == analysis::PsychometricDataFile::Format::kTrials
+                   ? "after pooling the trials by level, " + message
+                   : message)
+        << '\n';
+    return 1;
+  }
+  Result<analysis::PsychometricAnalysis> result = [&] {
+    // Bootstrap progress on a terminal, redrawn once per percent.
+    ProgressBar bar(err, options.bootstrap_samples);
+    options.progress = [&bar](int done, int total) {
+      const int step = std::max(total / 100, 1);
+      if (done % step == 0 || done == total)
+        bar.Update(done, "bootstrap refits");
+    };
+    return analysis::AnalyzePsychometric(file->blocks, options);
+  }();
+  if (!result.ok()) return Fail(err, "analyze fit: " + result.error().message);
+  const analysis::PsychometricAnalysis& a = *result;
+  if (!plot_path.empty()) {
+    if (Status s = analysis::WritePlotPng(
+            analysis::MakePsychometricPlot(file->blocks, a, "stimulus level"),
+            plot_path);
+        !s.ok()) {
+      return Fail(err, s.error().message);
+    }
+  }
+  for (const std::string& warning : a.warnings) {
+    err << "burrlab: warning: " << warning << '\n';
+  }
+  if (json) {
+    out << AnalysisJson(a, data_path, *file)
+               .dump(2, ' ', false, Json::error_handler_t::replace)
+        << '\n';
+  } else {
+    out << fmt::format(
+        "data       {} ({} levels{})\n", data_path, file->blocks.size(),
+        file->skipped_rows > 0
+            ? fmt::format(", {} rows with n/a skipped", file->skipped_rows)
+            : std::string());
+    if (file->rows > file->blocks.size()) {
+      out << fmt::format("pooled     {} rows into {} levels\n", file->rows,
+                         file->blocks.size());
+    }
+    out << a.FullReport(/*with_warnings=*/false);  // they went to stderr
+    if (!plot_path.empty()) out << "plot       " << plot_path << '\n';
+  }
+  return a.fit.converged ? 0 : kNotConverged;
+}
+
+int RunDPrime(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Signal-detection sensitivity d' (Macmillan & Creelman; R psyphy "
+      "conventions): yes/no z(H) - z(F); 2AFC sqrt(2) z(Pc); n-AFC by "
+      "dprime.mAFC; same-different by the differencing or the "
+      "independent-observation model.",
+      "burrlab analyze dprime"};
+  std::string design;
+  int model = 0;
+  double hit = 0.0, fa = 0.0, pc = 0.0;
+  bool json = false;
+  FlagSet flags(&app);
+  flags.AddText("--design", "yesno, 2afc, nafc:N or same-different", &design)
+      ->type_name("yesno|2afc|nafc:N|same-different")
+      ->required();
+  flags.AddChoice("--model", "same-different model (default differencing)",
+                  {"differencing", "independent-observation"}, &model);
+  flags.AddPositive("--hit", "hit rate H in (0, 1)", "", &hit);
+  flags.AddPositive("--fa", "false-alarm rate F in (0, 1)", "", &fa);
+  flags.AddPositive("--pc", "proportion correct in (0, 1) (2afc, nafc:N)", "",
+                    &pc);
+  flags.AddSwitch("--json", "print {\"dprime\": ...} and the inputs as JSON",
+                  &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  const bool rates = flags.Given("--hit") || flags.Given("--fa");
+  int alternatives = 0;
+  if (design == "2afc") {
+    alternatives = 2;
+  } else if (design.starts_with("nafc:")) {
+    Result<int> task = ParseTask(design);
+    if (!task.ok()) {
+      return Fail(err, fmt::format("--design nafc:N needs N from 2 to 100, "
+                                   "got '{}'",
+                                   design));
+    }
+    alternatives = *task;
+  } else if (design != "yesno" && design != "same-different") {
+    return Fail(err, fmt::format("--design must be 'yesno', '2afc', 'nafc:N' "
+                                 "or 'same-different', got '{}'",
+                                 design));
+  }
+  if (flags.Given("--model") && design != "same-different") {
+    return Fail(err, "--model applies to --design same-different only");
+  }
+  Result<double> d = Error{};
+  if (alternatives > 0) {
+    if (rates || !flags.Given("--pc")) {
+      return Fail(err, fmt::format("--design {} takes --pc P (not --hit/--fa)",
+                                   design));
+    }
+    d = analysis::DPrimeMAfc(pc, alternatives);
+  } else {
+    if (flags.Given("--pc") || !flags.Given("--hit") || !flags.Given("--fa")) {
+      return Fail(err, fmt::format("--design {} takes --hit H and --fa F (not "
+                                   "--pc)",
+                                   design));
+    }
+    d = design == "yesno"
+            ? analysis::DPrimeYesNo(hit, fa)
+            : analysis::DPrimeSameDifferent(
+                  hit, fa,
+                  model == 0
+                      ? analysis::SameDifferentModel::kDifferencing
+                      : analysis::SameDifferentModel::kIndependentObservation);
+  }
+  if (!d.ok()) return Fail(err, "analyze dprime: " + d.error().message);
+  const std::string model_name =
+      model == 0 ? "differencing" : "independent-observation";
+  if (json) {
+    Json j;
+    j["dprime"] = *d;
+    j["design"] = design;
+    if (design == "same-different") j["model"] = model_name;
+    if (alternatives > 0) {
+      j["pc"] = pc;
+    } else {
+      j["hit"] = hit;
+      j["fa"] = fa;
+    }
+    out << j.dump(2) << '\n';
+    return 0;
+  }
+  out << fmt::format(
+      "d' = {:.6g} ({}{}; {})\n", *d, design,
+      design == "same-different" ? ", " + model_name + " model" : "",
+      alternatives > 0 ? fmt::format("Pc {}", pc)
+                       : fmt::format("H {}, F {}", hit, fa));
+  return 0;
+}
+
+int RunAnalyzeHelp(const Args& args, std::ostream& out, std::ostream& err);
+
+constexpr Command kAnalyzeCommands[] = {
+    {"fit",
+     "psychometric fit (psignifit 2.5.6 conventions) with bootstrap "
+     "intervals, from counts or a _beh.tsv",
+     RunFit},
+    {"dprime", "d' for yes/no, 2AFC/n-AFC and same-different designs",
+     RunDPrime},
+    {"scores",
+     "scores per block of a study's results: mean +- SEM, t and binomial "
+     "tests against chance, same-different d', histograms",
+     RunScoresCommand},
+    {"thresholds",
+     "thresholds per subject and block: staircase reversals, QUEST, limits, "
+     "adjustment, constant-stimuli fits",
+     RunThresholdsCommand},
+    {"kinematics",
+     "force and speed histograms, mean force and removal rate of the traces",
+     RunKinematicsCommand},
+    {"power",
+     "probability of a significant result from simulated studies of a "
+     "protocol",
+     RunPowerCommand},
+    {"fit-observers",
+     "fit a simulated-observer population to a group result and predict "
+     "another protocol",
+     RunFitObserversCommand},
+    {"help", "list the commands; 'help COMMAND' shows the flags of one",
+     RunAnalyzeHelp},
+};
+
+int RunAnalyzeHelp(const Args& args, std::ostream& out, std::ostream& err) {
+  return RunHelp("burrlab analyze", kAnalyzeCommands, args, out, err);
+}
+
+}  // namespace
+
+int RunAnalyzeCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  return Dispatch("burrlab analyze", kAnalyzeCommands, args, out, err);
+}
+
+}  // namespace burrlab::runner

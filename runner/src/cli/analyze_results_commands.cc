@@ -1,0 +1,861 @@
+// `burrlab analyze scores|thresholds|kinematics DIR`: read the study's BIDS
+// exports (results_schema/bids_read.h), analyse them (analysis/) and print a
+// table or JSON, with PNG figures on request.
+#include "cli/analyze_results_commands.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "burrlab/analysis/group_stats.h"
+#include "burrlab/analysis/kinematics.h"
+#include "burrlab/analysis/scores.h"
+#include "burrlab/analysis/thresholds.h"
+#include "burrlab/results_schema/bids_read.h"
+#include "cli/flags.h"
+#include "cli/json_number.h"
+#include "studies/observer_fit.h"
+#include "studies/progress.h"
+#include "studies/session.h"
+#include "studies/virtual_study.h"
+
+namespace burrlab::runner {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+Json Optional(const std::optional<double>& value) {
+  return value.has_value() ? JsonNumber(*value) : Json(nullptr);
+}
+
+// The study's exports, or one error line. First warns on `err` of every
+// subject whose journal holds trials its exports do not, so no subject is
+// left out silently, then of every other subject whose session stopped
+// before its end (one warning per subject).
+Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
+                                                         std::ostream& err) {
+  results_schema::Result<std::vector<results_schema::BehFile>> files =
+      results_schema::ReadBidsDataset(dir);
+  const std::vector<results_schema::BehFile> none;
+  const std::vector<results_schema::UnexportedTrials> unexported =
+      results_schema::FindUnexportedTrials(dir, files.ok() ? *files : none);
+  for (const results_schema::UnexportedTrials& u : unexported) {
+    err << fmt::format(
+        "burrlab: warning: sub-{}'s journal holds {} trials but its exports "
+        "only {}, and analyses read the exports; `burrlab run PROTOCOL "
+        "--subject {} --out {} --resume` exports them (and finishes the "
+        "session if it can)\n",
+        u.subject,
+        u.journal_trials < 0 ? std::string("unreadable")
+                             : std::to_string(u.journal_trials),
+        u.exported_trials, u.subject, dir);
+  }
+  for (const results_schema::IncompleteSession& s :
+       results_schema::FindIncompleteSessions(dir)) {
+    const bool warned =
+        std::any_of(unexported.begin(), unexported.end(),
+                    [&](const results_schema::UnexportedTrials& u) {
+                      return u.subject == s.subject;
+                    });
+    if (!warned) err << IncompleteSessionWarning(s, dir);
+  }
+  if (!files.ok()) return Error{files.error().message};
+  return std::move(files.value());
+}
+
+}  // namespace
+
+std::string IncompleteSessionWarning(
+    const results_schema::IncompleteSession& session, const std::string& dir) {
+  return fmt::format(
+      "burrlab: warning: sub-{0}'s session is incomplete: it stopped after "
+      "{1}{2} trials; its {1} trials are analysed, and `burrlab run PROTOCOL "
+      "--subject {0} --out {3} --resume` finishes it\n",
+      session.subject, session.trials,
+      session.planned_trials
+          ? fmt::format(" of {} planned", *session.planned_trials)
+          : std::string(),
+      dir);
+}
+
+namespace {
+
+// Creates the figure folder; an error names it.
+Status MakePlotDir(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) {
+    return Error{fmt::format("cannot create folder {}: {}", dir,
+                             ec ? ec.message() : "not a folder")};
+  }
+  return {};
+}
+
+std::string P(double p) { return fmt::format("{:.3g}", p); }
+
+Json RatesJson(const analysis::SameDifferentRates& r) {
+  return {{"hits", r.hits},
+          {"different_trials", r.different_trials},
+          {"false_alarms", r.false_alarms},
+          {"same_trials", r.same_trials},
+          {"hit_rate", JsonNumber(r.hit_rate)},
+          {"false_alarm_rate", JsonNumber(r.false_alarm_rate)},
+          {"corrected", r.corrected},
+          {"dprime_differencing", Optional(r.dprime_differencing)},
+          {"dprime_independent_observation",
+           Optional(r.dprime_independent_observation)},
+          {"note", r.note}};
+}
+
+Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
+  Json j;
+  j["block"] = b.block;
+  j["task_label"] = b.task_label;
+  j["method"] = b.method;
+  j["task"] = b.task;
+  j["chance"] = Optional(b.chance);
+  j["trials_per_subject"] =
+      b.trials_per_subject ? Json(*b.trials_per_subject) : Json(nullptr);
+  j["subjects"] = Json::array();
+  for (const analysis::SubjectScore& s : b.subjects) {
+    Json sj = {{"subject", s.subject},
+               {"correct", s.correct},
+               {"trials", s.trials},
+               {"proportion", s.proportion}};
+    if (s.rates) sj["rates"] = RatesJson(*s.rates);
+    j["subjects"].push_back(sj);
+  }
+  const auto mean_sem = [](const std::optional<analysis::MeanSem>& m) {
+    return m ? Json{{"mean", m->mean},
+                    {"sem", m->sem},
+                    {"sd", m->sd},
+                    {"n", m->n}}
+             : Json(nullptr);
+  };
+  j["score"] = mean_sem(b.mean_score);
+  j["proportion"] = mean_sem(b.mean_proportion);
+  j["t_test"] = b.t_test ? Json{{"test",
+                                 "one-sample t-test of proportions "
+                                 "correct against chance"},
+                                {"t", b.t_test->t},
+                                {"df", b.t_test->df},
+                                {"p_two_sided", b.t_test->p_two_sided},
+                                {"p_greater", b.t_test->p_greater}}
+                         : Json(nullptr);
+  j["binomial"] = b.binomial
+                      ? Json{{"test",
+                              "exact binomial test of pooled answers against "
+                              "chance"},
+                             {"successes", b.binomial->successes},
+                             {"trials", b.binomial->trials},
+                             {"p_two_sided", b.binomial->p_two_sided},
+                             {"p_greater", b.binomial->p_greater},
+                             {"ci", {b.binomial->ci_low, b.binomial->ci_high}}}
+                      : Json(nullptr);
+  j["pooled_rates"] =
+      b.pooled_rates ? RatesJson(*b.pooled_rates) : Json(nullptr);
+  j["no_test_reason"] = b.no_test_reason;
+  j["warnings"] = b.warnings;
+  j["histogram"] = plot.empty() ? Json(nullptr) : Json(plot);
+  return j;
+}
+
+std::string DPrimeText(const analysis::SameDifferentRates& r) {
+  const auto d = [](const std::optional<double>& v) {
+    return v ? fmt::format("{:.3f}", *v) : std::string("n/a");
+  };
+  return fmt::format("H {:.3f} F {:.3f}{}  d' {} (differencing) {} (IO)",
+                     r.hit_rate, r.false_alarm_rate, r.corrected ? "*" : "",
+                     d(r.dprime_differencing),
+                     d(r.dprime_independent_observation));
+}
+
+void PrintScores(std::ostream& out, const analysis::BlockScores& b,
+                 const std::string& plot) {
+  out << fmt::format("block {} ({}, {}): {} subjects{}\n", b.block, b.method,
+                     b.task, b.subjects.size(),
+                     b.trials_per_subject ? fmt::format(", {} trials each",
+                                                        *b.trials_per_subject)
+                                          : std::string());
+  if (b.mean_score) {
+    out << fmt::format("  score      {:.2f} +- {:.2f} (mean +- SEM) of {}\n",
+                       b.mean_score->mean, b.mean_score->sem,
+                       *b.trials_per_subject);
+  }
+  if (b.mean_proportion) {
+    out << fmt::format("  correct    {:.1f} +- {:.1f} %\n",
+                       100.0 * b.mean_proportion->mean,
+                       100.0 * b.mean_proportion->sem);
+  }
+  if (b.t_test) {
+    out << fmt::format(
+        "  t-test     t({}) = {:.3f} against chance {}: p = {} one-sided "
+        "(above chance), {} two-sided\n",
+        b.t_test->df, b.t_test->t, *b.chance, P(b.t_test->p_greater),
+        P(b.t_test->p_two_sided));
+  }
+  if (b.binomial) {
+    out << fmt::format(
+        "  binomial   {} of {} correct: p = {} one-sided, {} two-sided\n",
+        b.binomial->successes, b.binomial->trials, P(b.binomial->p_greater),
+        P(b.binomial->p_two_sided));
+  }
+  if (!b.chance) out << "  no test    " << b.no_test_reason << '\n';
+  if (b.pooled_rates) {
+    out << "  pooled     " << DPrimeText(*b.pooled_rates) << '\n';
+  }
+  for (const analysis::SubjectScore& s : b.subjects) {
+    out << fmt::format("  sub-{:<8} {:>3} of {:<3}{}\n", s.subject, s.correct,
+                       s.trials,
+                       s.rates ? "  " + DPrimeText(*s.rates) : std::string());
+  }
+  for (const std::string& w : b.warnings) out << "  warning    " << w << '\n';
+  if (!plot.empty()) out << "  histogram  " << plot << '\n';
+}
+
+int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Scores per block of a study's results (the --out folder of burrlab "
+      "run or study): each subject's correct answers, mean +- SEM, a "
+      "one-sample t-test of the proportions correct against chance (one- "
+      "and two-sided), an exact binomial test of the pooled answers, and for "
+      "same-different blocks hit and false-alarm rates with d' "
+      "(differencing and independent-observation models; rates of 0 or 1 "
+      "moved to 1/(2N), marked *).",
+      "burrlab analyze scores"};
+  std::string dir, plots;
+  bool json = false;
+  FlagSet flags(&app);
+  app.add_option("DIR", dir, "results folder")->required();
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  flags
+      .AddText("--plots", "write a score histogram per block (PNG) here",
+               &plots)
+      ->type_name("DIR");
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
+  if (!files.ok()) return Fail(err, files.error().message);
+  Result<std::vector<analysis::BlockScores>> blocks =
+      analysis::ScoreBlocks(*files);
+  if (!blocks.ok())
+    return Fail(err, "analyze scores: " + blocks.error().message);
+  std::vector<std::string> plot_paths(blocks->size());
+  if (flags.Given("--plots")) {
+    if (Status s = MakePlotDir(plots); !s.ok())
+      return Fail(err, s.error().message);
+    for (std::size_t i = 0; i < blocks->size(); ++i) {
+      plot_paths[i] = (fs::path(plots) /
+                       fmt::format("scores_{}.png", (*blocks)[i].task_label))
+                          .string();
+      if (Status s = analysis::WritePlotPng(
+              analysis::ScoreHistogram((*blocks)[i]), plot_paths[i]);
+          !s.ok()) {
+        return Fail(err, s.error().message);
+      }
+    }
+  }
+  if (json) {
+    Json j;
+    j["results"] = dir;
+    j["blocks"] = Json::array();
+    for (std::size_t i = 0; i < blocks->size(); ++i) {
+      j["blocks"].push_back(ScoresJson((*blocks)[i], plot_paths[i]));
+    }
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  for (std::size_t i = 0; i < blocks->size(); ++i) {
+    if (i > 0) out << '\n';
+    PrintScores(out, (*blocks)[i], plot_paths[i]);
+  }
+  return 0;
+}
+
+int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Thresholds per subject and block of a study's results, by each "
+      "method's estimator: staircases the mean of the last k reversals in "
+      "the step scale (k from the protocol, or --reversals), QUEST the "
+      "posterior mean (spread: posterior SD, log10 units), limits the mean "
+      "transition level, adjustment the mean adjusted level, constant "
+      "stimuli a maximum-likelihood psychometric fit with a 95 % BCa "
+      "bootstrap interval.",
+      "burrlab analyze thresholds"};
+  std::string dir;
+  analysis::ThresholdOptions options;
+  int sigmoid = 0;
+  bool json = false;
+  FlagSet flags(&app);
+  app.add_option("DIR", dir, "results folder")->required();
+  flags.AddInteger("--reversals",
+                   "staircases: reversals averaged (default: the protocol's "
+                   "threshold_reversals)",
+                   1, 10000, &options.reversals);
+  flags.AddChoice("--sigmoid",
+                  "constant stimuli: the shape F (default logistic)",
+                  {"logistic", "cumnorm", "weibull", "gumbel"}, &sigmoid);
+  flags.AddPositive("--cut",
+                    "constant stimuli: threshold at F = cut (default 0.5)", "",
+                    &options.cut, 0.999999);
+  flags.AddInteger("--bootstrap",
+                   "constant stimuli: bootstrap samples (default 999)", 0,
+                   1000000, &options.bootstrap_samples);
+  flags.AddUnsigned("--seed", "bootstrap seed (default 1)", &options.seed);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  options.sigmoid = *analysis::SigmoidFromName(
+      std::vector<std::string>{"logistic", "cumnorm", "weibull",
+                               "gumbel"}[static_cast<std::size_t>(sigmoid)]);
+  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
+  if (!files.ok()) return Fail(err, files.error().message);
+  Result<std::vector<analysis::ThresholdEstimate>> estimates =
+      analysis::EstimateThresholds(*files, options);
+  if (!estimates.ok()) {
+    return Fail(err, "analyze thresholds: " + estimates.error().message);
+  }
+  if (json) {
+    Json j;
+    j["results"] = dir;
+    j["thresholds"] = Json::array();
+    for (const analysis::ThresholdEstimate& e : *estimates) {
+      Json t = {{"subject", e.subject},
+                {"block", e.block},
+                {"method", e.method},
+                {"task", e.task},
+                {"staircase_id",
+                 e.staircase_id ? Json(*e.staircase_id) : Json(nullptr)},
+                {"estimator", e.estimator},
+                {"value", Optional(e.value)},
+                {"unit", e.stim_unit},
+                {"spread", Optional(e.spread)},
+                {"spread_unit", e.spread_unit},
+                {"n", e.n},
+                {"ci", e.fit ? Json{Optional(e.ci_low), Optional(e.ci_high)}
+                             : Json(nullptr)},
+                {"note", e.note}};
+      if (e.fit) {
+        t["fit"] = {{"alpha", e.fit->params.alpha},
+                    {"beta", e.fit->params.beta},
+                    {"gamma", e.fit->params.gamma},
+                    {"lambda", e.fit->params.lambda},
+                    {"deviance", e.fit->deviance},
+                    {"deviance_p", Optional(e.deviance_p)},
+                    {"converged", e.fit->converged}};
+      }
+      j["thresholds"].push_back(t);
+    }
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  for (const analysis::ThresholdEstimate& e : *estimates) {
+    const std::string who = fmt::format(
+        "sub-{} {}{}", e.subject, e.block,
+        e.staircase_id ? fmt::format(" staircase {}", *e.staircase_id)
+                       : std::string());
+    std::string value = "n/a";
+    if (e.value) {
+      value = fmt::format("{:.4g} {}", *e.value, e.stim_unit);
+      if (e.ci_low && e.ci_high) {
+        value +=
+            fmt::format(" [{:.4g}, {:.4g}] 95 % CI", *e.ci_low, *e.ci_high);
+      } else if (e.spread) {
+        value += fmt::format(" (SD {:.3g} {})", *e.spread, e.spread_unit);
+      }
+    }
+    out << fmt::format("{}: {}  - {}, n = {}{}\n", who, value, e.estimator, e.n,
+                       e.note.empty() ? "" : "; " + e.note);
+  }
+  return 0;
+}
+
+Json HistogramJson(const analysis::Histogram& h) {
+  return {{"low", h.low},
+          {"width", h.width},
+          {"counts", h.counts},
+          {"outside", h.outside}};
+}
+
+int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Kinematics of a study's recorded intervals (dissertation ch. 12): per "
+      "subject and block, histograms of the felt force and of the burr "
+      "speed |dz/dt| over common ranges, the mean force and the material "
+      "removal rate (removed volume per traced second).",
+      "burrlab analyze kinematics"};
+  std::string dir, plots;
+  analysis::KinematicsOptions options;
+  bool json = false;
+  FlagSet flags(&app);
+  app.add_option("DIR", dir, "results folder")->required();
+  flags.AddInteger("--bins", "histogram bins (default 30)", 1, 10000,
+                   &options.bins);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  flags
+      .AddText("--plots",
+               "write force and speed histograms per subject and block (PNG) "
+               "here",
+               &plots)
+      ->type_name("DIR");
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
+  if (!files.ok()) return Fail(err, files.error().message);
+  Result<std::vector<analysis::KinematicsSummary>> summaries =
+      analysis::SummarizeKinematics(*files, options);
+  if (!summaries.ok()) {
+    return Fail(err, "analyze kinematics: " + summaries.error().message);
+  }
+  std::vector<std::pair<std::string, std::string>> plot_paths(
+      summaries->size());
+  if (flags.Given("--plots")) {
+    if (Status s = MakePlotDir(plots); !s.ok())
+      return Fail(err, s.error().message);
+    for (std::size_t i = 0; i < summaries->size(); ++i) {
+      const analysis::KinematicsSummary& k = (*summaries)[i];
+      const std::string stem =
+          (fs::path(plots) / fmt::format("sub-{}_{}", k.subject, k.block))
+              .string();
+      plot_paths[i] = {stem + "_force.png", stem + "_speed.png"};
+      if (Status s = analysis::WritePlotPng(analysis::ForceHistogramPlot(k),
+                                            plot_paths[i].first);
+          !s.ok()) {
+        return Fail(err, s.error().message);
+      }
+      if (Status s = analysis::WritePlotPng(analysis::SpeedHistogramPlot(k),
+                                            plot_paths[i].second);
+          !s.ok()) {
+        return Fail(err, s.error().message);
+      }
+    }
+  }
+  if (json) {
+    Json j;
+    j["results"] = dir;
+    j["kinematics"] = Json::array();
+    for (std::size_t i = 0; i < summaries->size(); ++i) {
+      const analysis::KinematicsSummary& k = (*summaries)[i];
+      j["kinematics"].push_back(
+          {{"subject", k.subject},
+           {"block", k.block},
+           {"task", k.task},
+           {"intervals", k.intervals},
+           {"samples", k.samples},
+           {"duration_s", k.duration_s},
+           {"mean_force_n", k.mean_force_n},
+           {"sd_force_n", k.sd_force_n},
+           {"max_force_n", k.max_force_n},
+           {"contact_fraction", k.contact_fraction},
+           {"mean_speed_mm_s", k.mean_speed_mm_s},
+           {"removed_mm3", Optional(k.removed_mm3)},
+           {"removal_rate_mm3_per_s", Optional(k.removal_rate_mm3_per_s)},
+           {"force_histogram_n", HistogramJson(k.force)},
+           {"speed_histogram_mm_s", HistogramJson(k.speed)},
+           {"plots", plot_paths[i].first.empty()
+                         ? Json(nullptr)
+                         : Json{plot_paths[i].first, plot_paths[i].second}}});
+    }
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  out << fmt::format("{:<12} {:<10} {:>5} {:>8} {:>12} {:>10} {:>12} {:>16}\n",
+                     "subject", "block", "task", "time s", "mean force N",
+                     "contact %", "speed mm/s", "removal mm3/s");
+  for (const analysis::KinematicsSummary& k : *summaries) {
+    out << fmt::format(
+        "{:<12} {:<10} {:>5} {:>8.1f} {:>12.3f} {:>10.1f} {:>12.3f} {:>16}\n",
+        "sub-" + k.subject, k.block, k.task, k.duration_s, k.mean_force_n,
+        100.0 * k.contact_fraction, k.mean_speed_mm_s,
+        k.removal_rate_mm3_per_s
+            ? fmt::format("{:.4g}", *k.removal_rate_mm3_per_s)
+            : std::string("n/a"));
+  }
+  if (flags.Given("--plots")) out << "plots in " << plots << '\n';
+  return 0;
+}
+
+// One block's power as JSON: P(significant) per test with its 95 %
+// Clopper-Pearson interval over the studies.
+Json PowerJson(const BlockPower& t) {
+  const auto interval = [&](int k) {
+    Result<analysis::BinomialTestResult> b =
+        analysis::ExactBinomialTest(k, t.runs, 0.5);
+    return Json{b->ci_low, b->ci_high};
+  };
+  Result<analysis::MeanSem> m = analysis::MeanAndSem(t.mean_scores);
+  Result<analysis::MeanSem> c = analysis::MeanAndSem(t.mean_counts);
+  Json b = {{"block", t.block},
+            {"method", t.method},
+            {"chance", Optional(t.chance.p)},
+            {"mean_proportion_correct",
+             m.ok() ? Json(m->mean) : Json(t.mean_scores[0])},
+            {"mean_score", c.ok() ? Json(c->mean) : Json(t.mean_counts[0])},
+            {"sd_between_studies", m.ok() ? Json(m->sd) : Json(nullptr)},
+            {"score_sd_between_studies", c.ok() ? Json(c->sd) : Json(nullptr)}};
+  if (t.chance.p) {
+    b["power_t_test"] = {{"p", static_cast<double>(t.t_significant) / t.runs},
+                         {"ci", interval(t.t_significant)}};
+    b["power_binomial"] = {
+        {"p", static_cast<double>(t.binomial_significant) / t.runs},
+        {"ci", interval(t.binomial_significant)}};
+  } else {
+    b["no_test_reason"] = t.chance.reason;
+  }
+  return b;
+}
+
+int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Power of a protocol: runs R simulated studies of N simulated subjects "
+      "whose perceptual noise is the Weber fraction W (both cues), and "
+      "reports per scored block the probability of a significant result "
+      "(one-sided t-test of proportions correct and exact binomial test of "
+      "pooled answers, each against chance at --alpha) with its 95 % "
+      "Clopper-Pearson interval. Cues come from a pool of simulator "
+      "renderings per stimulus (--cue-samples each); see "
+      "analysis/README.md.",
+      "burrlab analyze power"};
+  std::string protocol_path;
+  double weber = 0.0, weber_spread = 0.0, alpha = 0.05, lapse = -1.0;
+  int subjects = 0, runs = 0, cue_samples = 8;
+  std::uint64_t seed = 1;
+  bool json = false;
+  FlagSet flags(&app);
+  flags.AddText("--protocol", "the protocol file", &protocol_path)
+      ->type_name("FILE")
+      ->required();
+  flags
+      .AddPositive("--weber", "Weber fraction of both cues (sigma of ln cue)",
+                   "", &weber)
+      ->required();
+  flags
+      .AddInteger("--subjects", "simulated subjects per study", 2, 100000,
+                  &subjects)
+      ->required();
+  flags.AddInteger("--runs", "simulated studies", 1, 1000000, &runs)
+      ->required();
+  flags.AddUnsigned("--seed", "seed (default 1)", &seed);
+  flags.AddPositive("--alpha", "significance level (default 0.05)", "", &alpha,
+                    0.5);
+  flags.AddNonNegative("--weber-spread",
+                       "SD of ln(Weber) across subjects (default 0)", "",
+                       &weber_spread);
+  flags.AddNonNegative("--lapse", "lapse rate (default: the protocol's)", "",
+                       &lapse);
+  flags.AddInteger("--cue-samples",
+                   "simulator renderings per stimulus in the cue pool "
+                   "(default 8)",
+                   1, 1000, &cue_samples);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--lapse") && !(lapse < 1.0)) {
+    return Fail(err, fmt::format("--lapse must be below 1, got '{}'", lapse));
+  }
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_path);
+  if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  VirtualStudyOptions options;
+  options.subjects = subjects;
+  options.spread_stiffness = weber_spread;
+  options.spread_removal = weber_spread;
+  options.observer = protocols::ObserverParamsFrom(loaded->protocol.observer);
+  options.observer.weber_stiffness = weber;
+  options.observer.weber_removal = weber;
+  if (flags.Given("--lapse")) options.observer.lapse = lapse;
+  if (Status s = options.observer.Validate(); !s.ok()) {
+    return Fail(err, "analyze power: " + s.error().message);
+  }
+  CuePool pool(cue_samples, 2.0, seed);
+  ProgressBar bar(err, runs);
+  Result<std::vector<BlockPower>> powers = EstimatePower(
+      loaded->protocol, options, seed, runs, alpha, pool,
+      [&](int done) { bar.Update(done, fmt::format("study {}", done)); });
+  if (!powers.ok())
+    return Fail(err, "analyze power: " + powers.error().message);
+  const std::vector<BlockPower>& tallies = *powers;
+  Json j;
+  j["protocol"] = protocol_path;
+  j["weber"] = weber;
+  j["weber_spread"] = weber_spread;
+  j["lapse"] = options.observer.lapse;
+  j["subjects"] = subjects;
+  j["runs"] = runs;
+  j["alpha"] = alpha;
+  j["seed"] = seed;
+  j["cue_samples"] = cue_samples;
+  j["intervals_rendered"] = pool.rendered();
+  j["blocks"] = Json::array();
+  for (const BlockPower& t : tallies) j["blocks"].push_back(PowerJson(t));
+  if (json) {
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  out << fmt::format(
+      "{} studies of {} simulated subjects, Weber {}{}, lapse {}, alpha {} "
+      "({} intervals rendered for the cue pool)\n",
+      runs, subjects, weber,
+      weber_spread > 0.0 ? fmt::format(" (spread {} in ln)", weber_spread)
+                         : std::string(),
+      options.observer.lapse, alpha, pool.rendered());
+  for (const Json& b : j["blocks"]) {
+    out << fmt::format("block {} ({}): mean {:.1f} % correct",
+                       b["block"].get<std::string>(),
+                       b["method"].get<std::string>(),
+                       100.0 * b["mean_proportion_correct"].get<double>());
+    if (b.contains("power_t_test")) {
+      out << fmt::format(
+          "; P(significant) t-test {:.3f} [{:.3f}, {:.3f}], binomial {:.3f} "
+          "[{:.3f}, {:.3f}]\n",
+          b["power_t_test"]["p"].get<double>(),
+          b["power_t_test"]["ci"][0].get<double>(),
+          b["power_t_test"]["ci"][1].get<double>(),
+          b["power_binomial"]["p"].get<double>(),
+          b["power_binomial"]["ci"][0].get<double>(),
+          b["power_binomial"]["ci"][1].get<double>());
+    } else {
+      out << "; not tested: " << b["no_test_reason"].get<std::string>() << '\n';
+    }
+  }
+  return 0;
+}
+
+int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Fit a simulated-observer population to published group results: for "
+      "each observed block, the Weber fraction W of the block's cue "
+      "(stiffness when probing, removal rate when drilling) whose virtual "
+      "studies of the protocol give the observed mean score, the spread of W "
+      "across subjects that gives the observed between-subject SD (SEM x "
+      "sqrt(n)), and a 95 % interval for W from mean +- 1.96 SEM. Give "
+      "--observed once per block (block=NAME,mean=M,sem=S,n=N). With "
+      "--predict, simulate another protocol with that population and report "
+      "its predicted scores and power.",
+      "burrlab analyze fit-observers"};
+  std::string protocol_path, predict_path, block;
+  std::vector<std::string> observed_texts;
+  ObserverFitOptions options;
+  double lapse = 0.0, alpha = 0.05;
+  int cue_samples = 8, runs = 200, predict_subjects = 0;
+  bool no_spread = false, json = false;
+  FlagSet flags(&app);
+  flags
+      .AddText("--protocol", "the protocol the observed results come from",
+               &protocol_path)
+      ->type_name("FILE")
+      ->required();
+  app.add_option("--observed", observed_texts,
+                 "a group result, [block=NAME,]mean=M,sem=S,n=N (once per "
+                 "block)")
+      ->type_name("[block=NAME,]mean=M,sem=S,n=N")
+      ->allow_extra_args(false)
+      ->required();
+  flags.AddText("--block",
+                "the block scored, with one --observed (default: the first "
+                "scored one)",
+                &block);
+  flags.AddInteger("--virtual-subjects",
+                   "subjects per virtual study (default 400)", 2, 1000000,
+                   &options.virtual_subjects);
+  flags.AddUnsigned("--seed", "seed (default 1)", &options.seed);
+  flags.AddSwitch("--no-spread", "all subjects alike (fit W only)", &no_spread);
+  flags.AddNonNegative("--lapse", "lapse rate (default: the protocol's)", "",
+                       &lapse);
+  flags.AddInteger("--cue-samples",
+                   "simulator renderings per stimulus (default 8)", 1, 1000,
+                   &cue_samples);
+  flags
+      .AddText("--predict", "a protocol to predict with the fitted population",
+               &predict_path)
+      ->type_name("FILE");
+  flags.AddInteger("--predict-subjects",
+                   "subjects per predicted study (default: the observed n)", 2,
+                   100000, &predict_subjects);
+  flags.AddInteger("--runs", "predicted studies (default 200)", 1, 1000000,
+                   &runs);
+  flags.AddPositive("--alpha", "significance level (default 0.05)", "", &alpha,
+                    0.5);
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  std::vector<ObservedGroup> observed;
+  for (const std::string& text : observed_texts) {
+    Result<ObservedGroup> g = ParseObservedGroup(text);
+    if (!g.ok()) return Fail(err, g.error().message);
+    observed.push_back(*g);
+  }
+  if (!block.empty()) {
+    if (observed.size() > 1) {
+      return Fail(err,
+                  "--block goes with one --observed; with several, name each "
+                  "one's block inside it (block=NAME,mean=...)");
+    }
+    if (!observed[0].block.empty() && observed[0].block != block) {
+      return Fail(err, fmt::format("--block {} but --observed names block {}",
+                                   block, observed[0].block));
+    }
+    observed[0].block = block;
+  }
+  if (observed.size() > 1) {
+    for (std::size_t i = 0; i < observed.size(); ++i) {
+      if (observed[i].block.empty()) {
+        return Fail(err, fmt::format("--observed {} needs block=NAME when "
+                                     "--observed is given more than once",
+                                     observed_texts[i]));
+      }
+    }
+  }
+  if (flags.Given("--lapse") && !(lapse < 0.5)) {
+    return Fail(err, fmt::format("--lapse must be below 0.5, got '{}'", lapse));
+  }
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_path);
+  if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  options.fit_spread = !no_spread;
+  options.base = protocols::ObserverParamsFrom(loaded->protocol.observer);
+  if (flags.Given("--lapse")) options.base.lapse = lapse;
+  CuePool pool(cue_samples, 2.0, options.seed);
+  std::vector<ObserverFit> fits;
+  Json j;
+  j["protocol"] = protocol_path;
+  j["lapse"] = options.base.lapse;
+  j["virtual_subjects"] = options.virtual_subjects;
+  j["fits"] = Json::array();
+  for (const ObservedGroup& g : observed) {
+    Result<ObserverFit> fit = FitObservers(loaded->protocol, g, options, pool);
+    if (!fit.ok())
+      return Fail(err, "analyze fit-observers: " + fit.error().message);
+    fits.push_back(*fit);
+    Json f;
+    f["block"] = fit->block;
+    f["cue"] = fit->task == protocols::Task::kProbe ? "stiffness" : "removal";
+    f["trials_per_subject"] = fit->trials_per_subject;
+    f["observed"] = {
+        {"mean", g.mean}, {"sem", g.sem}, {"n", g.n}, {"sd", fit->observed_sd}};
+    f["weber"] = fit->weber;
+    f["weber_ci"] = {fit->weber_low, fit->weber_high};
+    f["weber_spread"] = fit->weber_spread;
+    f["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
+    f["virtual_studies"] = fit->virtual_studies;
+    f["notes"] = fit->notes;
+    j["fits"].push_back(f);
+  }
+  std::vector<std::string> population_notes;
+  Result<VirtualStudyOptions> population =
+      PopulationOf(fits, options.base, &population_notes);
+  if (!population.ok()) {
+    return Fail(err, "analyze fit-observers: " + population.error().message);
+  }
+  j["population"] = {{"weber_stiffness", population->observer.weber_stiffness},
+                     {"weber_removal", population->observer.weber_removal},
+                     {"spread_stiffness", population->spread_stiffness},
+                     {"spread_removal", population->spread_removal},
+                     {"notes", population_notes}};
+  if (!predict_path.empty()) {
+    Result<LoadedProtocol> other = LoadProtocol(predict_path);
+    if (!other.ok()) return ReportLoadError(err, other.error());
+    VirtualStudyOptions v = *population;
+    v.subjects = predict_subjects > 0 ? predict_subjects : observed[0].n;
+    CuePool other_pool(cue_samples, 2.0, options.seed);
+    ProgressBar bar(err, runs);
+    Result<std::vector<BlockPower>> powers = EstimatePower(
+        other->protocol, v, options.seed, runs, alpha, other_pool,
+        [&](int done) { bar.Update(done, fmt::format("study {}", done)); });
+    if (!powers.ok()) {
+      return Fail(
+          err, "analyze fit-observers: --predict: " + powers.error().message);
+    }
+    j["prediction"] = {{"protocol", predict_path},
+                       {"subjects", v.subjects},
+                       {"runs", runs},
+                       {"alpha", alpha},
+                       {"blocks", Json::array()}};
+    for (const BlockPower& p : *powers) {
+      j["prediction"]["blocks"].push_back(PowerJson(p));
+    }
+  }
+  if (json) {
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  for (const Json& f : j["fits"]) {
+    out << fmt::format(
+        "block {} ({} trials, {} cue): observed {} +- {} (n {}, SD {:.3g})\n",
+        f["block"].get<std::string>(), f["trials_per_subject"].get<int>(),
+        f["cue"].get<std::string>(), f["observed"]["mean"].get<double>(),
+        f["observed"]["sem"].get<double>(), f["observed"]["n"].get<int>(),
+        f["observed"]["sd"].get<double>());
+    out << fmt::format(
+        "fitted   Weber {:.3g} [{:.3g}, {:.3g}] (95 %), spread {:.3g} (SD of "
+        "ln W), lapse {}\n",
+        f["weber"].get<double>(), f["weber_ci"][0].get<double>(),
+        f["weber_ci"][1].get<double>(), f["weber_spread"].get<double>(),
+        options.base.lapse);
+    out << fmt::format(
+        "         population mean {:.2f}, SD {:.2f} ({} virtual subjects, {} "
+        "virtual studies)\n",
+        f["fitted"]["mean"].get<double>(), f["fitted"]["sd"].get<double>(),
+        options.virtual_subjects, f["virtual_studies"].get<int>());
+    for (const Json& note : f["notes"]) {
+      out << "note     " << note.get<std::string>() << '\n';
+    }
+  }
+  for (const std::string& note : population_notes) {
+    out << "note     " << note << '\n';
+  }
+  if (j.contains("prediction")) {
+    out << fmt::format("predicted {} ({} subjects, {} studies):\n",
+                       predict_path, j["prediction"]["subjects"].get<int>(),
+                       runs);
+    for (const Json& b : j["prediction"]["blocks"]) {
+      out << fmt::format(
+          "  block {}: mean score {:.2f} (SD {:.2f} between studies)",
+          b["block"].get<std::string>(), b["mean_score"].get<double>(),
+          b["score_sd_between_studies"].is_null()
+              ? 0.0
+              : b["score_sd_between_studies"].get<double>());
+      if (b.contains("power_t_test")) {
+        out << fmt::format(
+            "; P(significant) t-test {:.3f} [{:.3f}, {:.3f}], binomial "
+            "{:.3f}\n",
+            b["power_t_test"]["p"].get<double>(),
+            b["power_t_test"]["ci"][0].get<double>(),
+            b["power_t_test"]["ci"][1].get<double>(),
+            b["power_binomial"]["p"].get<double>());
+      } else {
+        out << '\n';
+      }
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+int RunScoresCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  return RunScores(args, out, err);
+}
+int RunThresholdsCommand(const Args& args, std::ostream& out,
+                         std::ostream& err) {
+  return RunThresholds(args, out, err);
+}
+int RunKinematicsCommand(const Args& args, std::ostream& out,
+                         std::ostream& err) {
+  return RunKinematics(args, out, err);
+}
+int RunPowerCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  return RunPower(args, out, err);
+}
+int RunFitObserversCommand(const Args& args, std::ostream& out,
+                           std::ostream& err) {
+  return RunFitObservers(args, out, err);
+}
+
+}  // namespace burrlab::runner

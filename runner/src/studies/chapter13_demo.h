@@ -1,0 +1,87 @@
+// The chapter 13 demo (`burrlab demo`, cli/demo_command.h prints it): the
+// dissertation's chapter 13 study (§13.5.1) re-run with
+// simulated subjects. A simulated-observer population is fitted to the
+// published PVC vs bone scores (probing 9.3 +- 0.4, drilling 9.6 +- 0.5 of
+// 12, n = 20), 20 subjects of it run the PVC vs bone protocol, the best 12
+// of them run Pettigrew vs bone (as in the dissertation), both studies are
+// analysed from their BIDS exports, and 200 virtual replications predict the
+// Pettigrew result's mean and its chance of being significant. The table puts
+// the dissertation's numbers beside burrlab's.
+#ifndef BURRLAB_RUNNER_STUDIES_CHAPTER13_DEMO_H_
+#define BURRLAB_RUNNER_STUDIES_CHAPTER13_DEMO_H_
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "burrlab/sim/result.h"
+#include "studies/observer_fit.h"
+
+namespace burrlab::runner {
+
+// The significance level of the predictions (P(p < kDemoAlpha)).
+inline constexpr double kDemoAlpha = 0.05;
+// The demo's results under DemoOptions::out_dir: one folder per study and the
+// summary (demo.json, which also marks the folder as the demo's).
+inline constexpr const char* kDemoPvcDir = "pvc_vs_bone";
+inline constexpr const char* kDemoPettigrewDir = "pettigrew_vs_bone";
+inline constexpr const char* kDemoMarker = "demo.json";
+
+struct DemoOptions {
+  std::filesystem::path out_dir = "burrlab-demo";
+  std::uint64_t seed = 1;
+  int jobs = 2;
+  int renderings = 8;                // simulator renderings per stimulus
+  int virtual_subjects = 400;        // per virtual study of the observer fit
+  int runs = 200;                    // virtual replications for the prediction
+  int subjects = 20;                 // PVC vs bone subjects (dissertation: 20)
+  int best_subjects = 12;            // of them, who run Pettigrew vs bone (12)
+  std::ostream* progress = nullptr;  // progress bars (terminal only)
+};
+
+// One block of one study, side by side.
+struct DemoRow {
+  std::string study;  // "PVC vs bone", "Pettigrew vs bone"
+  std::string block;  // "probe", "drill"
+  int trials = 0;     // per subject
+  // The dissertation's result; none where it gives no number.
+  std::optional<double> paper_mean, paper_sem, paper_p;
+  int paper_n = 0;
+  std::string paper_finding;
+  // One simulated study (burrlab's sessions, analysed from the exports).
+  int subjects = 0;
+  double mean = 0.0, sem = 0.0;
+  double p = 1.0;  // one-sided t-test against chance
+  // Virtual replications of the whole design.
+  int runs = 0;
+  double predicted_mean = 0.0;
+  double predicted_sd = 0.0;           // between replications
+  double predicted_significant = 0.0;  // P(p < 0.05), t-test
+  std::string verdict;                 // agreement with the dissertation
+};
+
+struct DemoReport {
+  std::vector<ObserverFit> fits;  // probe, drill
+  double weber_stiffness = 0.0, weber_removal = 0.0;
+  double spread_stiffness = 0.0, spread_removal = 0.0;
+  std::vector<std::string> best_subjects;  // labels, PVC study
+  std::vector<DemoRow> rows;
+  std::vector<std::string> figures;  // PNG paths
+  int rendered = 0;                  // simulator intervals rendered
+};
+
+// Runs the demo: writes both studies' journals and exports, the figures and
+// the summary (kDemoMarker) under options.out_dir; prints only progress bars
+// (to options.progress).
+Result<DemoReport> RunChapter13Demo(const DemoOptions& options);
+
+// The summary as demo.json holds it (JSON, indented by 2, no final newline).
+std::string DemoReportJsonText(const DemoReport& report,
+                               const DemoOptions& options);
+
+}  // namespace burrlab::runner
+
+#endif  // BURRLAB_RUNNER_STUDIES_CHAPTER13_DEMO_H_

@@ -1,0 +1,386 @@
+// Observer-population fits by bisection over virtual studies.
+#include "studies/observer_fit.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <utility>
+
+namespace burrlab::runner {
+namespace {
+
+struct Moments {
+  double mean = 0.0;
+  double sd = 0.0;
+};
+
+class Fitter {
+ public:
+  Fitter(const protocols::Protocol& protocol, const ObserverFitOptions& options,
+         CuePool& pool)
+      : protocol_(protocol), options_(options), pool_(pool) {}
+
+  // Mean and SD of the block's scores of a population (W, spread).
+  Result<Moments> Evaluate(double weber, double spread) {
+    weber = std::clamp(weber, kMinWeber, kMaxWeber);  // exp(ln W) rounding
+    VirtualStudyOptions o;
+    o.subjects = options_.virtual_subjects;
+    o.seed = options_.seed;
+    o.observer = options_.base;
+    o.observer.weber_stiffness = weber;
+    o.observer.weber_removal = weber;
+    // Only the block is simulated, so only its cue's values matter.
+    o.spread_stiffness = spread;
+    o.spread_removal = spread;
+    o.only_block = block_.empty() ? options_.block : block_;
+    Result<std::vector<VirtualBlock>> study =
+        RunVirtualStudy(protocol_, o, pool_);
+    if (!study.ok()) return study.error();
+    ++evaluations_;
+    const VirtualBlock* block = nullptr;
+    for (const VirtualBlock& b : *study) {
+      if (options_.block.empty() || b.block == options_.block) {
+        block = &b;
+        break;
+      }
+    }
+    if (block == nullptr) {
+      std::string names;
+      for (const VirtualBlock& b : *study) {
+        names += (names.empty() ? "" : ", ") + b.block;
+      }
+      return Error{fmt::format(
+          "the protocol has no scored block \"{}\" (scored blocks: {})",
+          options_.block, names.empty() ? "none" : names)};
+    }
+    block_ = block->block;
+    trials_ = block->trials.front();
+    for (int t : block->trials) {
+      if (t != trials_) {
+        return Error{fmt::format(
+            "block \"{}\" gives subjects different numbers of trials: a "
+            "score out of a fixed n is needed",
+            block_)};
+      }
+    }
+    double sum = 0.0, sum2 = 0.0;
+    for (int c : block->correct) {
+      sum += c;
+      sum2 += static_cast<double>(c) * c;
+    }
+    const double n = static_cast<double>(block->correct.size());
+    Moments m;
+    m.mean = sum / n;
+    m.sd = n > 1 ? std::sqrt(std::max(0.0, (sum2 - sum * sum / n) / (n - 1)))
+                 : 0.0;
+    return m;
+  }
+
+  // The W of the highest mean score at `spread`, and that mean. The score
+  // is not monotone in W: a very sharp observer (its criterion scales with
+  // its own noise, §13.5.1's differencing rule) feels the variability between
+  // renderings of one material and calls identical pairs "different", so
+  // the mean rises from the smallest W to a peak and falls after it. A grid
+  // over ln W, then golden-section steps around the best grid point.
+  Result<std::pair<double, double>> Peak(double spread) {
+    if (auto it = peaks_.find(spread); it != peaks_.end()) return it->second;
+    constexpr int kGrid = 9;
+    const double lo = std::log(kMinWeber), hi = std::log(kMaxWeber);
+    const double step = (hi - lo) / (kGrid - 1);
+    int best = 0;
+    double best_mean = -1.0;
+    for (int i = 0; i < kGrid; ++i) {
+      Result<Moments> m = Evaluate(std::exp(lo + step * i), spread);
+      if (!m.ok()) return m.error();
+      if (m->mean > best_mean) {
+        best_mean = m->mean;
+        best = i;
+      }
+    }
+    double a = lo + step * std::max(0, best - 1);
+    double b = lo + step * std::min(kGrid - 1, best + 1);
+    double at = lo + step * best;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int i = 0; i < 4 && b - a > 1e-3; ++i) {
+      const double c = b - g * (b - a), d = a + g * (b - a);
+      Result<Moments> mc = Evaluate(std::exp(c), spread);
+      if (!mc.ok()) return mc.error();
+      Result<Moments> md = Evaluate(std::exp(d), spread);
+      if (!md.ok()) return md.error();
+      if (mc->mean >= md->mean) {
+        b = d;
+        if (mc->mean > best_mean) {
+          best_mean = mc->mean;
+          at = c;
+        }
+      } else {
+        a = c;
+        if (md->mean > best_mean) {
+          best_mean = md->mean;
+          at = d;
+        }
+      }
+    }
+    const std::pair<double, double> peak{std::exp(at), best_mean};
+    peaks_.emplace(spread, peak);
+    return peak;
+  }
+
+  // The W above the peak whose mean score is `target` (the mean falls as W
+  // grows there); the peak's W or the search limit when the target is out of
+  // reach, with `*limit` set.
+  Result<double> SolveWeber(double target, double spread, bool* limit) {
+    Result<std::pair<double, double>> peak = Peak(spread);
+    if (!peak.ok()) return peak.error();
+    *limit = false;
+    if (peak->second <= target) {
+      *limit = true;
+      return peak->first;
+    }
+    double lo = std::log(peak->first), hi = std::log(kMaxWeber);
+    Result<Moments> at_hi = Evaluate(kMaxWeber, spread);
+    if (!at_hi.ok()) return at_hi.error();
+    if (at_hi->mean >= target) {
+      *limit = true;
+      return kMaxWeber;
+    }
+    for (int i = 0; i < 16; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      Result<Moments> m = Evaluate(std::exp(mid), spread);
+      if (!m.ok()) return m.error();
+      (m->mean > target ? lo : hi) = mid;
+    }
+    return std::exp(0.5 * (lo + hi));
+  }
+
+  const std::string& block() const { return block_; }
+  int trials() const { return trials_; }
+  int evaluations() const { return evaluations_; }
+
+ private:
+  const protocols::Protocol& protocol_;
+  const ObserverFitOptions& options_;
+  CuePool& pool_;
+  std::string block_;
+  int trials_ = 0;
+  int evaluations_ = 0;
+  std::map<double, std::pair<double, double>> peaks_;  // spread -> (W, mean)
+};
+
+}  // namespace
+
+Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
+  ObservedGroup g;
+  bool mean = false, sem = false, n = false;
+  const auto bad = [&] {
+    return Error{fmt::format(
+        "--observed must be [block=NAME,]mean=M,sem=S,n=N (M >= 0, S > 0, "
+        "N >= 2), got '{}'",
+        text)};
+  };
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string_view item = text.substr(start, comma - start);
+    const std::size_t eq = item.find('=');
+    if (eq == std::string_view::npos) return bad();
+    const std::string_view key = item.substr(0, eq),
+                           value = item.substr(eq + 1);
+    if (key == "block") {
+      if (value.empty() || !g.block.empty()) return bad();
+      g.block = std::string(value);
+      start = comma + 1;
+      continue;
+    }
+    double v = 0.0;
+    const auto [end, ec] =
+        std::from_chars(value.data(), value.data() + value.size(), v);
+    if (ec != std::errc() || end != value.data() + value.size() ||
+        !std::isfinite(v)) {
+      return bad();
+    }
+    if (key == "mean") {
+      g.mean = v;
+      mean = true;
+    } else if (key == "sem") {
+      g.sem = v;
+      sem = true;
+    } else if (key == "n" && v == std::floor(v) && v >= 2 && v <= 1e6) {
+      g.n = static_cast<int>(v);
+      n = true;
+    } else {
+      return bad();
+    }
+    start = comma + 1;
+  }
+  if (!mean || !sem || !n || g.mean < 0.0 || !(g.sem > 0.0)) return bad();
+  return g;
+}
+
+Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
+                                 const ObservedGroup& observed,
+                                 const ObserverFitOptions& options,
+                                 CuePool& pool) {
+  if (options.virtual_subjects < 2) {
+    return Error{fmt::format("virtual subjects must be at least 2, got {}",
+                             options.virtual_subjects)};
+  }
+  ObserverFitOptions opts = options;
+  if (!observed.block.empty()) {
+    if (!opts.block.empty() && opts.block != observed.block) {
+      return Error{fmt::format(
+          "the observed result is of block \"{}\" but block \"{}\" was asked "
+          "for",
+          observed.block, opts.block)};
+    }
+    opts.block = observed.block;
+  }
+  if (!opts.block.empty()) {
+    std::string names;
+    bool found = false;
+    for (const protocols::Block& b : protocol.blocks) {
+      names += (names.empty() ? "" : ", ") + b.name;
+      found = found || b.name == opts.block;
+    }
+    if (!found) {
+      return Error{fmt::format("the protocol has no block \"{}\" (blocks: {})",
+                               opts.block, names)};
+    }
+  }
+  Fitter fitter(protocol, opts, pool);
+  // The block and its n, from one study.
+  Result<Moments> probe = fitter.Evaluate(0.3, 0.0);
+  if (!probe.ok()) return probe.error();
+  ObserverFit fit;
+  fit.block = fitter.block();
+  fit.trials_per_subject = fitter.trials();
+  for (const protocols::Block& b : protocol.blocks) {
+    if (b.name == fit.block) fit.task = b.task;
+  }
+  if (observed.mean > fit.trials_per_subject) {
+    return Error{
+        fmt::format("the observed mean {} is above the {} trials of "
+                    "block \"{}\"",
+                    observed.mean, fit.trials_per_subject, fit.block)};
+  }
+  fit.observed_sd = observed.sem * std::sqrt(static_cast<double>(observed.n));
+  bool limit = false;
+  Result<double> w = fitter.SolveWeber(observed.mean, 0.0, &limit);
+  if (!w.ok()) return w.error();
+  double spread = 0.0;
+  if (options.fit_spread && !limit) {
+    Result<Moments> m = fitter.Evaluate(*w, 0.0);
+    if (!m.ok()) return m.error();
+    if (m->sd >= fit.observed_sd) {
+      fit.notes.push_back(fmt::format(
+          "the observed SD {:.3g} is within the binomial SD {:.3g} of equal "
+          "observers: no spread across subjects is needed",
+          fit.observed_sd, m->sd));
+    } else {
+      double lo = 0.0, hi = 2.0;
+      for (int i = 0; i < 10; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        bool l = false;
+        Result<double> wm = fitter.SolveWeber(observed.mean, mid, &l);
+        if (!wm.ok()) return wm.error();
+        if (l) {  // so spread a population no W gives the mean: too wide
+          hi = mid;
+          continue;
+        }
+        Result<Moments> mm = fitter.Evaluate(*wm, mid);
+        if (!mm.ok()) return mm.error();
+        (mm->sd < fit.observed_sd ? lo : hi) = mid;
+      }
+      spread = lo;  // the widest spread known to reach the mean
+      w = fitter.SolveWeber(observed.mean, spread, &limit);
+      if (!w.ok()) return w.error();
+      Result<Moments> reached = fitter.Evaluate(*w, spread);
+      if (!reached.ok()) return reached.error();
+      if (reached->sd < 0.9 * fit.observed_sd) {
+        fit.notes.push_back(fmt::format(
+            "the observed SD {:.3g} is out of reach: every spread up to 2 (SD "
+            "of ln W) that still gives the mean gives a smaller SD; the "
+            "spread stops at {:.3g} (SD {:.3g})",
+            fit.observed_sd, spread, reached->sd));
+      }
+    }
+  }
+  if (limit) {
+    Result<std::pair<double, double>> peak = fitter.Peak(spread);
+    if (!peak.ok()) return peak.error();
+    fit.notes.push_back(fmt::format(
+        "the observed mean {} is out of reach: the highest mean any Weber "
+        "fraction gives is {:.3g} (at W {:.3g}); the fit stops there",
+        observed.mean, peak->second, peak->first));
+  }
+  fit.weber = *w;
+  fit.weber_spread = spread;
+  const double z = 1.959963984540054;
+  bool lo_limit = false, hi_limit = false;
+  Result<double> high =  // a lower score needs a larger W
+      fitter.SolveWeber(observed.mean - z * observed.sem, spread, &hi_limit);
+  if (!high.ok()) return high.error();
+  Result<double> low =
+      fitter.SolveWeber(observed.mean + z * observed.sem, spread, &lo_limit);
+  if (!low.ok()) return low.error();
+  fit.weber_low = *low;
+  fit.weber_high = *high;
+  if (lo_limit || hi_limit) {
+    fit.notes.push_back(
+        "an interval bound is at the search limit: the observed mean +- "
+        "1.96 SEM reaches scores no Weber fraction in range gives");
+  }
+  Result<Moments> fitted = fitter.Evaluate(fit.weber, spread);
+  if (!fitted.ok()) return fitted.error();
+  fit.fitted_mean = fitted->mean;
+  fit.fitted_sd = fitted->sd;
+  fit.virtual_studies = fitter.evaluations();
+  return fit;
+}
+
+Result<VirtualStudyOptions> PopulationOf(const std::vector<ObserverFit>& fits,
+                                         const protocols::ObserverParams& base,
+                                         std::vector<std::string>* notes) {
+  VirtualStudyOptions v;
+  v.observer = base;
+  const ObserverFit* stiffness = nullptr;
+  const ObserverFit* removal = nullptr;
+  for (const ObserverFit& f : fits) {
+    const ObserverFit*& slot =
+        f.task == protocols::Task::kProbe ? stiffness : removal;
+    if (slot != nullptr) {
+      return Error{fmt::format(
+          "blocks \"{}\" and \"{}\" both fit the {} cue: fit one block per "
+          "task",
+          slot->block, f.block,
+          f.task == protocols::Task::kProbe ? "stiffness" : "removal")};
+    }
+    slot = &f;
+  }
+  if (stiffness == nullptr && removal == nullptr) {
+    return Error{"no fitted block"};
+  }
+  if (stiffness == nullptr || removal == nullptr) {
+    const ObserverFit& only = stiffness != nullptr ? *stiffness : *removal;
+    if (notes != nullptr) {
+      notes->push_back(fmt::format(
+          "only the {} cue was fitted (block \"{}\"); the {} cue takes the "
+          "same Weber fraction and spread",
+          stiffness != nullptr ? "stiffness" : "removal", only.block,
+          stiffness != nullptr ? "removal" : "stiffness"));
+    }
+    if (stiffness == nullptr) stiffness = &only;
+    if (removal == nullptr) removal = &only;
+  }
+  v.observer.weber_stiffness = stiffness->weber;
+  v.observer.weber_removal = removal->weber;
+  v.spread_stiffness = stiffness->weber_spread;
+  v.spread_removal = removal->weber_spread;
+  return v;
+}
+
+}  // namespace burrlab::runner

@@ -1,0 +1,79 @@
+// Fitting a simulated-observer population to observed group results: the
+// Weber fraction W of a block's cue (stiffness when probing, removal rate
+// when drilling) whose virtual studies give the observed mean
+// score of a block, and the spread of W across subjects that gives the
+// observed between-subject SD (SEM x sqrt(n)), with an interval for W from
+// the observed mean's uncertainty (mean +- 1.96 SEM mapped through the
+// monotone mean-score curve). Virtual studies: virtual_study.h; the same
+// subject seeds at every W (common random numbers) keep the curve smooth.
+#ifndef BURRLAB_RUNNER_STUDIES_OBSERVER_FIT_H_
+#define BURRLAB_RUNNER_STUDIES_OBSERVER_FIT_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "burrlab/protocols/protocol.h"
+#include "burrlab/sim/result.h"
+#include "studies/virtual_study.h"
+
+namespace burrlab::runner {
+
+// A group result as papers report it: mean score +- SEM over n subjects.
+struct ObservedGroup {
+  double mean = 0.0;  // correct answers per subject
+  double sem = 0.0;   // standard error of the mean
+  int n = 0;          // subjects
+  std::string block;  // the block scored; empty: not said
+};
+
+// Parses "mean=9.3,sem=0.4,n=20" (keys in any order, all three required),
+// optionally with "block=probe".
+Result<ObservedGroup> ParseObservedGroup(std::string_view text);
+
+struct ObserverFitOptions {
+  std::string block;           // the block the scores are of; empty: the first
+  int virtual_subjects = 400;  // subjects per virtual study
+  std::uint64_t seed = 1;      // of the virtual studies
+  bool fit_spread = true;      // also fit the spread of W across subjects
+  protocols::ObserverParams base;  // lapse, criterion, ... (W is replaced)
+};
+
+struct ObserverFit {
+  std::string block;
+  protocols::Task task = protocols::Task::kProbe;  // the block's: its cue is
+                                                   // the one fitted
+  int trials_per_subject = 0;
+  double weber = 0.0;  // fitted typical Weber fraction
+  // W giving mean -+ 1.96 SEM (a larger W gives a lower score); at the search
+  // limit when unreachable, with a note.
+  double weber_low = 0.0;
+  double weber_high = 0.0;
+  double weber_spread = 0.0;  // SD of ln W across subjects
+  double fitted_mean = 0.0;   // mean score of the fitted population
+  double fitted_sd = 0.0;     // between-subject SD of its scores
+  double observed_sd = 0.0;   // sem x sqrt(n)
+  int virtual_studies = 0;    // evaluations used
+  std::vector<std::string> notes;
+};
+
+// Search range of W.
+inline constexpr double kMinWeber = 0.01;
+inline constexpr double kMaxWeber = protocols::kMaxWeberFraction;
+
+Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
+                                 const ObservedGroup& observed,
+                                 const ObserverFitOptions& options,
+                                 CuePool& pool);
+
+// The population fitted blocks describe, for virtual or simulated studies:
+// each cue takes the Weber fraction and spread of the block of its task
+// (probe: stiffness; drill: removal); with only one fit, the other cue takes
+// the same values (said in `notes`). Two fits of one task are an error.
+Result<VirtualStudyOptions> PopulationOf(const std::vector<ObserverFit>& fits,
+                                         const protocols::ObserverParams& base,
+                                         std::vector<std::string>* notes);
+
+}  // namespace burrlab::runner
+
+#endif  // BURRLAB_RUNNER_STUDIES_OBSERVER_FIT_H_

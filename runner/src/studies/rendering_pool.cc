@@ -1,0 +1,115 @@
+// The shared rendering pool (see rendering_pool.h).
+#include "studies/rendering_pool.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "burrlab/protocols/engine.h"
+
+namespace burrlab::runner {
+namespace {
+
+// Erosion seeds of pooled renderings, apart from every session's streams
+// (sessions index their erosion streams by trial and interval, far below).
+constexpr std::uint64_t kPoolStreamBase = 1ull << 41;
+
+// FNV-1a of the key: a stimulus's renderings get seeds from its own bytes,
+// not from the order stimuli were first asked for.
+std::uint64_t Fnv1a(const std::string& bytes) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (const char c : bytes) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace
+
+std::string StimulusKey(const stimuli::IntervalOptions& o) {
+  const double values[] = {o.material.c_e_n_per_mm2,
+                           o.material.alpha_per_s,
+                           o.material.c_mu_n_per_mm2,
+                           o.material.mu,
+                           o.material.c_i_n_s_per_mm3,
+                           static_cast<double>(o.task),
+                           o.duration_s,
+                           o.radius_mm,
+                           o.spindle_rad_s,
+                           o.probe_force_n,
+                           o.press_period_s,
+                           o.drill_force_n,
+                           o.voxel_mm,
+                           static_cast<double>(o.trace_hz)};
+  return std::string(reinterpret_cast<const char*>(values), sizeof values);
+}
+
+RenderingPool::RenderingPool(int renderings, std::uint64_t seed,
+                             bool keep_traces)
+    : renderings_(std::max(1, renderings)),
+      seed_(seed),
+      keep_traces_(keep_traces) {}
+
+int RenderingPool::rendered() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return rendered_;
+}
+
+RenderingPool::Entry& RenderingPool::EntryFor(const std::string& key) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_ptr<Entry>& entry = entries_[key];
+  if (entry == nullptr) {
+    entry = std::make_unique<Entry>();
+    for (int k = 0; k < renderings_; ++k) {
+      entry->slots.push_back(std::make_unique<Slot>());
+    }
+  }
+  return *entry;
+}
+
+Result<stimuli::IntervalResult> RenderingPool::Render(
+    const stimuli::IntervalOptions& o, const std::string& key, int index) {
+  stimuli::IntervalOptions r = o;
+  r.seed = protocols::SeedFor(seed_, protocols::StreamPurpose::kErosion,
+                              kPoolStreamBase + (Fnv1a(key) >> 24),
+                              static_cast<std::uint64_t>(index));
+  Result<stimuli::IntervalResult> result = stimuli::PresentSimulatedInterval(r);
+  if (result.ok() && !keep_traces_) result->rows.clear();
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++rendered_;
+  return result;
+}
+
+const Result<stimuli::IntervalResult>& RenderingPool::Get(
+    const stimuli::IntervalOptions& o, const std::string& key, int index) {
+  Slot& slot = *EntryFor(key).slots[static_cast<std::size_t>(index)];
+  std::lock_guard<std::mutex> lock(slot.mutex);
+  if (!slot.done) {
+    slot.result = Render(o, key, index);
+    slot.done = true;
+  }
+  return slot.result;
+}
+
+Result<stimuli::IntervalResult> RenderingPool::Present(
+    const stimuli::IntervalOptions& o) {
+  const std::string key = StimulusKey(o);
+  const int index =
+      static_cast<int>(o.seed % static_cast<std::uint64_t>(renderings_));
+  return Get(o, key, index);
+}
+
+Result<std::vector<double>> RenderingPool::Cues(
+    const stimuli::IntervalOptions& o) {
+  const std::string key = StimulusKey(o);
+  std::vector<double> cues;
+  for (int k = 0; k < renderings_; ++k) {
+    const Result<stimuli::IntervalResult>& r = Get(o, key, k);
+    if (!r.ok()) return r.error();
+    cues.push_back(r->cue);
+  }
+  return cues;
+}
+
+}  // namespace burrlab::runner

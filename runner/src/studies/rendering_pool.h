@@ -1,0 +1,74 @@
+// A shared pool of simulator renderings: each distinct stimulus (material,
+// task, duration, burr and hand settings: everything an interval renders but
+// its erosion seed) is rendered `renderings` times, once each, and every
+// interval of that stimulus gets one of these renderings, picked by its
+// erosion seed. Sessions of a simulated study then cost a few renderings per
+// stimulus instead of one per interval (`burrlab study --renderings K`,
+// `burrlab demo`); the pool keeps the simulator's variability between
+// renderings of a stimulus and drops only the pairing of an interval with
+// its own erosion seed. A rendering depends only on (pool seed, stimulus,
+// index), never on which thread asked first, so results are the same for any
+// number of jobs. Thread-safe.
+#ifndef BURRLAB_RUNNER_STUDIES_RENDERING_POOL_H_
+#define BURRLAB_RUNNER_STUDIES_RENDERING_POOL_H_
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "burrlab/sim/result.h"
+#include "burrlab/stimuli/interval.h"
+
+namespace burrlab::runner {
+
+// The bytes of everything `o` renders but its seed (a map key).
+std::string StimulusKey(const stimuli::IntervalOptions& o);
+
+class RenderingPool {
+ public:
+  // `renderings` >= 1 per stimulus; `keep_traces` false drops the trace rows
+  // (cue-only use).
+  RenderingPool(int renderings, std::uint64_t seed, bool keep_traces = true);
+  RenderingPool(const RenderingPool&) = delete;
+  RenderingPool& operator=(const RenderingPool&) = delete;
+
+  // The rendering of `o`'s stimulus with index o.seed mod renderings (a
+  // copy; rendered on first use).
+  Result<stimuli::IntervalResult> Present(const stimuli::IntervalOptions& o);
+  // The cues of all renderings of `o`'s stimulus, in index order.
+  Result<std::vector<double>> Cues(const stimuli::IntervalOptions& o);
+
+  int renderings() const { return renderings_; }
+  std::uint64_t seed() const { return seed_; }
+  // Simulator intervals rendered so far.
+  int rendered() const;
+
+ private:
+  struct Slot {
+    std::mutex mutex;
+    bool done = false;
+    Result<stimuli::IntervalResult> result = Error{"not rendered"};
+  };
+  struct Entry {
+    std::vector<std::unique_ptr<Slot>> slots;
+  };
+  Entry& EntryFor(const std::string& key);
+  Result<stimuli::IntervalResult> Render(const stimuli::IntervalOptions& o,
+                                         const std::string& key, int index);
+  const Result<stimuli::IntervalResult>& Get(const stimuli::IntervalOptions& o,
+                                             const std::string& key, int index);
+
+  int renderings_;
+  std::uint64_t seed_;
+  bool keep_traces_;
+  mutable std::mutex mutex_;  // guards entries_ and rendered_
+  std::map<std::string, std::unique_ptr<Entry>> entries_;
+  int rendered_ = 0;
+};
+
+}  // namespace burrlab::runner
+
+#endif  // BURRLAB_RUNNER_STUDIES_RENDERING_POOL_H_

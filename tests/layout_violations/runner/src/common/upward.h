@@ -1,0 +1,2 @@
+// common/ including a layer.
+#include "devices/device.h"

@@ -1,0 +1,2 @@
+// devices/ including studies/.
+#include "studies/session.h"

@@ -1,0 +1,2 @@
+// station/ including cli/.
+#include "cli/command_table.h"

@@ -1,0 +1,2 @@
+// A layer reached with "../" instead of by name.
+#include "../devices/device.h"

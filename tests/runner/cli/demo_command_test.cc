@@ -1,0 +1,102 @@
+// `burrlab demo`: the chapter 13 study re-run end to end. The full default
+// run is what `make demo` shows: the fitted experiment (PVC vs bone, both
+// tasks) lands within the dissertation's SEM, the Pettigrew rows carry a
+// prediction and a verdict, the figures and the summary are written, and a
+// second run replaces its own earlier results but never another folder.
+#include "cli/demo_command.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "../results_schema/temp_dir.h"
+#include "run_cli.h"
+
+namespace burrlab::runner {
+namespace {
+
+using results_schema::TempDir;
+using testing::HasSubstr;
+
+TEST(Demo, ReproducesThePvcScoresAndPredictsPettigrew) {
+  TempDir dir;
+  const std::filesystem::path out = dir.path() / "demo";
+#ifdef __SANITIZE_ADDRESS__
+  // The sanitizer build checks the plumbing on a small run.
+  const CliRun run =
+      RunBurrlab({"demo", "--out", out.string(), "--renderings", "1", "--runs",
+                  "3", "--virtual-subjects", "20", "--jobs", "2"});
+#else
+  const CliRun run = RunBurrlab({"demo", "--out", out.string(), "--jobs", "2"});
+#endif
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("study, block"));
+  EXPECT_THAT(run.out, HasSubstr("dissertation"));
+  EXPECT_THAT(run.out, HasSubstr("9.3 +- 0.4, p=0.001 (n 20)"));
+  EXPECT_THAT(run.out, HasSubstr("9.6 +- 0.5, p=0.001 (n 20)"));
+  EXPECT_THAT(run.out, HasSubstr("not different (n 12)"));
+  std::ifstream in(out / "demo.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  ASSERT_TRUE(j.is_object());
+  EXPECT_EQ(j["status"], "done");
+  ASSERT_EQ(j["rows"].size(), 4u);
+  ASSERT_EQ(j["best_subjects"].size(), 12u);
+  for (const auto& row : j["rows"]) {
+    const bool pvc = row["study"] == "PVC vs bone";
+    EXPECT_EQ(row["simulated_study"]["subjects"], pvc ? 20 : 12);
+    EXPECT_EQ(row["trials"], 12);
+#ifndef __SANITIZE_ADDRESS__
+    EXPECT_EQ(row["predicted"]["runs"], 200);
+    if (pvc) {
+      // The fitted experiment lands within the dissertation's SEM: the
+      // population's expected score (the fit aims at the published mean);
+      // the one simulated study of 20 is a draw around it, within 2.5 SD
+      // between studies.
+      const double paper = row["dissertation"]["mean"];
+      const double expected = row["predicted"]["mean"];
+      EXPECT_NEAR(expected, paper, 0.15) << row.dump();
+      EXPECT_LE(
+          std::abs(row["simulated_study"]["mean"].get<double>() - expected),
+          2.5 * row["predicted"]["sd_between_studies"].get<double>())
+          << row.dump();
+      EXPECT_EQ(row["verdict"], "within its SEM");
+      EXPECT_LT(row["simulated_study"]["p_one_sided"].get<double>(), 0.001);
+    }
+#endif
+    if (!pvc) {
+      EXPECT_TRUE(row["dissertation"]["mean"].is_null());
+      const double p_sig = row["predicted"]["p_significant"];
+      EXPECT_EQ(row["verdict"], p_sig >= 0.5
+                                    ? "disagrees: predicts a difference"
+                                    : "agrees: no reliable difference");
+    }
+  }
+  for (const auto& png : j["figures"]) {
+    EXPECT_GT(std::filesystem::file_size(png.get<std::string>()), 5000u) << png;
+  }
+  EXPECT_EQ(j["figures"].size(), 5u);
+  // The studies are ordinary results folders.
+  const CliRun scores =
+      RunBurrlab({"analyze", "scores", (out / "pettigrew_vs_bone").string()});
+  ASSERT_EQ(scores.code, 0) << scores.err;
+  EXPECT_THAT(scores.out, HasSubstr("12 subjects, 12 trials each"));
+}
+
+TEST(Demo, ReplacesItsOwnResultsButNeverAnotherFolder) {
+  TempDir dir;
+  const std::filesystem::path out = dir.path() / "elsewhere";
+  std::filesystem::create_directories(out / "pvc_vs_bone");
+  std::ofstream(out / "pvc_vs_bone" / "keep.txt") << "mine";
+  const CliRun run = RunBurrlab({"demo", "--out", out.string()});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err, "burrlab: demo: " + (out / "pvc_vs_bone").string() +
+                         " exists and was not written by burrlab demo (no "
+                         "demo.json beside it); choose another --out\n");
+  EXPECT_TRUE(std::filesystem::exists(out / "pvc_vs_bone" / "keep.txt"));
+  EXPECT_FALSE(std::filesystem::exists(out / "demo.json"));
+}
+
+}  // namespace
+}  // namespace burrlab::runner

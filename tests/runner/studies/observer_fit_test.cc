@@ -1,0 +1,210 @@
+// Tests of the observer-population fit: group results simulated with a known
+// Weber fraction are fitted back with intervals that hold it, and the
+// --observed text is parsed strictly.
+#include "studies/observer_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "example_protocol.h"
+
+namespace burrlab::runner {
+namespace {
+
+// Four published groups in the optimised build; the sanitizer build (several
+// times slower) fits one.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr std::uint64_t kGroups = 1;
+#else
+constexpr std::uint64_t kGroups = 4;
+#endif
+
+TEST(ObserverFit, RecoversAKnownWeberFractionWithinItsInterval) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
+  const double truth = 0.4;
+  int covered = 0;
+  for (std::uint64_t seed = 1; seed <= kGroups; ++seed) {
+    // The "published" result: 20 subjects of Weber 0.4.
+    CuePool pool(2, 2.0, seed);
+    VirtualStudyOptions study;
+    study.subjects = 20;
+    study.seed = 100 + seed;
+    study.observer.weber_stiffness = truth;
+    study.observer.weber_removal = truth;
+    Result<std::vector<VirtualBlock>> result =
+        RunVirtualStudy(protocol, study, pool);
+    ASSERT_TRUE(result.ok()) << result.error().message;
+    double sum = 0.0, sum2 = 0.0;
+    for (int c : (*result)[0].correct) {
+      sum += c;
+      sum2 += double(c) * c;
+    }
+    ObservedGroup observed;
+    observed.n = 20;
+    observed.mean = sum / 20.0;
+    observed.sem = std::sqrt((sum2 - sum * sum / 20.0) / 19.0 / 20.0);
+
+    ObserverFitOptions options;
+    options.virtual_subjects = 300;
+    options.seed = 7 + seed;
+    options.fit_spread = false;
+    options.base = study.observer;
+    Result<ObserverFit> fit = FitObservers(protocol, observed, options, pool);
+    ASSERT_TRUE(fit.ok()) << fit.error().message;
+    EXPECT_EQ(fit->block, "probe2afc");
+    EXPECT_EQ(fit->trials_per_subject, 12);
+    EXPECT_LT(fit->weber_low, fit->weber);
+    EXPECT_LT(fit->weber, fit->weber_high);
+    EXPECT_NEAR(fit->fitted_mean, observed.mean, 0.1);
+    covered += fit->weber_low <= truth && truth <= fit->weber_high ? 1 : 0;
+  }
+  EXPECT_GE(covered, kGroups == 4 ? 3 : 1);  // 95 % intervals
+}
+
+TEST(ObserverFit, SpreadExplainsAnSdAboveTheBinomial) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
+  CuePool pool(2, 2.0, 1);
+  ObserverFitOptions options;
+  options.virtual_subjects = 300;
+  // 9 of 12 with SD 2.2 (binomial alone gives about 1.5).
+  ObservedGroup observed{9.0, 2.2 / std::sqrt(20.0), 20, ""};
+  Result<ObserverFit> fit = FitObservers(protocol, observed, options, pool);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_GT(fit->weber_spread, 0.1);
+  EXPECT_NEAR(fit->fitted_sd, 2.2, 0.25);
+  EXPECT_NEAR(fit->fitted_mean, 9.0, 0.15);
+}
+
+TEST(ObserverFit, ObservedTextIsParsedStrictly) {
+  Result<ObservedGroup> g = ParseObservedGroup("n=20,mean=9.3,sem=0.4");
+  ASSERT_TRUE(g.ok());
+  EXPECT_EQ(g->mean, 9.3);
+  EXPECT_EQ(g->sem, 0.4);
+  EXPECT_EQ(g->n, 20);
+  for (const std::string bad :
+       {"mean=9.3,sem=0.4", "mean=9.3,sem=0,n=20", "mean=x,sem=0.4,n=20",
+        "mean=9.3,sem=0.4,n=2.5", "mean=9.3;sem=0.4;n=20", "",
+        "block=,mean=9.3,sem=0.4,n=20",
+        "block=a,block=b,mean=9.3,sem=0.4,n=20"}) {
+    Result<ObservedGroup> r = ParseObservedGroup(bad);
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_EQ(r.error().message,
+              "--observed must be [block=NAME,]mean=M,sem=S,n=N (M >= 0, S > "
+              "0, N >= 2), got '" +
+                  bad + "'");
+  }
+}
+
+TEST(ObserverFit, ObservedTextMayNameItsBlock) {
+  Result<ObservedGroup> g =
+      ParseObservedGroup("block=drill,mean=9.6,sem=0.5,n=20");
+  ASSERT_TRUE(g.ok()) << g.error().message;
+  EXPECT_EQ(g->block, "drill");
+  EXPECT_EQ(g->mean, 9.6);
+  EXPECT_EQ(g->n, 20);
+}
+
+// A drill block fits the removal cue: a population of known removal Weber
+// fraction (and another stiffness one, which the drill block never feels)
+// is recovered within the fit's interval.
+TEST(ObserverFit, ADrillBlockFitsTheRemovalCue) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("same_different_pvc_vs_bone.toml");
+  RenderingPool renderings(2, 3);
+  CuePool pool(renderings, 2.0);
+  VirtualStudyOptions study;
+  study.subjects = 20;
+  study.seed = 41;
+  study.observer.weber_stiffness = 0.05;
+  study.observer.weber_removal = 1.5;
+  study.only_block = "drill";
+  Result<std::vector<VirtualBlock>> result =
+      RunVirtualStudy(protocol, study, pool);
+  ASSERT_TRUE(result.ok()) << result.error().message;
+  const VirtualBlock* drill = nullptr;
+  for (const VirtualBlock& b : *result) {
+    if (b.block == "drill") drill = &b;
+  }
+  ASSERT_NE(drill, nullptr);
+  double sum = 0.0, sum2 = 0.0;
+  for (int c : drill->correct) {
+    sum += c;
+    sum2 += double(c) * c;
+  }
+  ObservedGroup observed{sum / 20.0,
+                         std::sqrt((sum2 - sum * sum / 20.0) / 19.0 / 20.0), 20,
+                         "drill"};
+  ObserverFitOptions options;
+  options.virtual_subjects = 200;
+  options.seed = 5;
+  options.fit_spread = false;
+  options.base = study.observer;
+  Result<ObserverFit> fit = FitObservers(protocol, observed, options, pool);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_EQ(fit->block, "drill");
+  EXPECT_EQ(fit->task, protocols::Task::kDrill);
+  EXPECT_LE(fit->weber_low, 1.5);
+  EXPECT_GE(fit->weber_high, 1.5);
+  EXPECT_NEAR(fit->fitted_mean, observed.mean, 0.15);
+}
+
+TEST(ObserverFit, PopulationTakesEachCueFromTheBlockOfItsTask) {
+  ObserverFit probe, drill;
+  probe.block = "probe";
+  probe.task = protocols::Task::kProbe;
+  probe.weber = 0.12;
+  probe.weber_spread = 1.7;
+  drill.block = "drill";
+  drill.task = protocols::Task::kDrill;
+  drill.weber = 0.9;
+  drill.weber_spread = 0.5;
+  protocols::ObserverParams base;
+  base.lapse = 0.03;
+  std::vector<std::string> notes;
+  Result<VirtualStudyOptions> both = PopulationOf({probe, drill}, base, &notes);
+  ASSERT_TRUE(both.ok());
+  EXPECT_EQ(both->observer.weber_stiffness, 0.12);
+  EXPECT_EQ(both->observer.weber_removal, 0.9);
+  EXPECT_EQ(both->spread_stiffness, 1.7);
+  EXPECT_EQ(both->spread_removal, 0.5);
+  EXPECT_EQ(both->observer.lapse, 0.03);
+  EXPECT_TRUE(notes.empty());
+
+  Result<VirtualStudyOptions> one = PopulationOf({drill}, base, &notes);
+  ASSERT_TRUE(one.ok());
+  EXPECT_EQ(one->observer.weber_stiffness, 0.9);
+  EXPECT_EQ(one->spread_stiffness, 0.5);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0],
+            "only the removal cue was fitted (block \"drill\"); the stiffness "
+            "cue takes the same Weber fraction and spread");
+
+  ObserverFit drill2 = drill;
+  drill2.block = "drill2";
+  Result<VirtualStudyOptions> clash =
+      PopulationOf({drill, drill2}, base, nullptr);
+  ASSERT_FALSE(clash.ok());
+  EXPECT_EQ(clash.error().message,
+            "blocks \"drill\" and \"drill2\" both fit the removal cue: fit one "
+            "block per task");
+}
+
+TEST(ObserverFit, AMeanAboveTheTrialsIsRefused) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
+  CuePool pool(1, 2.0, 1);
+  Result<ObserverFit> fit =
+      FitObservers(protocol, {13.0, 0.5, 20, ""}, ObserverFitOptions{}, pool);
+  ASSERT_FALSE(fit.ok());
+  EXPECT_EQ(fit.error().message,
+            "the observed mean 13 is above the 12 trials of block "
+            "\"probe2afc\"");
+}
+
+}  // namespace
+}  // namespace burrlab::runner

@@ -458,111 +458,133 @@ class Fitter {
   std::span<double> Counts() { return problem_.r; }
 
   // log L of the current counts, its gradient and Hessian at v: one pass
-  // over the levels in chunks of kBlock (the last padded with levels of no
-  // trials, which add nothing): the exp() and log() calls in loops of their
-  // own (ChunkLogLikelihood), the rest as Eigen array expressions (vector
-  // instructions), each sum over a chunk in Eigen's fixed order.
+  // over the levels in chunks of kBlock (AddChunk): the exp() and log()
+  // calls in loops of their own (ChunkLogLikelihood), the rest as Eigen
+  // array expressions (vector instructions), each sum over a chunk in
+  // Eigen's fixed order.
   LocalModel ModelAt(const Internal& v) const {
-    using Block = Eigen::Array<double, kBlock, 1>;
     const Psi4 p = Unpack(problem_, v.data());
-    const double w = 1.0 - p.gamma - p.lambda;
-    const double to_s = 1.0 / p.s;
-    Block z, f, fc, density, slope, yes, no, r, n, e, q, d0, d1;
-    Block large, small;  // scratch
-    double log_l = 0.0;
-    Eigen::Vector4d g = Eigen::Vector4d::Zero();
-    // sum q d d^T (q = r / psi^2 + (n - r) / (1 - psi)^2), and the
-    // non-zero entries of sum e d2psi (e = d log L / d psi): the Hessian is
-    // sum e d2psi - q d d^T.
-    Eigen::Matrix4d outer = Eigen::Matrix4d::Zero();
-    double e_mm = 0.0, e_ms = 0.0, e_ss = 0.0, e_m = 0.0, e_s = 0.0;
+    ModelSums sums;
     const std::size_t levels = problem_.u.size();
     for (std::size_t begin = 0; begin < levels; begin += kBlock) {
       const std::size_t count = std::min(kBlock, levels - begin);
-      for (std::size_t j = 0; j < count; ++j) {
-        const auto at = static_cast<Eigen::Index>(j);
-        z[at] = (problem_.u[begin + j] - p.m) * to_s;
-        r[at] = problem_.r[begin + j];
-        n[at] = problem_.n[begin + j];
-      }
-      for (std::size_t j = count; j < kBlock; ++j) {
-        const auto at = static_cast<Eigen::Index>(j);
-        z[at] = r[at] = n[at] = 0.0;
-      }
-      if (problem_.sigmoid == Sigmoid::kLogistic) {
-        // Standard()'s logistic, the exponentials first.
-        for (Eigen::Index j = 0; j < z.size(); ++j) {
-          density[j] = std::exp(-std::abs(z[j]));  // t, for now
-        }
-        large = 1.0 / (1.0 + density);
-        small = density * large;
-        f = (z >= 0.0).select(large, small);
-        fc = (z >= 0.0).select(small, large);
-        density = large * small;
-        slope = density * (fc - f);
+      // Full chunks in arrays of a size fixed at compile time (unrolled,
+      // inlined); the last, shorter one in arrays of its own length.
+      if (count == kBlock) {
+        AddChunk<Eigen::Array<double, kBlock, 1>>(p, begin, count, sums);
       } else {
-        for (Eigen::Index j = 0; j < z.size(); ++j) {
-          const StandardPoint point = Standard(problem_.sigmoid, z[j]);
-          f[j] = point.f;
-          fc[j] = point.fc;
-          density[j] = point.density;
-          slope[j] = point.density_slope;
-        }
+        AddChunk<Eigen::Array<double, Eigen::Dynamic, 1, 0, kBlock, 1>>(
+            p, begin, count, sums);
       }
-      yes = (p.gamma + w * f).max(kTinyProbability);
-      no = (p.lambda + w * fc).max(kTinyProbability);
-      log_l +=
-          ChunkLogLikelihood(r.data(), n.data(), yes.data(), no.data(), count);
-      large = 1.0 / (yes * no);  // 1 / (psi (1 - psi))
-      e = r * no * large - (n - r) * yes * large;
-      q = r * (no * large).square() + (n - r) * (yes * large).square();
-      d0 = -w * to_s * density;
-      d1 = -w * density * z;
-      // d = (d0, d1, fc, -f).
-      g[0] += (e * d0).sum();
-      g[1] += (e * d1).sum();
-      g[2] += (e * fc).sum();
-      g[3] -= (e * f).sum();
-      large = q * d0;
-      small = q * d1;
-      outer(0, 0) += (large * d0).sum();
-      outer(0, 1) += (large * d1).sum();
-      outer(0, 2) += (large * fc).sum();
-      outer(0, 3) -= (large * f).sum();
-      outer(1, 1) += (small * d1).sum();
-      outer(1, 2) += (small * fc).sum();
-      outer(1, 3) -= (small * f).sum();
-      outer(2, 2) += (q * fc * fc).sum();
-      outer(2, 3) -= (q * fc * f).sum();
-      outer(3, 3) += (q * f * f).sum();
-      // d2psi: (m, m) w g' / s^2, (m, ln s) w (g' z + g) / s,
-      // (ln s, ln s) w z (g' z + g), (m, gamma or lambda) g / s,
-      // (ln s, gamma or lambda) g z; the rest 0.
-      large = slope * z + density;  // g' z + g
-      e_mm += (e * slope).sum();
-      e_ms += (e * large).sum();
-      e_ss += (e * z * large).sum();
-      e_m += (e * density).sum();
-      e_s += (e * density * z).sum();
     }
-    e_mm *= w * to_s * to_s;
-    e_ms *= w * to_s;
-    e_ss *= w;
-    e_m *= to_s;
+    const double w = 1.0 - p.gamma - p.lambda;
+    const double to_s = 1.0 / p.s;
+    sums.e_mm *= w * to_s * to_s;
+    sums.e_ms *= w * to_s;
+    sums.e_ss *= w;
+    sums.e_m *= to_s;
     LocalModel model;
-    model.log_likelihood = log_l;
-    model.gradient = g;
+    model.log_likelihood = sums.log_l;
+    model.gradient = sums.g;
     model.has_hessian = true;
-    model.hessian = outer.selfadjointView<Eigen::Upper>();
+    model.hessian = sums.outer.selfadjointView<Eigen::Upper>();
     model.hessian = -model.hessian;
-    const double second[4][4] = {{e_mm, e_ms, e_m, e_m},
-                                 {e_ms, e_ss, e_s, e_s},
-                                 {e_m, e_s, 0.0, 0.0},
-                                 {e_m, e_s, 0.0, 0.0}};
+    const double second[4][4] = {{sums.e_mm, sums.e_ms, sums.e_m, sums.e_m},
+                                 {sums.e_ms, sums.e_ss, sums.e_s, sums.e_s},
+                                 {sums.e_m, sums.e_s, 0.0, 0.0},
+                                 {sums.e_m, sums.e_s, 0.0, 0.0}};
     for (int a = 0; a < 4; ++a) {
       for (int b = 0; b < 4; ++b) model.hessian(a, b) += second[a][b];
     }
     return model;
+  }
+
+  // ModelAt's sums: log L, its gradient, sum q d d^T (q = r / psi^2 +
+  // (n - r) / (1 - psi)^2, upper triangle), and the non-zero entries of
+  // sum e d2psi (e = d log L / d psi): the Hessian is sum e d2psi - q d d^T.
+  struct ModelSums {
+    double log_l = 0.0;
+    Eigen::Vector4d g = Eigen::Vector4d::Zero();
+    Eigen::Matrix4d outer = Eigen::Matrix4d::Zero();
+    double e_mm = 0.0, e_ms = 0.0, e_ss = 0.0, e_m = 0.0, e_s = 0.0;
+  };
+
+  // Adds the `count` levels from `begin` to `sums`, in arrays of type Block
+  // (at most kBlock long, never on the heap).
+  template <typename Block>
+  void AddChunk(const Psi4& p, std::size_t begin, std::size_t count,
+                ModelSums& sums) const {
+    const double w = 1.0 - p.gamma - p.lambda;
+    const double to_s = 1.0 / p.s;
+    Block z, f, fc, density, slope, yes, no, r, n, e, q, d0, d1;
+    Block large, small;  // scratch
+    if constexpr (Block::SizeAtCompileTime == Eigen::Dynamic) {
+      for (Block* b : {&z, &f, &fc, &density, &slope, &yes, &no, &r, &n, &e, &q,
+                       &d0, &d1, &large, &small}) {
+        b->resize(static_cast<Eigen::Index>(count));
+      }
+    }
+    for (std::size_t j = 0; j < count; ++j) {
+      const auto at = static_cast<Eigen::Index>(j);
+      z[at] = (problem_.u[begin + j] - p.m) * to_s;
+      r[at] = problem_.r[begin + j];
+      n[at] = problem_.n[begin + j];
+    }
+    if (problem_.sigmoid == Sigmoid::kLogistic) {
+      // Standard()'s logistic, the exponentials first.
+      for (Eigen::Index j = 0; j < z.size(); ++j) {
+        density[j] = std::exp(-std::abs(z[j]));  // t, for now
+      }
+      large = 1.0 / (1.0 + density);
+      small = density * large;
+      f = (z >= 0.0).select(large, small);
+      fc = (z >= 0.0).select(small, large);
+      density = large * small;
+      slope = density * (fc - f);
+    } else {
+      for (Eigen::Index j = 0; j < z.size(); ++j) {
+        const StandardPoint point = Standard(problem_.sigmoid, z[j]);
+        f[j] = point.f;
+        fc[j] = point.fc;
+        density[j] = point.density;
+        slope[j] = point.density_slope;
+      }
+    }
+    yes = (p.gamma + w * f).max(kTinyProbability);
+    no = (p.lambda + w * fc).max(kTinyProbability);
+    sums.log_l +=
+        ChunkLogLikelihood(r.data(), n.data(), yes.data(), no.data(), count);
+    large = 1.0 / (yes * no);  // 1 / (psi (1 - psi))
+    e = r * no * large - (n - r) * yes * large;
+    q = r * (no * large).square() + (n - r) * (yes * large).square();
+    d0 = -w * to_s * density;
+    d1 = -w * density * z;
+    // d = (d0, d1, fc, -f).
+    sums.g[0] += (e * d0).sum();
+    sums.g[1] += (e * d1).sum();
+    sums.g[2] += (e * fc).sum();
+    sums.g[3] -= (e * f).sum();
+    large = q * d0;
+    small = q * d1;
+    sums.outer(0, 0) += (large * d0).sum();
+    sums.outer(0, 1) += (large * d1).sum();
+    sums.outer(0, 2) += (large * fc).sum();
+    sums.outer(0, 3) -= (large * f).sum();
+    sums.outer(1, 1) += (small * d1).sum();
+    sums.outer(1, 2) += (small * fc).sum();
+    sums.outer(1, 3) -= (small * f).sum();
+    sums.outer(2, 2) += (q * fc * fc).sum();
+    sums.outer(2, 3) -= (q * fc * f).sum();
+    sums.outer(3, 3) += (q * f * f).sum();
+    // d2psi: (m, m) w g' / s^2, (m, ln s) w (g' z + g) / s,
+    // (ln s, ln s) w z (g' z + g), (m, gamma or lambda) g / s,
+    // (ln s, gamma or lambda) g z; the rest 0.
+    large = slope * z + density;  // g' z + g
+    sums.e_mm += (e * slope).sum();
+    sums.e_ms += (e * large).sum();
+    sums.e_ss += (e * z * large).sum();
+    sums.e_m += (e * density).sum();
+    sums.e_s += (e * density * z).sum();
   }
 
   // The expected information at v, sum n / (psi (1 - psi)) d d^T.

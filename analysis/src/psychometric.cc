@@ -268,7 +268,7 @@ struct LocalModel {
   double log_likelihood = 0.0;
   Eigen::Vector4d gradient = Eigen::Vector4d::Zero();
   // The observed Hessian (ModelAt) or the expected information
-  // (ModelInCounts, InformationAt).
+  // (ModelInCounts).
   Eigen::Matrix4d hessian = Eigen::Matrix4d::Zero();
   Eigen::Matrix4d information = Eigen::Matrix4d::Zero();
   bool has_hessian = false;
@@ -587,23 +587,6 @@ class Fitter {
     sums.e_s += (e * density * z).sum();
   }
 
-  // The expected information at v, sum n / (psi (1 - psi)) d d^T.
-  Eigen::Matrix4d InformationAt(const Internal& v) const {
-    const Psi4 p = Unpack(problem_, v.data());
-    const double w = 1.0 - p.gamma - p.lambda;
-    Eigen::Matrix4d information = Eigen::Matrix4d::Zero();
-    for (std::size_t i = 0; i < problem_.u.size(); ++i) {
-      const double z = (problem_.u[i] - p.m) / p.s;
-      const StandardPoint f = Standard(problem_.sigmoid, z);
-      const double yes = std::max(p.gamma + w * f.f, kTinyProbability);
-      const double no = std::max(p.lambda + w * f.fc, kTinyProbability);
-      const Eigen::Vector4d d(-w * f.density / p.s, -w * f.density * z, f.fc,
-                              -f.f);
-      information += (problem_.n[i] / (yes * no)) * d * d.transpose();
-    }
-    return information;
-  }
-
   // The local model at v of any counts r: log L and its gradient are
   // base + sum_i r_i per_correct[i] (the same formulas as ModelAt, r_i
   // taken out), and the information does not depend on the counts.
@@ -694,7 +677,9 @@ class Fitter {
       }
       if (!newton) {
         if (!model.has_information) {
-          model.information = InformationAt(v);
+          // The rare case of a Hessian that is not negative definite: the
+          // information does not depend on the counts.
+          model.information = ModelInCounts(v).base.information;
           model.has_information = true;
           for (int a = 0; a < free_count; ++a) {
             for (int b = 0; b < free_count; ++b) {

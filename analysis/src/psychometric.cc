@@ -134,8 +134,10 @@ double SaturatedTerm(double r, double n) {
 // Objective has always computed it (a term with r_j or n_j - r_j = 0 has no
 // logarithm). A chunk of single trials (every n_j 0 or 1: each term is the
 // logarithm of yes_j or no_j) takes one logarithm of their product, kept
-// from underflow by moving its exponent aside (std::frexp) below 2^-500:
-// the logarithms are most of a pass over the levels.
+// from underflow by moving its exponent aside (std::frexp) below 2^-20: a
+// factor is at least kTinyProbability (2^-997), so the product stays a
+// normal number (above 2^-1022). The logarithms are most of a pass over the
+// levels.
 double ChunkLogLikelihood(const double* r, const double* n, const double* yes,
                           const double* no, std::size_t count) {
   bool single_trials = true;
@@ -151,12 +153,14 @@ double ChunkLogLikelihood(const double* r, const double* n, const double* yes,
     }
     return log_l;
   }
+  static_assert(0x1p-20 * kTinyProbability >=
+                std::numeric_limits<double>::min());
   double product = 1.0;
   int exponent = 0;
   for (std::size_t j = 0; j < count; ++j) {
     // yes_j, no_j or 1, without a branch on r_j (a coin toss).
     product *= r[j] * yes[j] + (n[j] - r[j]) * no[j] + (1.0 - n[j]);
-    if (product < 0x1p-500) {
+    if (product < 0x1p-20) {
       int e = 0;
       product = std::frexp(product, &e);
       exponent += e;

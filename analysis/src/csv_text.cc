@@ -12,6 +12,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "burrlab/analysis/psychometric_data.h"
+
 namespace burrlab::analysis {
 
 std::vector<Cell> SplitRow(std::string_view line, char delimiter) {
@@ -68,6 +70,59 @@ std::optional<double> ParseFinite(std::string_view text) {
     return std::nullopt;
   }
   return value;
+}
+
+Result<CsvTable> CsvTable::Split(std::string_view path, std::string_view text,
+                                 Delimiter delimiter,
+                                 std::string_view empty_message) {
+  CsvTable table;
+  table.path_ = path;
+  table.whole_ = text;
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  table.lines_ = SplitLines(text);
+  std::erase_if(table.lines_, [](const Line& l) { return IsBlank(l.text); });
+  if (table.lines_.empty()) return table.Fail(0, 0, empty_message);
+  const std::string_view header = table.lines_.front().text;
+  table.delimiter_ = delimiter == Delimiter::kTabOrComma &&
+                             header.find('\t') != std::string_view::npos
+                         ? '\t'
+                         : ',';
+  table.header_ = SplitRow(header, table.delimiter_);
+  return table;
+}
+
+int CsvTable::Find(std::string_view column) const {
+  for (std::size_t k = 0; k < header_.size(); ++k) {
+    if (header_[k].text == column) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+Status CsvTable::CheckDistinctColumns() const {
+  for (std::size_t k = 0; k < header_.size(); ++k) {
+    for (std::size_t m = 0; m < k; ++m) {
+      if (!header_[k].text.empty() && header_[k].text == header_[m].text) {
+        return Fail(header_line().number, header_[k].column,
+                    fmt::format("the column {} appears twice in the header",
+                                header_[k].text));
+      }
+    }
+  }
+  return {};
+}
+
+Result<std::vector<Cell>> CsvTable::Cells(const Line& row) const {
+  std::vector<Cell> cells = SplitRow(row.text, delimiter_);
+  if (cells.size() != header_.size()) {
+    return Fail(row.number, 1,
+                fmt::format("the row has {} cells, the header {}", cells.size(),
+                            header_.size()));
+  }
+  return cells;
+}
+
+Error CsvTable::Fail(int line, int column, std::string_view message) const {
+  return Error{FormatDataDiagnostic(path_, whole_, line, column, message)};
 }
 
 Result<std::string> ReadTextFile(const std::string& path) {

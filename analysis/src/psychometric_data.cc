@@ -78,29 +78,17 @@ std::string FormatDataDiagnostic(std::string_view path, std::string_view text,
 
 Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
                                                    std::string_view text) {
-  const std::string_view whole = text;
-  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  Result<CsvTable> table = CsvTable::Split(
+      path, text, CsvTable::Delimiter::kTabOrComma,
+      "the file is empty; expected a header line level,n_correct,n_total (CSV "
+      "or TSV) or a _beh.tsv with stim_level and correct columns");
+  if (!table.ok()) return table.error();
   const auto fail = [&](int line, int column, const std::string& message) {
-    return Error{FormatDataDiagnostic(path, whole, line, column, message)};
+    return table->Fail(line, column, message);
   };
-  std::vector<Line> lines = SplitLines(text);
-  std::erase_if(lines, [](const Line& l) { return IsBlank(l.text); });
-  if (lines.empty()) {
-    return fail(0, 0,
-                "the file is empty; expected a header line "
-                "level,n_correct,n_total (CSV or TSV) or a _beh.tsv with "
-                "stim_level and correct columns");
-  }
-  const Line& header_line = lines.front();
-  const char delimiter =
-      header_line.text.find('\t') != std::string_view::npos ? '\t' : ',';
-  const std::vector<Cell> header = SplitRow(header_line.text, delimiter);
-  const auto find = [&](std::string_view name) -> int {
-    for (std::size_t k = 0; k < header.size(); ++k) {
-      if (header[k].text == name) return static_cast<int>(k);
-    }
-    return -1;
-  };
+  const auto find = [&](std::string_view name) { return table->Find(name); };
+  const Line& header_line = table->header_line();
+  const char delimiter = table->delimiter();
   PsychometricDataFile file;
   const int level_at = find("level"), correct_at = find("n_correct"),
             total_at = find("n_total");
@@ -135,14 +123,10 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
     }
     return std::nullopt;
   };
-  for (std::size_t n = 1; n < lines.size(); ++n) {
-    const Line& line = lines[n];
-    const std::vector<Cell> cells = SplitRow(line.text, delimiter);
-    if (cells.size() != header.size()) {
-      return fail(line.number, 1,
-                  fmt::format("the row has {} cells, the header {}",
-                              cells.size(), header.size()));
-    }
+  for (const Line& line : table->rows()) {
+    Result<std::vector<Cell>> row = table->Cells(line);
+    if (!row.ok()) return row.error();
+    const std::vector<Cell>& cells = *row;
     const auto cell = [&](int k) { return cells[static_cast<std::size_t>(k)]; };
     if (file.format == PsychometricDataFile::Format::kCounts) {
       const Cell level = cell(level_at), r = cell(correct_at),

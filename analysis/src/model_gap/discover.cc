@@ -344,7 +344,7 @@ bool DiscoverStages::AbsorbedByReference() {
   if (best != nullptr && report_.reference_p < level && best_p >= level &&
       ref_gap.holm_min_p >= kOmnibusShare * level && no_shape) {
     report_.reference_effect_p = best_p;
-    report_.verdict = "absorbed";
+    report_.verdict = Verdict::kAbsorbed;
     report_.effects = {best->id};
     report_.alias_set = {best->id};
     report_.alias_sets = {report_.alias_set};
@@ -357,7 +357,7 @@ bool DiscoverStages::AbsorbedByReference() {
 }
 
 void DiscoverStages::ReportNoGap() {
-  report_.verdict = "none";
+  report_.verdict = Verdict::kNone;
   report_.summary = NoGapSummary(report_);
 }
 
@@ -497,13 +497,13 @@ StepChoice DiscoverStages::ChooseEffect(
 void DiscoverStages::ReportExplained() {
   bool ambiguous = false;
   for (const auto& set : report_.alias_sets) ambiguous |= set.size() > 1;
-  report_.verdict = ambiguous ? "ambiguous" : "named";
+  report_.verdict = ambiguous ? Verdict::kAmbiguous : Verdict::kNamed;
   report_.summary = ExplainedSummary(report_);
 }
 
 // Something outside the library (or not confirmed): no forced name.
 void DiscoverStages::ReportUnexplained(const StepwiseOutcome& outcome) {
-  report_.verdict = "unexplained";
+  report_.verdict = Verdict::kUnexplained;
   report_.summary = UnexplainedSummary(report_, outcome.tried, outcome.failure);
   report_.effects.clear();
   report_.alias_set.clear();
@@ -544,14 +544,15 @@ Status DiscoverStages::AddTraceGap(const MeasuredData& data) {
     fit->strengths.push_back(sim::StrengthOfParameter(*spec, named->value));
     ++fit->parameters;
   };
-  if (report_.verdict == "none") {
-    report_.verdict = "named";
+  if (report_.verdict == Verdict::kNone) {
+    report_.verdict = Verdict::kNamed;
     report_.effects = {named->id};
     report_.alias_set = {named->id};
     report_.alias_sets = {report_.alias_set};
     add(&report_.augmented);
     report_.summary = finding + " " + report_.summary;
-  } else if (report_.verdict == "named" || report_.verdict == "ambiguous") {
+  } else if (report_.verdict == Verdict::kNamed ||
+             report_.verdict == Verdict::kAmbiguous) {
     report_.effects.push_back(named->id);
     report_.alias_sets.push_back({named->id});
     add(&report_.augmented);
@@ -609,6 +610,22 @@ Status DiscoverOptions::Validate() const {
     if (Status s = reference->Validate(); !s.ok()) return s;
   }
   return {};
+}
+
+std::string_view VerdictName(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kNone:
+      return "none";
+    case Verdict::kNamed:
+      return "named";
+    case Verdict::kAmbiguous:
+      return "ambiguous";
+    case Verdict::kUnexplained:
+      return "unexplained";
+    case Verdict::kAbsorbed:
+      return "absorbed";
+  }
+  return "none";
 }
 
 Result<DiscoverReport> Discover(const MeasuredData& data,

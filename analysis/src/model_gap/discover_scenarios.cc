@@ -198,7 +198,7 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
   // seed order, so the outcome does not depend on `jobs`.
   struct Slot {
     std::optional<Error> error;
-    std::string verdict;
+    Verdict verdict = Verdict::kNone;
     std::vector<std::string> named;
     bool physical = false, hit = false;
     double cv_before = 0.0, cv_after = 0.0;
@@ -231,8 +231,8 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
         continue;
       }
       slot.verdict = report->verdict;
-      slot.physical =
-          report->verdict == "named" || report->verdict == "ambiguous";
+      slot.physical = report->verdict == Verdict::kNamed ||
+                      report->verdict == Verdict::kAmbiguous;
       if (slot.physical) {
         for (const std::vector<std::string>& set : report->alias_sets) {
           slot.named.insert(slot.named.end(), set.begin(), set.end());
@@ -244,9 +244,9 @@ Result<ScenarioOutcome> RunScenario(const ScenarioDesign& d,
                     expected) != report->alias_set.end();
       const bool first =
           !report->effects.empty() && report->effects[0] == expected;
-      slot.hit =
-          !expected.empty() && ((slot.physical && (first || in_set)) ||
-                                (report->verdict == "absorbed" && first));
+      slot.hit = !expected.empty() &&
+                 ((slot.physical && (first || in_set)) ||
+                  (report->verdict == Verdict::kAbsorbed && first));
       slot.cv_before = report->baseline.cv_rmse_log_v;
       slot.cv_after = report->augmented.cv_rmse_log_v;
       slot.held_out_better =

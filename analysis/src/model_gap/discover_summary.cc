@@ -109,7 +109,7 @@ std::string ExplainedSummary(const DiscoverReport& report) {
           ? fmt::format("Adding {} and {}", report.effects[0],
                         report.effects[1])
           : std::string("Adding it");
-  return report.verdict == "named"
+  return report.verdict == Verdict::kNamed
              ? fmt::format(
                    "The base model misses {}{}. {} ({}) closes the gap: "
                    "likelihood ratio p = {:.3g} (boundary-corrected), AICc "

@@ -15,35 +15,19 @@
 namespace burrlab::analysis {
 
 Result<TraceData> ParseTraceData(std::string_view path, std::string_view text) {
-  const std::string_view whole = text;
-  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  Result<CsvTable> table =
+      CsvTable::Split(path, text, CsvTable::Delimiter::kComma,
+                      "the file is empty; expected a header line with the "
+                      "columns run,t_s,force_n,depth_mm");
+  if (!table.ok()) return table.error();
   const auto fail = [&](int line, int column, const std::string& message) {
-    return Error{FormatDataDiagnostic(path, whole, line, column, message)};
+    return table->Fail(line, column, message);
   };
-  std::vector<Line> lines = SplitLines(text);
-  std::erase_if(lines, [](const Line& l) { return IsBlank(l.text); });
-  if (lines.empty()) {
-    return fail(0, 0,
-                "the file is empty; expected a header line with the columns "
-                "run,t_s,force_n,depth_mm");
+  const Line& header_line = table->header_line();
+  if (Status distinct = table->CheckDistinctColumns(); !distinct.ok()) {
+    return distinct.error();
   }
-  const Line& header_line = lines.front();
-  const std::vector<Cell> header = SplitRow(header_line.text, ',');
-  for (std::size_t k = 0; k < header.size(); ++k) {
-    for (std::size_t m = 0; m < k; ++m) {
-      if (!header[k].text.empty() && header[k].text == header[m].text) {
-        return fail(header_line.number, header[k].column,
-                    fmt::format("the column {} appears twice in the header",
-                                header[k].text));
-      }
-    }
-  }
-  const auto find = [&](std::string_view name) -> int {
-    for (std::size_t k = 0; k < header.size(); ++k) {
-      if (header[k].text == name) return static_cast<int>(k);
-    }
-    return -1;
-  };
+  const auto find = [&](std::string_view name) { return table->Find(name); };
   constexpr std::string_view kColumns[] = {"run", "t_s", "force_n", "depth_mm"};
   int at[4];
   for (int c = 0; c < 4; ++c) {
@@ -59,14 +43,10 @@ Result<TraceData> ParseTraceData(std::string_view path, std::string_view text) {
   constexpr std::string_view kUnits[] = {"", "s", "N", "mm"};
   TraceData data;
   std::map<std::string, int, std::less<>> first_line;  // run -> line
-  for (std::size_t n = 1; n < lines.size(); ++n) {
-    const Line& line = lines[n];
-    const std::vector<Cell> cells = SplitRow(line.text, ',');
-    if (cells.size() != header.size()) {
-      return fail(line.number, 1,
-                  fmt::format("the row has {} cells, the header {}",
-                              cells.size(), header.size()));
-    }
+  for (const Line& line : table->rows()) {
+    Result<std::vector<Cell>> row = table->Cells(line);
+    if (!row.ok()) return row.error();
+    const std::vector<Cell>& cells = *row;
     const Cell run = cells[static_cast<std::size_t>(at[0])];
     if (run.text.empty()) {
       return fail(line.number, run.column, "the run cell is empty");

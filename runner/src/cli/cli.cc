@@ -42,7 +42,9 @@ constexpr Command kCommands[] = {
     {"sim",
      "burr simulator tools: force-curve, descent, measure, bench, materials",
      RunSimCommand},
-    {"analyze", "statistics on data files: fit (psychometric), dprime",
+    {"analyze",
+     "statistics: fit, dprime, scores, thresholds, kinematics, power, "
+     "fit-observers",
      RunAnalyzeCommand},
     {"calibrate",
      "fit c_e and alpha to measured descent velocities, with identifiability "
@@ -50,12 +52,12 @@ constexpr Command kCommands[] = {
      RunCalibrateCommand},
     {"discover",
      "find what the base model misses in measured descent velocities: "
-     "gap, effect, report (JSON, Markdown, plots)",
+     "gap, effect, report (JSON, Markdown, plots); 'discover matrix': its "
+     "power against SNR and false-discovery rate (slow)",
      RunDiscoverCommand},
-    {"discover-matrix",
-     "the hidden-effect scenario matrix of discover: power against SNR and "
-     "false-discovery rate (slow)",
-     RunDiscoverMatrixCommand},
+    // The scenario matrix's old name.
+    {"discover-matrix", "the old name of 'discover matrix'",
+     RunDiscoverMatrixCommand, /*listed=*/false},
     {"devices",
      "list USB and HID devices with their ids and the backend that fits",
      RunDevicesCommand},

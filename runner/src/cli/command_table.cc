@@ -13,10 +13,11 @@ void PrintUsage(std::string_view path, std::span<const Command> table,
                 std::ostream& out) {
   std::size_t width = 0;
   for (const Command& command : table) {
-    width = std::max(width, command.name.size());
+    if (command.listed) width = std::max(width, command.name.size());
   }
   out << fmt::format("usage: {} <command> [flags]\n\ncommands:\n", path);
   for (const Command& command : table) {
+    if (!command.listed) continue;
     out << fmt::format("  {:<{}}  {}\n", command.name, width, command.help);
   }
   out << fmt::format("\n'{} <command> --help' shows the flags of a command.\n",

@@ -23,6 +23,9 @@ struct Command {
   std::string_view name;  // the word typed, e.g. "force-curve"
   std::string_view help;  // one line for the usage list
   CommandHandler run;
+  // False for an old name kept so scripts still run: it dispatches but the
+  // usage list leaves it out.
+  bool listed = true;
 };
 
 // Prints "usage: <path> <command> [flags]" and the table.

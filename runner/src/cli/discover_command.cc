@@ -69,7 +69,7 @@ Json FitJson(const analysis::ModelFit& fit) {
 
 Json ReportJson(const analysis::DiscoverReport& r) {
   Json j;
-  j["verdict"] = r.verdict;
+  j["verdict"] = analysis::VerdictName(r.verdict);
   j["velocity_definition"] =
       std::string(sim::VelocityDefinitionName(r.velocity_definition));
   j["effect"] = r.effects.empty() ? Json(nullptr) : Json(r.effects[0]);
@@ -158,7 +158,7 @@ std::string ReportMarkdown(const analysis::DiscoverReport& r,
   md += reference_name.empty()
             ? " No reference material.\n\n"
             : fmt::format(" Reference material: {}.\n\n", reference_name);
-  md += fmt::format("**Verdict: {}**", r.verdict);
+  md += fmt::format("**Verdict: {}**", analysis::VerdictName(r.verdict));
   if (!r.effects.empty()) {
     md += fmt::format(" — {}", r.effects[0]);
     for (std::size_t k = 1; k < r.effects.size(); ++k) {
@@ -352,6 +352,10 @@ Status WriteText(const std::filesystem::path& path, const std::string& text) {
 }  // namespace
 
 int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
+  if (!args.empty() && args[0] == "matrix") {
+    return RunDiscoverMatrixCommand(Args(args.begin() + 1, args.end()), out,
+                                    err);
+  }
   CLI::App app{
       "Finds what the base burr model (c_e, alpha) misses in measured steady "
       "penetration velocities: fits the base model, tests for a gap (lack of "
@@ -361,7 +365,8 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "correction), adds at most two effects one at a time and confirms them "
       "(boundary-aware likelihood ratio, AICc, leave-one-force-level-out "
       "cross-validation, residual tests). Writes DIR/report.json, "
-      "DIR/report.md, DIR/fit.png and DIR/residuals.png.",
+      "DIR/report.md, DIR/fit.png and DIR/residuals.png. 'burrlab discover "
+      "matrix' runs the hidden-effect scenario matrix (see its --help).",
       "burrlab discover"};
   std::string measured_path, out_dir, reference_name, traces_path;
   analysis::DiscoverOptions options;
@@ -478,7 +483,8 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
     if (json) {
       out << text;
     } else {
-      out << fmt::format("verdict   {}\n", report->verdict);
+      out << fmt::format("verdict   {}\n",
+                         analysis::VerdictName(report->verdict));
       if (!report->effects.empty()) {
         out << fmt::format("effect    {}\n", report->effects[0]);
       }
@@ -503,7 +509,7 @@ int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
       "4 replicates, CV 10 %, R = 1 mm). Prints a Markdown table of hit rates "
       "(right id or an alias set holding it) and the null's false-discovery "
       "rate.",
-      "burrlab discover-matrix"};
+      "burrlab discover matrix"};
   std::string material_name = "human_temporal_bone", snr_text = "2,3,4,5,6,8";
   int seeds = 20, null_seeds = 100;
   int jobs =
@@ -603,7 +609,7 @@ int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
                          last.mean_cv_after);
   }
   const auto count = [](const analysis::ScenarioOutcome& o,
-                        const std::string& verdict) {
+                        analysis::Verdict verdict) {
     const auto it = o.verdicts.find(verdict);
     return it == o.verdicts.end() ? 0 : it->second;
   };
@@ -641,15 +647,16 @@ int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
     const bool is_null = outcome == &*null;
     table += fmt::format(
         "| {} | {} | {:.2f} | {:.2f} | {} | {:.2f} | {:.2f} |\n", name, o.seeds,
-        static_cast<double>(count(o, "none")) / o.seeds,
+        static_cast<double>(count(o, analysis::Verdict::kNone)) / o.seeds,
         static_cast<double>(o.named_physical) / o.seeds,
         is_null ? std::string("—")
                 : fmt::format("{:.2f}",
                               static_cast<double>(
                                   analysis::NamedBeyond(o, *null).size()) /
                                   o.seeds),
-        static_cast<double>(count(o, "absorbed")) / o.seeds,
-        static_cast<double>(count(o, "unexplained")) / o.seeds);
+        static_cast<double>(count(o, analysis::Verdict::kAbsorbed)) / o.seeds,
+        static_cast<double>(count(o, analysis::Verdict::kUnexplained)) /
+            o.seeds);
   }
   out << fmt::format(
       "truth: {} ({}), loads {} of c_e R^2, {} replicates, CV {:g}, {} seeds "

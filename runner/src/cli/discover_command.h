@@ -11,12 +11,14 @@
 namespace burrlab::runner {
 
 // `burrlab discover --measured FILE --out DIR [--radius-mm R]
-// [--reference MATERIAL] [--json]`; args start after "discover".
+// [--reference MATERIAL] [--json]`; args start after "discover". A first
+// argument "matrix" runs RunDiscoverMatrixCommand with the rest.
 int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err);
 
-// `burrlab discover-matrix [--seeds N] [--null-seeds N] [--snr S1,...]
-// [--material NAME] [--full-rig]`: the hidden-effect scenario matrix as a
-// Markdown table (power against SNR, false-discovery rate).
+// `burrlab discover matrix [--seeds N] [--null-seeds N] [--snr S1,...]
+// [--material NAME] [--full-rig]` (old name: `discover-matrix`): the
+// hidden-effect scenario matrix as a Markdown table (power against SNR,
+// false-discovery rate).
 int RunDiscoverMatrixCommand(const Args& args, std::ostream& out,
                              std::ostream& err);
 

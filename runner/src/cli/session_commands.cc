@@ -19,6 +19,7 @@
 #include "burrlab/protocols/observer.h"
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
+#include "burrlab/stimuli/interval.h"
 #include "cli/flags.h"
 #include "station/station_devices.h"
 #include "station/station_file.h"
@@ -418,7 +419,7 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   int subject_index = -1;
   std::string observer;
   bool resume = false;
-  double radius_mm = 2.0;
+  double radius_mm = stimuli::kDefaultBurrRadiusMm;
   StationFlags station;
   app.add_option("file", path, "the protocol file")->required();
   FlagSet flags(&app);
@@ -441,8 +442,10 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
                 &observer);
   flags.AddSwitch("--resume", "continue the subject's interrupted session",
                   &resume);
-  flags.AddPositive("--radius-mm", "burr radius (default 2)", "mm", &radius_mm,
-                    5.0);
+  flags.AddPositive(
+      "--radius-mm",
+      fmt::format("burr radius (default {:g})", stimuli::kDefaultBurrRadiusMm),
+      "mm", &radius_mm, 5.0);
   flags.AddText("--device",
                 "mouse|hid|falcon|simulated: run at a station with this "
                 "haptic device (overrides the station file's backend)",
@@ -528,7 +531,7 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   int jobs = 0;
   std::string observer;
   bool resume = false;
-  double radius_mm = 2.0;
+  double radius_mm = stimuli::kDefaultBurrRadiusMm;
   double weber_spread = 0.0;
   int renderings = 0;
   app.add_option("file", path, "the protocol file")->required();
@@ -546,8 +549,10 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddSwitch("--resume",
                   "continue interrupted subjects and run the missing ones",
                   &resume);
-  flags.AddPositive("--radius-mm", "burr radius (default 2)", "mm", &radius_mm,
-                    5.0);
+  flags.AddPositive(
+      "--radius-mm",
+      fmt::format("burr radius (default {:g})", stimuli::kDefaultBurrRadiusMm),
+      "mm", &radius_mm, 5.0);
   flags.AddNonNegative(
       "--weber-spread",
       "SD of ln(Weber fraction) across subjects: subject i's observer has "

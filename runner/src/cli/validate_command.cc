@@ -12,6 +12,7 @@
 
 #include "burrlab/protocols/protocol.h"
 #include "burrlab/sim/printable.h"
+#include "burrlab/stimuli/interval.h"
 #include "cli/flags.h"
 #include "station/station_file.h"
 #include "studies/session.h"
@@ -69,11 +70,13 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "burrlab validate"};
   std::vector<std::string> files;
   app.add_option("files", files, "protocol or station files")->required();
-  double radius_mm = 2.0;
+  double radius_mm = stimuli::kDefaultBurrRadiusMm;
   FlagSet flags(&app);
   flags.AddPositive("--radius-mm",
-                    "burr radius the simulated intervals are checked with "
-                    "(default 2, as run and study use)",
+                    fmt::format("burr radius the simulated intervals are "
+                                "checked with (default {:g}, as run and study "
+                                "use)",
+                                stimuli::kDefaultBurrRadiusMm),
                     "mm", &radius_mm, 5.0);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);

@@ -17,6 +17,7 @@
 #include <ostream>
 #include <string>
 
+#include "burrlab/stimuli/interval.h"
 #include "devices/device.h"
 #include "devices/haptic_loop.h"
 #include "devices/hid_response_box.h"
@@ -43,9 +44,9 @@ struct StationSessionOptions {
   HidResponseBox* box = nullptr;         // answers from the box, if any
   const StationScript* script = nullptr;  // a scripted subject, if any
   StationWindow* window = nullptr;        // required
-  int trials_total = 0;         // for "Trial k of N"; 0 = not known ahead
-  double radius_mm = 2.0;       // burr radius
-  int trace_hz = 1000;          // trace rate; divides 1000
+  int trials_total = 0;  // for "Trial k of N"; 0 = not known ahead
+  double radius_mm = stimuli::kDefaultBurrRadiusMm;  // burr radius
+  int trace_hz = 1000;                               // trace rate; divides 1000
   RenderLimits limits;          // the station's force and stiffness limits
   bool realtime = true;         // SCHED_FIFO and mlockall for the loop
   double frame_hz = 60.0;       // window frames per second

@@ -129,9 +129,10 @@ struct SessionOptions {
   bool resume = false;
   Responder responder = Responder::kSimulated;
   protocols::ObserverParams observer;  // for kSimulated
-  double radius_mm = 2.0;              // burr radius of every interval
-  std::istream* in = nullptr;          // kTerminal: answers
-  std::ostream* prompt = nullptr;      // kTerminal: trial descriptions
+  double radius_mm =
+      stimuli::kDefaultBurrRadiusMm;  // burr radius of every interval
+  std::istream* in = nullptr;         // kTerminal: answers
+  std::ostream* prompt = nullptr;     // kTerminal: trial descriptions
   // kTerminal: false when the answers come from a pipe or a file, not a
   // person at a terminal; their response times are then not recorded (n/a).
   bool answers_timed = true;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "burrlab/protocols/observer.h"
+#include "burrlab/stimuli/interval.h"
 #include "studies/rendering_pool.h"
 #include "studies/session.h"
 
@@ -25,7 +26,7 @@ struct SimulatedStudyOptions {
   std::vector<protocols::ObserverParams> observers;  // one per subject
   std::uint64_t seed = 1;                            // the study seed
   int jobs = 1;                                      // parallel sessions
-  double radius_mm = 2.0;
+  double radius_mm = stimuli::kDefaultBurrRadiusMm;
   bool resume = false;  // continue subjects whose journal exists
   RenderingPool* renderings = nullptr;  // shared renderings; null: afresh
   // Called (under a lock) after each subject with (subjects done, label).

@@ -5,7 +5,7 @@
 // effect, a distortion outside the library, gross outliers, bad options.
 //
 // The truth here is the continuum surrogate (the fast tier); a full-rig truth
-// costs 5-60 s per force level and runs in `burrlab discover-matrix --full-rig`
+// costs 5-60 s per force level and runs in `burrlab discover matrix --full-rig`
 // (analysis/README.md). Seeds: 10 per effect and 30 null in CI;
 // BURRLAB_SLOW_TESTS=1 runs 20 per effect and 100 null; the sanitizer build
 // runs 2 per scenario.
@@ -48,7 +48,8 @@ DiscoverOptions Options(const ScenarioDesign& d) {
 void Print(const std::string& name, const ScenarioOutcome& out) {
   std::string verdicts;
   for (const auto& [verdict, count] : out.verdicts) {
-    verdicts += verdict + " " + std::to_string(count) + ", ";
+    verdicts +=
+        std::string(VerdictName(verdict)) + " " + std::to_string(count) + ", ";
   }
   for (const SeedOutcome& s : out.per_seed) {
     if (s.named.empty()) continue;
@@ -127,8 +128,9 @@ TEST(Discover, SaysNoneWithoutAHiddenEffect) {
   const int seeds = NullSeeds();
   const ScenarioOutcome out = RunHidden(d, {}, {}, "", seeds);
   Print("none", out);
-  EXPECT_GE(out.verdicts.count("none") ? out.verdicts.at("none") : 0,
-            kSanitized ? 1 : (9 * seeds + 9) / 10);
+  EXPECT_GE(
+      out.verdicts.count(Verdict::kNone) ? out.verdicts.at(Verdict::kNone) : 0,
+      kSanitized ? 1 : (9 * seeds + 9) / 10);
 }
 
 // Porosity (c_e (1 - phi)^2) is invisible in v(F) alone: it must never be
@@ -149,10 +151,11 @@ TEST(Discover, ReportsPorosityAsAbsorbedNeverNamed) {
   ASSERT_EQ(out.per_seed.size(), static_cast<std::size_t>(seeds));
   for (const SeedOutcome& s : out.per_seed) {
     EXPECT_EQ(std::count(s.named.begin(), s.named.end(), "porosity"), 0)
-        << "seed " << s.seed << ": " << s.verdict;
+        << "seed " << s.seed << ": " << VerdictName(s.verdict);
   }
-  EXPECT_EQ(out.hits,
-            out.verdicts.count("absorbed") ? out.verdicts.at("absorbed") : 0);
+  EXPECT_EQ(out.hits, out.verdicts.count(Verdict::kAbsorbed)
+                          ? out.verdicts.at(Verdict::kAbsorbed)
+                          : 0);
   EXPECT_GE(out.hits, kSanitized ? 1 : (85 * seeds + 99) / 100);
   EXPECT_LE(out.named_physical, seeds / 10);
 }
@@ -164,9 +167,10 @@ TEST(Discover, LeavesABumpOutsideTheLibraryUnexplained) {
   const int seeds = kSanitized ? 1 : 5;
   const ScenarioOutcome out = RunHidden(d, {}, bump, "", seeds);
   Print("bump", out);
-  EXPECT_EQ(
-      out.verdicts.count("unexplained") ? out.verdicts.at("unexplained") : 0,
-      seeds);
+  EXPECT_EQ(out.verdicts.count(Verdict::kUnexplained)
+                ? out.verdicts.at(Verdict::kUnexplained)
+                : 0,
+            seeds);
   EXPECT_EQ(out.named_physical, 0);
 }
 
@@ -183,8 +187,9 @@ TEST(Discover, NamesNoEffectWhenFivePercentAreGrossOutliers) {
   const ScenarioOutcome out = RunHidden(d, {}, outliers, "", seeds);
   Print("outliers", out);
   EXPECT_EQ(NamedBeyond(out, null), std::vector<std::uint64_t>{});
-  EXPECT_GE(out.verdicts.count("none") ? out.verdicts.at("none") : 0,
-            kSanitized ? 1 : (9 * seeds + 9) / 10);
+  EXPECT_GE(
+      out.verdicts.count(Verdict::kNone) ? out.verdicts.at(Verdict::kNone) : 0,
+      kSanitized ? 1 : (9 * seeds + 9) / 10);
 }
 
 // Friction erosion at the truth's alpha is a small k; the base fit of these
@@ -211,7 +216,7 @@ TEST(Discover, FitsFrictionErosionWhenTheBaseFitSitsAtTheEndOfTheCeBox) {
   EXPECT_NEAR(fitted / fx.friction_erosion_per_n_s, 1.0, 0.4)
       << "fitted k " << fitted << " 1/(N s), truth "
       << fx.friction_erosion_per_n_s;
-  EXPECT_EQ(report->verdict, "ambiguous") << report->summary;
+  EXPECT_EQ(VerdictName(report->verdict), "ambiguous") << report->summary;
   EXPECT_NE(std::find(report->alias_set.begin(), report->alias_set.end(),
                       "friction_erosion"),
             report->alias_set.end())
@@ -242,7 +247,8 @@ TEST(Discover, AddsTwoHiddenEffectsOneAtATime) {
     ASSERT_TRUE(data.ok()) << data.error().message;
     const Result<DiscoverReport> report = Discover(*data, Options(d));
     ASSERT_TRUE(report.ok()) << report.error().message;
-    std::printf("seed %d %s: %s\n", seed, report->verdict.c_str(),
+    std::printf("seed %d %s: %s\n", seed,
+                std::string(VerdictName(report->verdict)).c_str(),
                 report->summary.c_str());
     if (report->effects.size() != 2) continue;
     // Each step reports the effect it added first in its alias set. The
@@ -267,7 +273,7 @@ TEST(Discover, AddsTwoHiddenEffectsOneAtATime) {
     power_second += holds(1, "motor_power_limit");
     const bool ambiguous =
         report->alias_sets[0].size() > 1 || report->alias_sets[1].size() > 1;
-    EXPECT_EQ(report->verdict, ambiguous ? "ambiguous" : "named");
+    EXPECT_EQ(VerdictName(report->verdict), ambiguous ? "ambiguous" : "named");
     EXPECT_LT(report->augmented.cv_rmse_log_v, report->baseline.cv_rmse_log_v);
     EXPECT_FALSE(report->gap_after.detected);
     both += 1;
@@ -391,7 +397,7 @@ TEST(Discover, FitsTheBaseModelOfTheInitialVelocityNearFullImmersion) {
   ASSERT_TRUE(report.ok()) << report.error().message;
   EXPECT_NEAR(report->baseline.c_e_n_per_mm2 / 0.462, 1.0, 3e-3);
   EXPECT_NEAR(report->baseline.alpha_per_s / 0.296, 1.0, 3e-3);
-  EXPECT_EQ(report->verdict, "none") << report->summary;
+  EXPECT_EQ(VerdictName(report->verdict), "none") << report->summary;
 }
 
 // Truth: the full rig (not the surrogate), nothing hidden. The fixture is
@@ -417,7 +423,7 @@ TEST(Discover, AnEffectAtItsNullGainsNothingWhereTheTransientFactorsCycle) {
   options.definition = sim::VelocityDefinition::kInitial;
   Result<DiscoverReport> report = Discover(*data, options);
   ASSERT_TRUE(report.ok()) << report.error().message;
-  EXPECT_EQ(report->verdict, "none") << report->summary;
+  EXPECT_EQ(VerdictName(report->verdict), "none") << report->summary;
   ASSERT_FALSE(report->rounds.empty());
   int at_null = 0;
   for (const EffectAttribution& e : report->rounds[0]) {

@@ -241,8 +241,8 @@ TEST(TraceGap, DiscoverNamesTheLagOnlyWithTraces) {
     ASSERT_TRUE(with.trace_gap.has_value());
     named_with +=
         !with.effects.empty() && with.effects.back() == "load_cell_lag";
-    if (without.verdict == "none") {
-      EXPECT_EQ(with.verdict, "named");
+    if (VerdictName(without.verdict) == "none") {
+      EXPECT_EQ(VerdictName(with.verdict), "named");
       EXPECT_EQ(with.effects, std::vector<std::string>{"load_cell_lag"});
       EXPECT_EQ(with.augmented.effect_values.size(), 1u);
     }

@@ -20,6 +20,7 @@ namespace burrlab::runner {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 // Expects exit code 1, nothing on stdout and exactly `line` on stderr.
@@ -75,6 +76,27 @@ TEST(Cli, BareHelpFlagAndHelpCommandListEveryCommand) {
     EXPECT_THAT(run.out, HasSubstr("\n  demo "));
     EXPECT_THAT(run.out, HasSubstr("\n  sim "));
     EXPECT_THAT(run.out, HasSubstr("\n  help "));
+  }
+}
+
+// `discover matrix` is a subcommand of discover; its old top-level name
+// still runs it, and the usage list shows only the new one.
+TEST(Cli, DiscoverMatrixIsASubcommandAndItsOldNameStillRuns) {
+  const CliRun listed = RunBurrlab({"--help"});
+  EXPECT_THAT(listed.out, HasSubstr("\n  discover "));
+  EXPECT_THAT(listed.out, Not(HasSubstr("discover-matrix")));
+  for (const std::vector<std::string>& name :
+       {std::vector<std::string>{"discover", "matrix"},
+        std::vector<std::string>{"discover-matrix"}}) {
+    std::vector<std::string> args = name;
+    args.push_back("--help");
+    const CliRun help = RunBurrlab(args);
+    EXPECT_EQ(help.code, 0);
+    EXPECT_THAT(help.out, HasSubstr("Usage: burrlab discover matrix "));
+    args.back() = "--sneds";
+    ExpectError(args,
+                "burrlab: unknown flag '--sneds' for 'burrlab discover "
+                "matrix' (did you mean '--seeds'?)");
   }
 }
 

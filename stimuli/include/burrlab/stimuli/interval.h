@@ -25,12 +25,16 @@ enum class Task {
 // "probe" or "drill".
 std::string_view TaskName(Task task);
 
+// The burr radius of simulated intervals, and of sessions, studies, validate
+// and the station unless --radius-mm says otherwise.
+inline constexpr double kDefaultBurrRadiusMm = 2.0;
+
 // One simulated interval.
 struct IntervalOptions {
-  sim::Material material;         // what the interval renders
-  Task task = Task::kProbe;       // what the simulated hand does
-  double duration_s = 20.0;       // virtual time of the interval, > 0
-  double radius_mm = 2.0;         // burr radius
+  sim::Material material;                   // what the interval renders
+  Task task = Task::kProbe;                 // what the simulated hand does
+  double duration_s = 20.0;                 // virtual time of the interval, > 0
+  double radius_mm = kDefaultBurrRadiusMm;  // burr radius
   double spindle_rad_s = 2094.0;  // drill: burr spin (about 20 000 rpm)
   double probe_force_n = 2.0;     // probe: peak force of each press
   double press_period_s = 1.0;    // probe: one press (load and unload) lasts

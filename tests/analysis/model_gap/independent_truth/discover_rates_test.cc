@@ -65,9 +65,10 @@ bool Holds(const std::vector<std::string>& ids, const std::string& id) {
 }
 
 Answer Classify(const DiscoverReport& r, const std::string& expected) {
-  if (r.verdict == "named" || r.verdict == "ambiguous") {
+  if (VerdictName(r.verdict) == "named" ||
+      VerdictName(r.verdict) == "ambiguous") {
     if (expected.empty()) return Answer::kOtherNamed;
-    if (r.verdict == "named" && Holds(r.effects, expected)) {
+    if (VerdictName(r.verdict) == "named" && Holds(r.effects, expected)) {
       return Answer::kNamedRight;
     }
     bool in_set = Holds(r.effects, expected) || Holds(r.alias_set, expected);
@@ -76,15 +77,17 @@ Answer Classify(const DiscoverReport& r, const std::string& expected) {
     }
     return in_set ? Answer::kSetHoldsIt : Answer::kOtherNamed;
   }
-  if (r.verdict == "unexplained") return Answer::kUnexplained;
-  if (r.verdict == "absorbed") return Answer::kAbsorbed;
+  if (VerdictName(r.verdict) == "unexplained") return Answer::kUnexplained;
+  if (VerdictName(r.verdict) == "absorbed") return Answer::kAbsorbed;
   return Answer::kNone;
 }
 
 // The ids a named or ambiguous report sets out (every step's alias set).
 std::vector<std::string> NamedIds(const DiscoverReport& r) {
   std::vector<std::string> ids;
-  if (r.verdict != "named" && r.verdict != "ambiguous") return ids;
+  if (VerdictName(r.verdict) != "named" &&
+      VerdictName(r.verdict) != "ambiguous")
+    return ids;
   for (const std::vector<std::string>& set : r.alias_sets) {
     ids.insert(ids.end(), set.begin(), set.end());
   }
@@ -92,10 +95,10 @@ std::vector<std::string> NamedIds(const DiscoverReport& r) {
   return ids;
 }
 
-DiscoverReport Report(std::string verdict, std::vector<std::string> effects,
+DiscoverReport Report(Verdict verdict, std::vector<std::string> effects,
                       std::vector<std::vector<std::string>> sets) {
   DiscoverReport r;
-  r.verdict = std::move(verdict);
+  r.verdict = verdict;
   r.effects = std::move(effects);
   r.alias_sets = std::move(sets);
   if (!r.alias_sets.empty()) r.alias_set = r.alias_sets.front();
@@ -104,30 +107,34 @@ DiscoverReport Report(std::string verdict, std::vector<std::string> effects,
 
 TEST(IndependentTruthRates, ClassifiesReports) {
   const std::string power = "motor_power_limit";
-  EXPECT_EQ(Classify(Report("named", {power}, {{power}}), power),
+  EXPECT_EQ(Classify(Report(Verdict::kNamed, {power}, {{power}}), power),
             Answer::kNamedRight);
-  EXPECT_EQ(Classify(Report("ambiguous", {"spindle_slowdown"},
+  EXPECT_EQ(Classify(Report(Verdict::kAmbiguous, {"spindle_slowdown"},
                             {{"spindle_slowdown", power}}),
                      power),
             Answer::kSetHoldsIt);
-  EXPECT_EQ(Classify(Report("ambiguous", {power}, {{power, "x"}}), power),
-            Answer::kSetHoldsIt);
+  EXPECT_EQ(
+      Classify(Report(Verdict::kAmbiguous, {power}, {{power, "x"}}), power),
+      Answer::kSetHoldsIt);
   // A second step's set counts too.
   EXPECT_EQ(
-      Classify(Report("ambiguous", {"a", "b"}, {{"a"}, {"b", power}}), power),
+      Classify(Report(Verdict::kAmbiguous, {"a", "b"}, {{"a"}, {"b", power}}),
+               power),
       Answer::kSetHoldsIt);
-  EXPECT_EQ(Classify(Report("named", {"a"}, {{"a"}}), power),
+  EXPECT_EQ(Classify(Report(Verdict::kNamed, {"a"}, {{"a"}}), power),
             Answer::kOtherNamed);
-  EXPECT_EQ(Classify(Report("named", {"a"}, {{"a"}}), ""), Answer::kOtherNamed);
-  EXPECT_EQ(Classify(Report("unexplained", {}, {}), power),
+  EXPECT_EQ(Classify(Report(Verdict::kNamed, {"a"}, {{"a"}}), ""),
+            Answer::kOtherNamed);
+  EXPECT_EQ(Classify(Report(Verdict::kUnexplained, {}, {}), power),
             Answer::kUnexplained);
+  EXPECT_EQ(Classify(Report(Verdict::kAbsorbed, {"porosity"}, {{"porosity"}}),
+                     "porosity"),
+            Answer::kAbsorbed);
+  EXPECT_EQ(Classify(Report(Verdict::kNone, {}, {}), ""), Answer::kNone);
   EXPECT_EQ(
-      Classify(Report("absorbed", {"porosity"}, {{"porosity"}}), "porosity"),
-      Answer::kAbsorbed);
-  EXPECT_EQ(Classify(Report("none", {}, {}), ""), Answer::kNone);
-  EXPECT_EQ(NamedIds(Report("ambiguous", {"a", "b"}, {{"a", "c"}, {"b"}})),
-            (std::vector<std::string>{"a", "c", "b"}));
-  EXPECT_TRUE(NamedIds(Report("absorbed", {"a"}, {{"a"}})).empty());
+      NamedIds(Report(Verdict::kAmbiguous, {"a", "b"}, {{"a", "c"}, {"b"}})),
+      (std::vector<std::string>{"a", "c", "b"}));
+  EXPECT_TRUE(NamedIds(Report(Verdict::kAbsorbed, {"a"}, {{"a"}})).empty());
 }
 
 // Discover on one seed of the generator's data for `truth`, with the design's
@@ -166,7 +173,7 @@ TEST(IndependentTruthRates, FindsAHardCapThatOneHeldOutLevelCannotPlace) {
   ASSERT_TRUE(report.ok()) << report.error().message;
   const Answer answer = Classify(*report, "motor_power_limit");
   EXPECT_TRUE(answer == Answer::kNamedRight || answer == Answer::kSetHoldsIt)
-      << report->verdict << ": " << report->summary;
+      << VerdictName(report->verdict) << ": " << report->summary;
   ASSERT_EQ(report->effects.size(), 1u) << report->summary;
   const ModelFit& before = report->baseline;
   const ModelFit& after = report->augmented;
@@ -247,7 +254,8 @@ Tally RunSeeds(const Design& d, const std::vector<double>& truth,
         std::getenv("BURRLAB_TRUTH_MISSES") != nullptr) {
       std::fprintf(stderr, "  miss, seed %llu (%s): %s\n",
                    static_cast<unsigned long long>(o.per_seed.back().seed),
-                   r.verdict.c_str(), r.summary.c_str());
+                   std::string(VerdictName(r.verdict)).c_str(),
+                   r.summary.c_str());
     }
     if (hit) {
       ++o.hits;

@@ -169,7 +169,7 @@ TEST(IndependentTruthRig, BaseFitNearFullImmersionReachesTheMinimum) {
   EXPECT_LE(report->baseline.rss_log_v, rss_at_truth);
   EXPECT_NEAR(report->baseline.c_e_n_per_mm2, m.c_e_n_per_mm2,
               0.1 * m.c_e_n_per_mm2);
-  EXPECT_EQ(report->verdict, "none") << report->summary;
+  EXPECT_EQ(VerdictName(report->verdict), "none") << report->summary;
 }
 
 // The verdicts of `seeds` noise draws around `truth` (noise-free velocities at
@@ -197,7 +197,8 @@ std::map<std::string, int> CountVerdicts(const RigMaterial& m, const Design& d,
           data.ok() ? Discover(*data, options)
                     : Result<DiscoverReport>(data.error());
       const std::size_t slot = static_cast<std::size_t>(k);
-      verdicts[slot] = report.ok() ? report->verdict : "error";
+      verdicts[slot] =
+          report.ok() ? std::string(VerdictName(report->verdict)) : "error";
       summaries[slot] = report.ok() ? report->summary : report.error().message;
     }
   };

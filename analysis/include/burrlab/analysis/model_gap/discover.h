@@ -132,9 +132,21 @@ struct EffectAttribution {
   bool absorbed = false;  // identifiability < absorbed_index
 };
 
+// What discovery concluded about the gap between the base model and the data.
+enum class Verdict {
+  kNone,         // no gap the tests can see: the base model explains the data
+  kNamed,        // a gap, and the effect(s) added close it
+  kAmbiguous,    // a gap closed by an effect the design cannot tell from
+                 // others (its alias set)
+  kUnexplained,  // a gap no effect in the library closes
+  kAbsorbed,     // the effect is absorbed by the base model's own parameters
+};
+// "none", "named", "ambiguous", "unexplained" or "absorbed" (as reports,
+// JSON and Markdown spell it).
+std::string_view VerdictName(Verdict verdict);
+
 struct DiscoverReport {
-  // named, ambiguous, unexplained, absorbed or none.
-  std::string verdict;
+  Verdict verdict = Verdict::kNone;
   // What the velocities were (DiscoverOptions::definition).
   sim::VelocityDefinition velocity_definition = sim::kDefaultVelocityDefinition;
   std::vector<std::string> effects;    // added, in order (empty: none)

@@ -86,14 +86,14 @@ std::string ScenarioCsv(const ScenarioDesign& design,
 // One seed's report, as the scenario tally saw it.
 struct SeedOutcome {
   std::uint64_t seed = 0;
-  std::string verdict;
+  Verdict verdict = Verdict::kNone;
   std::vector<std::string> named;  // every alias set's ids (named/ambiguous)
 };
 
 struct ScenarioOutcome {
   int seeds = 0;
-  std::vector<SeedOutcome> per_seed;    // in seed order
-  std::map<std::string, int> verdicts;  // count per verdict
+  std::vector<SeedOutcome> per_seed;  // in seed order
+  std::map<Verdict, int> verdicts;    // count per verdict
   int hits = 0;  // expected id named, or in the alias set (named/ambiguous)
   int named_physical = 0;   // verdict named or ambiguous (any effect)
   int cv_shrank = 0;        // held-out RMSE after < before, among hits

@@ -1666,24 +1666,23 @@ ParseOutcome ParseProtocol(std::string_view path, std::string_view text) {
                      text.size(), kMaxProtocolBytes)});
     return outcome;
   }
-  if (std::optional<std::size_t> offset =
-          stimuli::ExcessDotOffset(text, kMaxDots)) {
-    const toml::source_position at = stimuli::PositionOf(text, *offset);
-    outcome.diagnostics.push_back(
-        {{static_cast<int>(at.line), static_cast<int>(at.column)},
-         fmt::format("more than {} '.' outside strings and comments; nesting "
-                     "this deep is refused",
-                     kMaxDots)});
+  std::variant<toml::table, stimuli::TomlFailure> root =
+      stimuli::ParseTomlDocument(
+          path, text, kMaxDots,
+          fmt::format("more than {} '.' outside strings and comments; nesting "
+                      "this deep is refused",
+                      kMaxDots));
+  if (const auto* failure = std::get_if<stimuli::TomlFailure>(&root)) {
+    SourceLocation where;  // none: the file only
+    if (failure->where.has_value()) {
+      where = {static_cast<int>(failure->where->line),
+               static_cast<int>(failure->where->column)};
+    }
+    outcome.diagnostics.push_back({where, failure->message});
     return outcome;
   }
   try {
-    const toml::table root = toml::parse(text, path);
-    return Parser(path).Parse(root);
-  } catch (const toml::parse_error& error) {
-    const toml::source_position at = error.source().begin;
-    outcome.diagnostics.push_back(
-        {{static_cast<int>(at.line), static_cast<int>(at.column)},
-         stimuli::SyntaxMessage(error.description())});
+    return Parser(path).Parse(std::get<toml::table>(root));
   } catch (const std::exception& error) {
     outcome.diagnostics.push_back(
         {{}, fmt::format("cannot parse: {}", error.what())});

@@ -426,18 +426,17 @@ Result<MaterialSet> ParseMaterial(std::string_view path,
                    fmt::format("material text is larger than 1 MiB ({} bytes)",
                                text.size()));
   }
-  if (std::optional<std::size_t> offset = ExcessDotOffset(text, kMaxDots)) {
-    return ErrorAt(path, PositionOf(text, *offset),
-                   fmt::format("more than {} '.' outside strings and "
-                               "comments; nesting this deep is refused",
-                               kMaxDots));
+  std::variant<toml::table, TomlFailure> root = ParseTomlDocument(
+      path, text, kMaxDots,
+      fmt::format("more than {} '.' outside strings and comments; nesting "
+                  "this deep is refused",
+                  kMaxDots));
+  if (const auto* failure = std::get_if<TomlFailure>(&root)) {
+    return ErrorAt(path, failure->where.value_or(toml::source_position{1, 1}),
+                   failure->message);
   }
   try {
-    const toml::table root = toml::parse(text, path);
-    return SchemaChecker(path).Check(root);
-  } catch (const toml::parse_error& error) {
-    return ErrorAt(path, error.source().begin,
-                   SyntaxMessage(error.description()));
+    return SchemaChecker(path).Check(std::get<toml::table>(root));
   } catch (const std::exception& error) {
     return ErrorAt(path, {1, 1}, fmt::format("cannot parse: {}", error.what()));
   } catch (...) {

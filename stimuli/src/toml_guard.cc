@@ -96,4 +96,24 @@ std::string SyntaxMessage(std::string_view description) {
   return message;
 }
 
+std::variant<toml::table, TomlFailure> ParseTomlDocument(
+    std::string_view path, std::string_view text, std::size_t max_dots,
+    std::string_view too_deep_message) {
+  if (std::optional<std::size_t> offset = ExcessDotOffset(text, max_dots)) {
+    return TomlFailure{PositionOf(text, *offset),
+                       std::string(too_deep_message)};
+  }
+  try {
+    return toml::parse(text, path);
+  } catch (const toml::parse_error& error) {
+    return TomlFailure{error.source().begin,
+                       SyntaxMessage(error.description())};
+  } catch (const std::exception& error) {
+    return TomlFailure{std::nullopt,
+                       fmt::format("cannot parse: {}", error.what())};
+  } catch (...) {
+    return TomlFailure{std::nullopt, "cannot parse: unknown error"};
+  }
+}
+
 }  // namespace burrlab::stimuli

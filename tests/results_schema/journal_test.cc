@@ -581,14 +581,16 @@ TEST(Journal, CreateInAnUnwritableFolderFails) {
   EXPECT_TRUE(fs::is_empty(locked));
 }
 
-// Appends trials in a loop until killed (the child side of the crash tests).
-[[noreturn]] void AppendForever(const fs::path& dir) {
+// Appends trials in a loop until killed (the child side of the crash tests),
+// writing one byte to `committed_fd` after each append returns.
+[[noreturn]] void AppendForever(const fs::path& dir, int committed_fd) {
   auto journal = Journal::Open(dir, "01");
   if (!journal.ok()) _exit(3);
   auto next = journal->NextTrialIndex();
   if (!next.ok()) _exit(4);
   for (int i = *next; i < 1'000'000; ++i) {
     if (!journal->Append(MakeTrial(i), MakeTraces(i, 2000)).ok()) _exit(5);
+    if (write(committed_fd, "c", 1) != 1) _exit(6);
   }
   _exit(0);
 }
@@ -598,15 +600,33 @@ TEST(Journal, SurvivesSigkillAtRandomPointsWithoutLosingOrDuplicating) {
   ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
   std::mt19937 rng(20240501);
   std::uniform_int_distribution<int> delay_us(0, 40'000);
+  // Kill points are counted in commits, then timed: the child is killed after
+  // 0-2 of its appends returned and a random delay, so some kills find
+  // commits to keep however slow or loaded the machine is, and the delay
+  // lands the kill anywhere in the next append.
+  std::uniform_int_distribution<int> commits_before(0, 2);
   constexpr int kKills = 24;
   int expected = 0;  // trials known to be committed
   int kills_with_progress = 0;
   for (int kill_index = 0; kill_index < kKills; ++kill_index) {
+    int committed[2];
+    ASSERT_EQ(pipe(committed), 0);
     const pid_t pid = fork();
     ASSERT_GE(pid, 0);
-    if (pid == 0) AppendForever(dir.path());
+    if (pid == 0) {
+      close(committed[0]);
+      AppendForever(dir.path(), committed[1]);
+    }
+    close(committed[1]);
+    const int wait_for = commits_before(rng);
+    for (int c = 0; c < wait_for; ++c) {
+      char byte = 0;
+      ASSERT_EQ(read(committed[0], &byte, 1), 1)
+          << "the child ended before its append " << c + 1;
+    }
     std::this_thread::sleep_for(std::chrono::microseconds(delay_us(rng)));
     ASSERT_EQ(kill(pid, SIGKILL), 0);
+    close(committed[0]);
     int status = 0;
     ASSERT_EQ(waitpid(pid, &status, 0), pid);
     ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)

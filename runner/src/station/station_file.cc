@@ -70,24 +70,17 @@ bool LooksLikeStationFile(std::string_view text) {
 StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
   StationParseOutcome outcome;
   std::vector<Diagnostic>& d = outcome.diagnostics;
-  if (auto at = stimuli::ExcessDotOffset(text, 64)) {
-    const toml::source_position p = stimuli::PositionOf(text, *at);
+  std::variant<toml::table, stimuli::TomlFailure> document =
+      stimuli::ParseTomlDocument(
+          path, text, 64, "too many dotted keys (a station file needs few)");
+  if (const auto* failure = std::get_if<stimuli::TomlFailure>(&document)) {
+    const toml::source_position p =
+        failure->where.value_or(toml::source_position{1, 1});
     d.push_back({{static_cast<int>(p.line), static_cast<int>(p.column)},
-                 "too many dotted keys (a station file needs few)"});
+                 failure->message});
     return outcome;
   }
-  toml::table root;
-  try {
-    root = toml::parse(text, path);
-  } catch (const toml::parse_error& e) {
-    d.push_back({{static_cast<int>(e.source().begin.line),
-                  static_cast<int>(e.source().begin.column)},
-                 stimuli::SyntaxMessage(e.description())});
-    return outcome;
-  } catch (const std::exception& e) {
-    d.push_back({{1, 1}, fmt::format("cannot parse: {}", e.what())});
-    return outcome;
-  }
+  const toml::table& root = std::get<toml::table>(document);
   Parser p(&d);
   StationConfig config;
   p.OnlyKeys(root, "the station file",

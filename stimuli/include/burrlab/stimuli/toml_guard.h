@@ -1,8 +1,9 @@
-// Reading untrusted TOML (material and protocol files): a lexical limit on
-// nesting checked before toml++ sees the text (toml++ builds and destroys
-// nested tables recursively, so 100,000 dotted keys overflow the stack), the
-// position of a byte offset as toml++ counts it, and toml++'s parse errors
-// reworded as one line.
+// Reading untrusted TOML (material, protocol and station files): a lexical
+// limit on nesting checked before toml++ sees the text (toml++ builds and
+// destroys nested tables recursively, so 100,000 dotted keys overflow the
+// stack), the position of a byte offset as toml++ counts it, toml++'s parse
+// errors reworded as one line, and the document read with all three
+// (ParseTomlDocument), which every file kind's parser starts with.
 #ifndef BURRLAB_STIMULI_TOML_GUARD_H_
 #define BURRLAB_STIMULI_TOML_GUARD_H_
 
@@ -12,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 
 namespace burrlab::stimuli {
 
@@ -26,6 +28,21 @@ std::optional<std::size_t> ExcessDotOffset(std::string_view text,
 // toml++'s parse error as "invalid TOML ...", its quoted text made
 // printable (burrlab/sim/printable.h).
 std::string SyntaxMessage(std::string_view description);
+
+// Why a TOML document could not be read: where (none for a failure of no
+// place, e.g. out of memory) and a one-line message.
+struct TomlFailure {
+  std::optional<toml::source_position> where;
+  std::string message;
+};
+
+// The root table of `text` (named `path` in toml++'s records), or the first
+// failure: a '.' beyond `max_dots` outside strings and comments (at that dot,
+// with `too_deep_message`), a syntax error (where toml++ found it, with
+// SyntaxMessage), anything else toml++ throws ("cannot parse: ...").
+std::variant<toml::table, TomlFailure> ParseTomlDocument(
+    std::string_view path, std::string_view text, std::size_t max_dots,
+    std::string_view too_deep_message);
 
 }  // namespace burrlab::stimuli
 

@@ -1,6 +1,10 @@
 # Checks the layout rules of README.md ("Layout") on the source tree (run as a ctest
 # with -P):
 #  - each library folder includes only public headers of the folders it may depend on;
+#    every folder may include burrlab/base/ (burrlab::base, in sim/base/), which is
+#    checked as a folder of its own and includes nothing else of burrlab; sim/ outside
+#    base/ includes only sim/ and base/; analysis/ outside model_gap/ (burrlab::analysis)
+#    includes no sim/, only its model-gap layer does;
 #  - inside analysis/, the psychophysics part does not include the model-gap layer
 #    (analysis/include/burrlab/analysis/model_gap/, analysis/src/model_gap/): the model
 #    gap depends on analysis, not the reverse;
@@ -17,12 +21,14 @@
 #    those libraries.
 # Usage: cmake -DSOURCE_DIR=<repo> -P CheckLayering.cmake
 cmake_minimum_required(VERSION 3.25)
-set(allowed_sim sim)
-set(allowed_results_schema results_schema)
-set(allowed_stimuli stimuli sim results_schema)
-set(allowed_protocols protocols stimuli sim results_schema)
-set(allowed_analysis analysis results_schema sim)
-set(allowed_runner runner protocols stimuli sim analysis results_schema)
+set(allowed_base base)
+set(allowed_sim sim base)
+set(allowed_results_schema results_schema base)
+set(allowed_stimuli stimuli sim results_schema base)
+set(allowed_protocols protocols stimuli sim results_schema base)
+set(allowed_analysis analysis results_schema base)
+set(allowed_analysis_model_gap analysis results_schema sim base)
+set(allowed_runner runner protocols stimuli sim analysis results_schema base)
 # The runner's layers (runner/src/<layer>/) and the layers each may include.
 set(runner_layers cli station studies devices common)
 set(layer_allowed_cli cli station studies devices common)
@@ -38,15 +44,27 @@ set(failures "")
 foreach(folder sim results_schema stimuli protocols analysis runner)
   file(GLOB_RECURSE files "${SOURCE_DIR}/${folder}/*.h" "${SOURCE_DIR}/${folder}/*.cc")
   foreach(file ${files})
+    file(RELATIVE_PATH relative "${SOURCE_DIR}" "${file}")
+    # The include rules of the file's folder; sim/base/ and analysis/'s two parts
+    # have their own.
+    set(checked ${folder})
+    set(label "${folder}/")
+    if(relative MATCHES "^sim/base/")
+      set(checked base)
+      set(label "sim/base/")
+    elseif(relative MATCHES "^analysis/(src|include/burrlab/analysis)/model_gap/")
+      set(checked analysis_model_gap)
+    elseif(folder STREQUAL "analysis")
+      set(label "analysis/ outside model_gap/")
+    endif()
     file(STRINGS "${file}" includes REGEX "^#include \"burrlab/[a-z_]+/")
     foreach(line ${includes})
       string(REGEX REPLACE "^#include \"burrlab/([a-z_]+)/.*" "\\1" target "${line}")
-      list(FIND allowed_${folder} "${target}" found)
+      list(FIND allowed_${checked} "${target}" found)
       if(found EQUAL -1)
-        list(APPEND failures "${file}: ${folder}/ may not include burrlab/${target}/")
+        list(APPEND failures "${file}: ${label} may not include burrlab/${target}/")
       endif()
     endforeach()
-    file(RELATIVE_PATH relative "${SOURCE_DIR}" "${file}")
     if(folder STREQUAL "analysis" AND
        NOT relative MATCHES "^analysis/(src|include/burrlab/analysis)/model_gap/")
       file(STRINGS "${file}" model_gap_includes

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::analysis {
 

@@ -51,7 +51,7 @@ Status Collect(const BehFile& file, Samples* out) {
     double last_trial = -1.0, last_interval = -1.0, last_z = 0.0;
     double interval_removed = 0.0;
     const double fs = physio.sampling_frequency_hz;
-    results_schema::Status s = results_schema::ForEachPhysioRow(
+    Status s = results_schema::ForEachPhysioRow(
         physio, [&](std::span<const double> row) {
           const bool same =
               row[*trial] == last_trial && row[*interval] == last_interval;
@@ -83,7 +83,7 @@ Status Collect(const BehFile& file, Samples* out) {
           out->summary.duration_s += 1.0 / fs;
           return true;
         });
-    if (!s.ok()) return Error{s.error().message};
+    if (!s.ok()) return s.error();
     removed += interval_removed;
   }
   KinematicsSummary& k = out->summary;

@@ -17,7 +17,7 @@
 #include <optional>
 #include <sstream>
 
-#include "burrlab/sim/printable.h"
+#include "burrlab/base/printable.h"
 #include "csv_text.h"
 
 namespace burrlab::analysis {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/sim/spelling.h"
+#include "burrlab/base/spelling.h"
 
 namespace burrlab::protocols {
 namespace {

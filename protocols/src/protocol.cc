@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/sim/printable.h"
+#include "burrlab/base/printable.h"
 
 namespace burrlab::protocols {
 

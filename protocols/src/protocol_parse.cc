@@ -15,9 +15,9 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/printable.h"
+#include "burrlab/base/spelling.h"
 #include "burrlab/protocols/protocol.h"
-#include "burrlab/sim/printable.h"
-#include "burrlab/sim/spelling.h"
 #include "burrlab/stimuli/toml_guard.h"
 
 namespace burrlab::protocols {

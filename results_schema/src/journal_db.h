@@ -13,8 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/results_schema/records.h"
-#include "burrlab/results_schema/status.h"
 
 namespace burrlab::results_schema::db {
 

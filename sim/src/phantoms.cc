@@ -16,14 +16,13 @@
 #include <string>
 #include <string_view>
 
+#include "burrlab/sim/finite.h"
 #include "cube_cut.h"
-#include "finite.h"
 
 namespace burrlab::sim {
 namespace {
 
 using internal::CubeFractionBelow;
-using internal::IsFinite;
 
 constexpr double kHalfDiagonal = 0.8660254037844386;  // sqrt(3) / 2
 

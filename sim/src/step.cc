@@ -9,14 +9,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "burrlab/sim/finite.h"
 #include "burrlab/sim/moments.h"
-#include "finite.h"
 #include "octree_walk.h"
 
 namespace burrlab::sim {
 namespace {
-
-using internal::IsFinite;
 
 double Norm(const glm::dvec3& v) {
   return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);

@@ -22,8 +22,8 @@
 #include <utility>
 #include <vector>
 
-#include "burrlab/sim/printable.h"
-#include "burrlab/sim/spelling.h"
+#include "burrlab/base/printable.h"
+#include "burrlab/base/spelling.h"
 #include "burrlab/stimuli/toml_guard.h"
 
 namespace burrlab::stimuli {

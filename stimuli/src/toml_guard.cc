@@ -3,7 +3,7 @@
 
 #include <fmt/format.h>
 
-#include "burrlab/sim/printable.h"
+#include "burrlab/base/printable.h"
 
 namespace burrlab::stimuli {
 

@@ -148,7 +148,7 @@ Violations FuzzPsychometric(std::string_view input) {
 
 Violations FuzzBehTsv(std::string_view input) {
   return Guarded("beh_tsv", [&](Violations* v) {
-    const results_schema::Result<results_schema::BehTable> table =
+    const Result<results_schema::BehTable> table =
         results_schema::ParseBehTsv(kInputPath, input);
     if (Failed(table, input, "beh_tsv", v)) return;
     Expect(!table.value().trials.empty(), "beh_tsv: parsed without trials", v);
@@ -171,7 +171,7 @@ Violations FuzzBehTsv(std::string_view input) {
 
 Violations FuzzPhysioSidecar(std::string_view input) {
   return Guarded("physio_sidecar", [&](Violations* v) {
-    const results_schema::Result<results_schema::PhysioFile> file =
+    const Result<results_schema::PhysioFile> file =
         results_schema::ParsePhysioSidecar("input_physio.json", input);
     if (!file.ok()) {
       Expect(file.error().message.starts_with("input_physio.json:"),
@@ -196,7 +196,7 @@ Violations FuzzPhysioRows(std::string_view input) {
         "trial_index", "interval_index", "time",    "x_mm",
         "y_mm",        "z_mm",           "force_n", "depth_mm"};
     std::size_t rows = 0;
-    const results_schema::Status s = results_schema::ForEachPhysioRowOfText(
+    const Status s = results_schema::ForEachPhysioRowOfText(
         kInputPath, columns, input, [&](std::span<const double> row) {
           ++rows;
           if (row.size() != columns.size()) {

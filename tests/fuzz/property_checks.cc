@@ -5,7 +5,7 @@
 #include <charconv>
 #include <string>
 
-#include "burrlab/sim/printable.h"
+#include "burrlab/base/printable.h"
 
 namespace burrlab::fuzz {
 namespace {

@@ -1,6 +1,6 @@
 // Properties every fuzz target checks of an error or diagnostic: non-empty,
 // printable (no raw control characters or malformed UTF-8, as
-// burrlab/sim/printable.h escapes them), naming the file, and pointing at a
+// burrlab/base/printable.h escapes them), naming the file, and pointing at a
 // line the input has. Each failed check appends one line to a Violations.
 #ifndef BURRLAB_TESTS_FUZZ_PROPERTY_CHECKS_H_
 #define BURRLAB_TESTS_FUZZ_PROPERTY_CHECKS_H_

@@ -19,8 +19,8 @@
 
 #include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/analysis/model_gap/trace_gap.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/effects.h"
-#include "burrlab/sim/result.h"
 #include "model_gap/discover_internal.h"
 #include "non_finite.h"
 

@@ -20,8 +20,8 @@
 #include "burrlab/analysis/model_gap/discover.h"
 #include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/analysis/model_gap/trace_gap.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/effects.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis::discover_internal {
 

@@ -42,7 +42,7 @@ Json Optional(const std::optional<double>& value) {
 // before its end (one warning per subject).
 Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
                                                          std::ostream& err) {
-  results_schema::Result<std::vector<results_schema::BehFile>> files =
+  Result<std::vector<results_schema::BehFile>> files =
       results_schema::ReadBidsDataset(dir);
   const std::vector<results_schema::BehFile> none;
   const std::vector<results_schema::UnexportedTrials> unexported =
@@ -67,7 +67,7 @@ Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
                     });
     if (!warned) err << IncompleteSessionWarning(s, dir);
   }
-  if (!files.ok()) return Error{files.error().message};
+  if (!files.ok()) return files.error();
   return std::move(files.value());
 }
 

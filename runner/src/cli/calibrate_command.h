@@ -9,8 +9,8 @@
 #include <string>
 
 #include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/descent.h"
-#include "burrlab/sim/result.h"
 #include "cli/command_table.h"
 #include "cli/flags.h"
 

@@ -5,7 +5,7 @@
 #include <exception>
 #include <string_view>
 
-#include "burrlab/sim/spelling.h"
+#include "burrlab/base/spelling.h"
 #include "burrlab_version.h"
 #include "cli/analyze_commands.h"
 #include "cli/calibrate_command.h"

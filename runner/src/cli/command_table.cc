@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "burrlab/sim/spelling.h"
+#include "burrlab/base/spelling.h"
 
 namespace burrlab::runner {
 

@@ -11,8 +11,8 @@
 #include <system_error>
 #include <utility>
 
+#include "burrlab/base/spelling.h"
 #include "burrlab/results_schema/records.h"
-#include "burrlab/sim/spelling.h"
 
 namespace burrlab::runner {
 namespace {

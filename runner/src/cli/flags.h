@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "cli/command_table.h"
 
 namespace CLI {

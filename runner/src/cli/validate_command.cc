@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/base/printable.h"
 #include "burrlab/protocols/protocol.h"
-#include "burrlab/sim/printable.h"
 #include "burrlab/stimuli/interval.h"
 #include "cli/flags.h"
 #include "station/station_file.h"

@@ -12,8 +12,8 @@
 #include <glm/geometric.hpp>
 #include <vector>
 
+#include "burrlab/sim/finite.h"
 #include "devices/falcon_kinematics.h"
-#include "devices/finite.h"
 
 namespace burrlab::runner {
 namespace {
@@ -402,7 +402,7 @@ DeviceStatus FalconDevice::WriteForce(const glm::dvec3& force_n) noexcept {
   if (!homed_) return {DeviceCode::kNotReady, "Falcon not homed"};
   DeviceStatus result;
   glm::dvec3 force = force_n;
-  if (!IsFinite(force)) {
+  if (!sim::IsFinite(force)) {
     force = glm::dvec3(0.0);
     result = {DeviceCode::kInvalidArgument,
               "non-finite force refused; zero force sent"};

@@ -15,7 +15,7 @@
 #include <span>
 #include <string>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "devices/device.h"
 #include "devices/falcon_packet.h"
 #include "devices/falcon_transport.h"

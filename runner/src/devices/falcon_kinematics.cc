@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 #include <numbers>
 
-#include "devices/finite.h"
+#include "burrlab/sim/finite.h"
 
 namespace burrlab::runner::falcon {
 namespace {
@@ -120,7 +120,7 @@ bool ForwardKinematics(const glm::dvec3& angles_rad, const glm::dvec3& guess_mm,
                        glm::dvec3* position_mm) noexcept {
   constexpr int kMaxIterations = 60;
   constexpr double kToleranceRad = 1e-14;
-  if (!IsFinite(angles_rad) || !IsFinite(guess_mm)) return false;
+  if (!sim::IsFinite(angles_rad) || !sim::IsFinite(guess_mm)) return false;
   glm::dvec3 p = guess_mm;
   glm::dvec3 theta;
   if (!InverseKinematics(p, &theta)) {
@@ -162,7 +162,8 @@ bool ForwardKinematics(const glm::dvec3& angles_rad, const glm::dvec3& guess_mm,
 bool ForceToTorques(const glm::dvec3& position_mm, const glm::dvec3& force_n,
                     glm::dvec3* torques_n_m) noexcept {
   std::array<glm::dvec3, 3> rows;
-  if (!IsFinite(force_n) || !AngleJacobian(position_mm, &rows)) return false;
+  if (!sim::IsFinite(force_n) || !AngleJacobian(position_mm, &rows))
+    return false;
   // tau = J^-T F: solve J^T tau = F with the columns of J^T = rows of J.
   const glm::dvec3 c0 = glm::cross(rows[1], rows[2]);
   const glm::dvec3 c1 = glm::cross(rows[2], rows[0]);
@@ -178,7 +179,7 @@ bool ForceToTorques(const glm::dvec3& position_mm, const glm::dvec3& force_n,
 
 std::array<std::int16_t, 3> TorquesToMotorCommands(
     const glm::dvec3& torques_n_m) noexcept {
-  if (!IsFinite(torques_n_m)) return {};
+  if (!sim::IsFinite(torques_n_m)) return {};
   glm::dvec3 counts = -kMotorCountsPerNewtonMetre * torques_n_m;
   const double largest =
       std::max({std::abs(counts.x), std::abs(counts.y), std::abs(counts.z)});

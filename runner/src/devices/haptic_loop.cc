@@ -13,7 +13,7 @@
 #include <ctime>
 #include <glm/geometric.hpp>
 
-#include "devices/finite.h"
+#include "burrlab/sim/finite.h"
 
 namespace burrlab::runner {
 namespace {
@@ -83,7 +83,7 @@ DeviceStatus HapticLoop::Tick(std::int64_t deadline_ns) noexcept {
 
   glm::dvec3 force_n = source_->Force(position_mm);
   const std::int64_t ready_ns = clock_->NowNs();
-  if (!IsFinite(force_n)) {
+  if (!sim::IsFinite(force_n)) {
     ++counters_.non_finite;
     force_n = glm::dvec3(0.0);
     seh_.Reset();

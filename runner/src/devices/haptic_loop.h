@@ -17,7 +17,7 @@
 #include <thread>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/seh.h"
 #include "common/loop_counters.h"
 #include "devices/device.h"

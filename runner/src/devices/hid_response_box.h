@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::runner {
 

@@ -8,7 +8,7 @@
 
 #include <memory>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "devices/falcon_transport.h"
 
 struct libusb_context;

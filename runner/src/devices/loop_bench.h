@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "devices/haptic_loop.h"
 
 namespace burrlab::runner {

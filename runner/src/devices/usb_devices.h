@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::runner {
 

@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "devices/falcon_device.h"
 #include "devices/hid_response_box.h"
 #include "devices/libusb_transport.h"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <set>
 
-#include "burrlab/sim/printable.h"
+#include "burrlab/base/printable.h"
 #include "burrlab/stimuli/toml_guard.h"
 #include "station/toml_location.h"
 

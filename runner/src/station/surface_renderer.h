@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "station/surface_snapshot.h"
 
 namespace burrlab::runner {

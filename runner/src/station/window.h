@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "station/experimenter_view.h"
 #include "station/station_frame.h"
 #include "station/station_layout.h"

@@ -79,9 +79,9 @@ Status PrepareOutDir(const fs::path& dir) {
 }
 
 Result<std::vector<analysis::BlockScores>> Analyse(const fs::path& dir) {
-  results_schema::Result<std::vector<results_schema::BehFile>> files =
+  Result<std::vector<results_schema::BehFile>> files =
       results_schema::ReadBidsDataset(dir);
-  if (!files.ok()) return Error{files.error().message};
+  if (!files.ok()) return files.error();
   return analysis::ScoreBlocks(*files);
 }
 

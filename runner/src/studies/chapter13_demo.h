@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "studies/observer_fit.h"
 
 namespace burrlab::runner {

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/protocol.h"
-#include "burrlab/sim/result.h"
 #include "studies/virtual_study.h"
 
 namespace burrlab::runner {

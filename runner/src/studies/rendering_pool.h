@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "burrlab/stimuli/interval.h"
 
 namespace burrlab::runner {

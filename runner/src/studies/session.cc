@@ -16,11 +16,11 @@
 #include <utility>
 #include <vector>
 
+#include "burrlab/base/printable.h"
 #include "burrlab/protocols/engine.h"
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/results_schema/records.h"
-#include "burrlab/sim/printable.h"
 #include "burrlab/stimuli/interval.h"
 #include "burrlab_version.h"
 
@@ -104,13 +104,9 @@ class SessionRunner {
   Result<SessionSummary> Run();
   // Trials in the journal now (0 when it cannot be read).
   // Records in the journal that the session ran to its end.
-  Status MarkComplete() {
-    rs::Status s = journal_.MarkComplete();
-    if (!s.ok()) return Error{s.error().message};
-    return {};
-  }
+  Status MarkComplete() { return journal_.MarkComplete(); }
   int StoredTrials() const {
-    rs::Result<int> n = journal_.NextTrialIndex();
+    Result<int> n = journal_.NextTrialIndex();
     return n.ok() ? n.value() : 0;
   }
 
@@ -394,8 +390,8 @@ Result<protocols::Response> SessionRunner::TerminalResponse(
 
 Result<SessionSummary> SessionRunner::Run() {
   SessionSummary summary;
-  rs::Result<int> next = journal_.NextTrialIndex();
-  if (!next.ok()) return Error{next.error().message};
+  Result<int> next = journal_.NextTrialIndex();
+  if (!next.ok()) return next.error();
   summary.trials_resumed = next.value();
   while (!engine_.finished()) {
     const TrialSpec trial = engine_.current();
@@ -473,7 +469,7 @@ Result<SessionSummary> SessionRunner::Run() {
       for (auto& [key, value] : live_intervals.items()) extra[key] = value;
     }
     r.extra = extra.dump();
-    if (rs::Status s = journal_.Append(r, presented->traces); !s.ok()) {
+    if (Status s = journal_.Append(r, presented->traces); !s.ok()) {
       return Error{fmt::format(
           "cannot save trial {}: {} (the journal keeps the {} trials before "
           "it; fix the cause and run again with --resume)",
@@ -645,8 +641,8 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
   info.burrlab_version = BURRLAB_VERSION;
   info.started_utc = UtcNow();
   info.setup = SessionSetup(options);
-  if (rs::Status s = rs::ValidateSubjectLabel(options.subject); !s.ok()) {
-    return Error{s.error().message};
+  if (Status s = rs::ValidateSubjectLabel(options.subject); !s.ok()) {
+    return s.error();
   }
   if (options.responder == Responder::kSimulated) {
     if (Status s = options.observer.Validate(); !s.ok()) return s.error();
@@ -663,35 +659,35 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
     }
   }
   std::vector<rs::TrialRecord> records;
-  auto journal = [&]() -> rs::Result<rs::Journal> {
+  auto journal = [&]() -> Result<rs::Journal> {
     if (!options.resume) return rs::Journal::Create(options.out_dir, info);
-    rs::Result<rs::Journal> opened =
+    Result<rs::Journal> opened =
         rs::Journal::Open(options.out_dir, options.subject);
     if (!opened.ok()) return opened;
-    rs::Result<int> stored = opened->NextTrialIndex();
+    Result<int> stored = opened->NextTrialIndex();
     if (!stored.ok()) return stored.error();
     // A run that stopped before its first trial starts again as given now.
-    rs::Status same =
+    Status same =
         *stored == 0 ? opened->Restart(info) : opened->CheckSameSession(info);
     if (!same.ok()) return same.error();
     return opened;
   }();
-  if (!journal.ok()) return Error{journal.error().message};
-  if (rs::Status s = journal->SetPlannedTrials(
+  if (!journal.ok()) return journal.error();
+  if (Status s = journal->SetPlannedTrials(
           PlannedTrials(loaded.protocol, options.subject_index, options.seed));
       !s.ok()) {
-    return Error{s.error().message};
+    return s.error();
   }
   if (options.journal_limit_bytes_for_testing > 0) {
-    if (rs::Status s = journal->LimitSizeForTesting(
+    if (Status s = journal->LimitSizeForTesting(
             options.journal_limit_bytes_for_testing);
         !s.ok()) {
-      return Error{s.error().message};
+      return s.error();
     }
   }
   if (options.resume) {
-    rs::Result<std::vector<rs::TrialRecord>> stored = journal->Trials();
-    if (!stored.ok()) return Error{stored.error().message};
+    Result<std::vector<rs::TrialRecord>> stored = journal->Trials();
+    if (!stored.ok()) return stored.error();
     records = std::move(stored.value());
   }
   Result<Engine> engine =
@@ -716,8 +712,7 @@ Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
   // The journal (and with it the session's lock) stays open through the
   // export, so no other run writes the session meanwhile.
   if (options.export_bids) {
-    if (rs::Status s = rs::ExportBids(options.out_dir, options.subject);
-        !s.ok()) {
+    if (Status s = rs::ExportBids(options.out_dir, options.subject); !s.ok()) {
       return Error{
           fmt::format("the journal is complete but the export "
                       "failed: {}",

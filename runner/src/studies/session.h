@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
 #include "burrlab/protocols/protocol.h"
 #include "burrlab/results_schema/records.h"
-#include "burrlab/sim/result.h"
 #include "burrlab/stimuli/interval.h"
 #include "common/loop_counters.h"
 #include "studies/rendering_pool.h"

@@ -151,7 +151,7 @@ SimulatedStudyResult RunSimulatedStudy(const LoadedProtocol& loaded,
   for (std::thread& t : threads) t.join();
   for (std::size_t i = 0; i < options.labels.size(); ++i) {
     if (!result.failures[i].empty()) continue;
-    if (results_schema::Status s =
+    if (Status s =
             results_schema::ExportBids(options.out_dir, options.labels[i]);
         !s.ok()) {
       result.failures[i] = "export failed: " + s.error().message;

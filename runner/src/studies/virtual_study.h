@@ -22,10 +22,10 @@
 #include <vector>
 
 #include "burrlab/analysis/scores.h"
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
 #include "burrlab/protocols/protocol.h"
-#include "burrlab/sim/result.h"
 #include "studies/rendering_pool.h"
 
 namespace burrlab::runner {

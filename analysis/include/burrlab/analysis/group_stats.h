@@ -6,7 +6,7 @@
 
 #include <span>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::analysis {
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "burrlab/analysis/plot.h"
+#include "burrlab/base/result.h"
 #include "burrlab/results_schema/bids_read.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::analysis {
 

@@ -19,7 +19,7 @@
 #include <string_view>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::analysis {
 

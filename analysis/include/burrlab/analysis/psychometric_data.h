@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "burrlab/analysis/psychometric.h"
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::analysis {
 

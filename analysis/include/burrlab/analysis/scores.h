@@ -14,8 +14,8 @@
 
 #include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/plot.h"
+#include "burrlab/base/result.h"
 #include "burrlab/results_schema/bids_read.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 

@@ -7,7 +7,7 @@
 
 #include <string_view>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::analysis {
 

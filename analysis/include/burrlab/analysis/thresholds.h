@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "burrlab/analysis/psychometric.h"
+#include "burrlab/base/result.h"
 #include "burrlab/results_schema/bids_read.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 

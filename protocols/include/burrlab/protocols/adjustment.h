@@ -20,8 +20,8 @@
 #include <optional>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/staircase.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::protocols {
 

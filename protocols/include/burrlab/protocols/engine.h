@@ -22,8 +22,8 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/protocol.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::protocols {
 

@@ -27,8 +27,8 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/levels.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::protocols {
 

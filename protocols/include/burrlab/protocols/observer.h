@@ -14,9 +14,9 @@
 #include <span>
 #include <string_view>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/protocol.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::protocols {
 

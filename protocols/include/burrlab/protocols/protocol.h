@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/adjustment.h"
 #include "burrlab/protocols/constant_stimuli.h"
 #include "burrlab/protocols/limits.h"
@@ -25,7 +26,6 @@
 #include "burrlab/protocols/same_different.h"
 #include "burrlab/protocols/staircase.h"
 #include "burrlab/protocols/two_interval.h"
-#include "burrlab/sim/result.h"
 #include "burrlab/stimuli/interval.h"
 #include "burrlab/stimuli/materials.h"
 
@@ -53,7 +53,7 @@ struct Diagnostic {
 // the column, each line ending in '\n'. Without a location:
 // "path: error: message\n". `text` is the whole file. Control characters and
 // bytes that are not UTF-8 in the message and the source line are escaped
-// (\x1b; see burrlab/sim/printable.h), except the source line's tabs, which
+// (\x1b; see burrlab/base/printable.h), except the source line's tabs, which
 // the caret line copies so that it lines up.
 std::string FormatDiagnostic(std::string_view path, std::string_view text,
                              const Diagnostic& diagnostic);

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::protocols {
 

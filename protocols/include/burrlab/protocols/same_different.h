@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/two_interval.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::protocols {
 

@@ -44,8 +44,8 @@
 #include <utility>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/protocols/levels.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::protocols {
 

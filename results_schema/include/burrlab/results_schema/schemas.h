@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "burrlab/results_schema/status.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::results_schema {
 

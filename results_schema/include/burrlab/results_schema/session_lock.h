@@ -14,7 +14,7 @@
 #include <string>
 #include <string_view>
 
-#include "burrlab/results_schema/status.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::results_schema {
 

@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/sim/model.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::sim {
 

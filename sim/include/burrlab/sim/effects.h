@@ -10,7 +10,7 @@
 #include <span>
 #include <string_view>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::sim {
 

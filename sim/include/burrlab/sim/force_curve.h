@@ -7,8 +7,8 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/sim/model.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::sim {
 

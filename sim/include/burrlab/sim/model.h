@@ -6,8 +6,8 @@
 
 #include <limits>
 
+#include "burrlab/base/result.h"
 #include "burrlab/sim/effects.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::sim {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/volume.h"
 
 namespace burrlab::sim {

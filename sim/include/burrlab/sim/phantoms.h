@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/volume.h"
 
 namespace burrlab::sim {

@@ -10,9 +10,9 @@
 #include <cstdint>
 #include <glm/vec3.hpp>
 
+#include "burrlab/base/result.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/sim/octree.h"
-#include "burrlab/sim/result.h"
 #include "burrlab/sim/seh.h"
 #include "burrlab/sim/volume.h"
 

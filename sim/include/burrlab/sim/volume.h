@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::sim {
 

@@ -9,8 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/sim/model.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::stimuli {
 

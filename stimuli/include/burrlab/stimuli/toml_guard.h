@@ -26,7 +26,7 @@ std::optional<std::size_t> ExcessDotOffset(std::string_view text,
                                            std::size_t max_dots);
 
 // toml++'s parse error as "invalid TOML ...", its quoted text made
-// printable (burrlab/sim/printable.h).
+// printable (burrlab/base/printable.h).
 std::string SyntaxMessage(std::string_view description);
 
 // Why a TOML document could not be read: where (none for a failure of no

@@ -25,7 +25,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 #include "independent_truth/measured_csv.h"
 #include "independent_truth/settled_descent.h"
 

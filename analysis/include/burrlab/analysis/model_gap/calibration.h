@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "burrlab/analysis/model_gap/measured_data.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/descent.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 

@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "burrlab/analysis/model_gap/discover.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/model.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 

@@ -13,8 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/sim/descent.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/base/result.h"
 #include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/model.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 

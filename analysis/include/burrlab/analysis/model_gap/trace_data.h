@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "burrlab/analysis/model_gap/measured_data.h"
-#include "burrlab/sim/result.h"
+#include "burrlab/base/result.h"
 
 namespace burrlab::analysis {
 

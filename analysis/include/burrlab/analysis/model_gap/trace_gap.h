@@ -37,9 +37,9 @@
 
 #include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/analysis/model_gap/trace_data.h"
+#include "burrlab/base/result.h"
 #include "burrlab/sim/descent.h"
 #include "burrlab/sim/effects.h"
-#include "burrlab/sim/result.h"
 
 namespace burrlab::analysis {
 

@@ -3,8 +3,8 @@
 // an ESC or BEL reach the terminal (escape-sequence injection) or break the
 // message's line. A generic utility kept at the root of the dependency graph,
 // like spelling.h, so every library's messages can use it.
-#ifndef BURRLAB_SIM_PRINTABLE_H_
-#define BURRLAB_SIM_PRINTABLE_H_
+#ifndef BURRLAB_BASE_PRINTABLE_H_
+#define BURRLAB_BASE_PRINTABLE_H_
 
 #include <cstddef>
 #include <string>
@@ -30,4 +30,4 @@ std::string QuoteLineWithCaret(std::string_view line, int column);
 
 }  // namespace burrlab
 
-#endif  // BURRLAB_SIM_PRINTABLE_H_
+#endif  // BURRLAB_BASE_PRINTABLE_H_

@@ -1,18 +1,16 @@
-// Result<T> and Status for burrlab::results_schema: a value or a one-line
-// error message, returned across the library boundary instead of throwing
-// (no exception crosses a library boundary). results_schema is a root of the
-// dependency graph, so it has its own copy of the small type sim uses; the
-// shape (ok(), value(), error() .message) is the same so callers handle both
-// alike.
-#ifndef BURRLAB_RESULTS_SCHEMA_STATUS_H_
-#define BURRLAB_RESULTS_SCHEMA_STATUS_H_
+// Result<T> and Status: a value or a one-line error message, returned across
+// library boundaries instead of throwing (no exception crosses a library
+// boundary). One type for every library: burrlab::base is at the root of the
+// dependency graph and every library links it.
+#ifndef BURRLAB_BASE_RESULT_H_
+#define BURRLAB_BASE_RESULT_H_
 
 #include <cassert>
 #include <string>
 #include <utility>
 #include <variant>
 
-namespace burrlab::results_schema {
+namespace burrlab {
 
 // A human-readable error, one line, naming what is wrong and where.
 struct Error {
@@ -87,6 +85,6 @@ class [[nodiscard]] Status {
   bool ok_ = true;
 };
 
-}  // namespace burrlab::results_schema
+}  // namespace burrlab
 
-#endif  // BURRLAB_RESULTS_SCHEMA_STATUS_H_
+#endif  // BURRLAB_BASE_RESULT_H_

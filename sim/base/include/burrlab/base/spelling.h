@@ -1,8 +1,8 @@
 // "Did you mean ...?" for mistyped names (commands, flags, keys, materials),
 // after Ninja's spellcheck. A generic utility kept at the root of the
 // dependency graph so every library's error messages can use it.
-#ifndef BURRLAB_SIM_SPELLING_H_
-#define BURRLAB_SIM_SPELLING_H_
+#ifndef BURRLAB_BASE_SPELLING_H_
+#define BURRLAB_BASE_SPELLING_H_
 
 #include <cstddef>
 #include <span>
@@ -23,4 +23,4 @@ std::string_view DidYouMean(std::string_view typed,
 
 }  // namespace burrlab
 
-#endif  // BURRLAB_SIM_SPELLING_H_
+#endif  // BURRLAB_BASE_SPELLING_H_

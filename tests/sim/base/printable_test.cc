@@ -1,6 +1,6 @@
 // Untrusted text in messages: what is escaped (the exact text) and what
 // passes unchanged.
-#include "burrlab/sim/printable.h"
+#include "burrlab/base/printable.h"
 
 #include <gtest/gtest.h>
 

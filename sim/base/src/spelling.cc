@@ -1,5 +1,5 @@
 // Edit distance and "did you mean" suggestions.
-#include "burrlab/sim/spelling.h"
+#include "burrlab/base/spelling.h"
 
 #include <algorithm>
 #include <vector>

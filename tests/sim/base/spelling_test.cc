@@ -1,5 +1,5 @@
 // "Did you mean": which names count as close to what was typed.
-#include "burrlab/sim/spelling.h"
+#include "burrlab/base/spelling.h"
 
 #include <gtest/gtest.h>
 

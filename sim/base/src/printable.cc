@@ -1,5 +1,5 @@
 // Escaping untrusted text for messages.
-#include "burrlab/sim/printable.h"
+#include "burrlab/base/printable.h"
 
 #include <fmt/format.h>
 

@@ -1,0 +1,2 @@
+// results_schema, a root of the graph, including the simulator.
+#include "burrlab/sim/volume.h"

@@ -1,0 +1,2 @@
+// burrlab::base including the simulator it sits under.
+#include "burrlab/sim/volume.h"

@@ -1,0 +1,2 @@
+// The simulator including a library above it.
+#include "burrlab/stimuli/materials.h"

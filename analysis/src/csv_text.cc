@@ -125,22 +125,4 @@ Error CsvTable::Fail(int line, int column, std::string_view message) const {
   return Error{FormatDataDiagnostic(path_, whole_, line, column, message)};
 }
 
-Result<std::string> ReadTextFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    return Error{fmt::format("cannot read {}: it is a directory", path)};
-  }
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return Error{errno != 0 ? fmt::format("cannot read {}: {}", path,
-                                          std::strerror(errno))
-                            : fmt::format("cannot read {}", path)};
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return Error{fmt::format("cannot read {}", path)};
-  return text.str();
-}
-
 }  // namespace burrlab::analysis

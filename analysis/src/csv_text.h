@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "burrlab/base/file_text.h"
 #include "burrlab/base/result.h"
 
 namespace burrlab::analysis {
@@ -78,9 +79,6 @@ class CsvTable {
   std::vector<Cell> header_;
   char delimiter_ = ',';
 };
-
-// The whole file; "cannot read PATH: reason" when it cannot be read.
-Result<std::string> ReadTextFile(const std::string& path);
 
 }  // namespace burrlab::analysis
 

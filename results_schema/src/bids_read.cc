@@ -18,6 +18,7 @@
 #include <optional>
 #include <sstream>
 
+#include "burrlab/base/file_text.h"
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
 #include "journal_db.h"
@@ -65,31 +66,6 @@ std::optional<Int> ParseInt(std::string_view text) {
     return std::nullopt;
   }
   return value;
-}
-
-// Reads a whole file of at most `limit` bytes.
-Result<std::string> ReadSmallFile(const fs::path& path, std::uintmax_t limit) {
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec)
-    return Error{
-        fmt::format("cannot read {}: {}", path.string(), ec.message())};
-  if (size > limit) {
-    return Error{
-        fmt::format("cannot read {}: {} bytes is more than the {} "
-                    "bytes accepted",
-                    path.string(), size, limit)};
-  }
-  errno = 0;
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    return Error{fmt::format("cannot read {}: {}", path.string(),
-                             std::strerror(errno != 0 ? errno : EIO))};
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) return Error{fmt::format("cannot read {}", path.string())};
-  return text.str();
 }
 
 // "sub-<label>_task-<task>[_recording-<k>]_<suffix>" -> (label, task, k).
@@ -336,7 +312,7 @@ Result<PhysioFile> ParsePhysioSidecar(const fs::path& json_path,
 }
 
 Result<PhysioFile> ReadPhysioSidecar(const fs::path& json_path) {
-  Result<std::string> text = ReadSmallFile(json_path, 16u << 20);
+  Result<std::string> text = ReadTextFile(json_path.string(), 16u << 20);
   if (!text) return text.error();
   return ParsePhysioSidecar(json_path, *text);
 }
@@ -551,7 +527,7 @@ Result<std::vector<BehFile>> ReadBidsDataset(const fs::path& dir) {
           "sub-" + name->subject != subject.filename().string()) {
         continue;
       }
-      Result<std::string> text = ReadSmallFile(path, kMaxBehBytes);
+      Result<std::string> text = ReadTextFile(path.string(), kMaxBehBytes);
       if (!text) return text.error();
       Result<BehTable> table = ParseBehTsv(path.string(), *text);
       if (!table) return table.error();

@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "burrlab/base/file_text.h"
 #include "burrlab/base/printable.h"
 #include "burrlab/base/spelling.h"
 #include "burrlab/stimuli/toml_guard.h"
@@ -449,33 +450,23 @@ Result<MaterialSet> LoadMaterialFile(const std::string& path) {
     return Error{
         OneLine(fmt::format("{}: cannot read file: {}", path, reason))};
   };
-  std::error_code code;
-  const std::filesystem::file_status status =
-      std::filesystem::status(path, code);
-  if (code) return cannot_read(code.message());
-  if (std::filesystem::is_directory(status)) {
-    return cannot_read("is a directory");
+  std::variant<std::string, FileReadFailure> read =
+      ReadFileBytes(path, kMaxMaterialBytes, FileKinds::kRegularOnly);
+  if (const std::string* text = std::get_if<std::string>(&read)) {
+    return ParseMaterial(path, *text);
   }
-  if (!std::filesystem::is_regular_file(status)) {
-    return cannot_read("not a regular file");
+  const FileReadFailure& failure = std::get<FileReadFailure>(read);
+  switch (failure.problem) {
+    case FileProblem::kDirectory:
+      return cannot_read("is a directory");
+    case FileProblem::kTooLarge:
+      return cannot_read("larger than 1 MiB");
+    case FileProblem::kNotRegular:
+    case FileProblem::kUnreadable:
+      break;
   }
-  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(
-      std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (file == nullptr) {
-    return cannot_read(std::generic_category().message(errno));
-  }
-  // Read at most one byte more than the limit: the size is checked on what
-  // was read, not on a size that may change between stat and read.
-  std::string text(kMaxMaterialBytes + 1, '\0');
-  const std::size_t read = std::fread(text.data(), 1, text.size(), file.get());
-  if (std::ferror(file.get()) != 0) {
-    return cannot_read(std::generic_category().message(errno));
-  }
-  if (read > kMaxMaterialBytes) {
-    return cannot_read("larger than 1 MiB");
-  }
-  text.resize(read);
-  return ParseMaterial(path, text);
+  return cannot_read(failure.reason.empty() ? std::string_view("I/O error")
+                                            : failure.reason);
 }
 
 Result<MaterialSet> LoadBuiltinMaterial(std::string_view name) {

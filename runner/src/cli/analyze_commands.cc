@@ -23,6 +23,7 @@
 #include "burrlab/analysis/psychometric_data.h"
 #include "burrlab/analysis/psychometric_plot.h"
 #include "burrlab/analysis/sdt.h"
+#include "burrlab/base/file_text.h"
 #include "cli/analyze_results_commands.h"
 #include "cli/flags.h"
 #include "cli/json_number.h"
@@ -36,25 +37,6 @@ using Json = nlohmann::ordered_json;
 
 // Exit code when the results are printed but the fit did not converge.
 constexpr int kNotConverged = 2;
-
-// The whole file; an error names it.
-Result<std::string> ReadText(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    return Error{fmt::format("cannot read {}: it is a directory", path)};
-  }
-  errno = 0;
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    return Error{errno != 0 ? fmt::format("cannot read {}: {}", path,
-                                          std::strerror(errno))
-                            : fmt::format("cannot read {}", path)};
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) return Error{fmt::format("cannot read {}", path)};
-  return text.str();
-}
 
 // "2afc" -> 2, "yesno" -> 1, "nafc:N" -> N (2..100).
 Result<int> ParseTask(const std::string& text) {
@@ -268,7 +250,7 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
       }
     }
   }
-  Result<std::string> text = ReadText(data_path);
+  Result<std::string> text = ReadTextFile(data_path);
   if (!text.ok()) return Fail(err, text.error().message);
   Result<analysis::PsychometricDataFile> file =
       analysis::ParsePsychometricData(data_path, *text);

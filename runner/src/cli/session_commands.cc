@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "burrlab/base/file_text.h"
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
 #include "burrlab/results_schema/bids_export.h"
@@ -76,23 +77,22 @@ constexpr std::uintmax_t kMaxStationFileBytes = 1 << 20;
 // The text of a small file `what` names (e.g. "station file").
 Result<std::string> ReadSmallFile(const std::string& path,
                                   std::string_view what) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) {
-    return Error{
-        fmt::format("cannot read {} {}: {}", what, path, ec.message())};
+  std::variant<std::string, FileReadFailure> read =
+      ReadFileBytes(path, kMaxStationFileBytes);
+  if (std::string* text = std::get_if<std::string>(&read)) {
+    return std::move(*text);
   }
-  if (size > kMaxStationFileBytes) {
+  const FileReadFailure& failure = std::get<FileReadFailure>(read);
+  if (failure.problem == FileProblem::kTooLarge) {
     return Error{
         fmt::format("{}: error: the file is {} bytes; a {} is "
                     "limited to {} bytes",
-                    path, size, what, kMaxStationFileBytes)};
+                    path, failure.size, what, kMaxStationFileBytes)};
   }
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (!file) return Error{fmt::format("cannot read {} {}", what, path)};
-  return text.str();
+  return Error{
+      failure.reason.empty()
+          ? fmt::format("cannot read {} {}", what, path)
+          : fmt::format("cannot read {} {}: {}", what, path, failure.reason)};
 }
 
 // The diagnostics of a parsed file, formatted as `burrlab validate` prints

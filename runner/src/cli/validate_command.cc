@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/base/file_text.h"
 #include "burrlab/base/printable.h"
 #include "burrlab/protocols/protocol.h"
 #include "burrlab/stimuli/interval.h"
@@ -27,16 +28,14 @@ constexpr std::uintmax_t kMaxStationBytes = 64 * 1024;
 // was one (or could not be read), false to treat it as a protocol.
 bool ValidateIfStation(const std::string& file, std::ostream& out,
                        std::ostream& err, int* code) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(file, ec);
-  if (ec || size > kMaxStationBytes) return false;  // LoadProtocol reports it
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!LooksLikeStationFile(text.str())) return false;
-  StationParseOutcome parsed = ParseStation(file, text.str());
+  std::variant<std::string, FileReadFailure> read =
+      ReadFileBytes(file, kMaxStationBytes, FileKinds::kRegularOnly);
+  const std::string* text = std::get_if<std::string>(&read);
+  // What cannot be read here is read again, and reported, as a protocol.
+  if (text == nullptr || !LooksLikeStationFile(*text)) return false;
+  StationParseOutcome parsed = ParseStation(file, *text);
   if (!parsed.station.has_value()) {
-    err << protocols::FormatDiagnostics(file, text.str(), parsed.diagnostics);
+    err << protocols::FormatDiagnostics(file, *text, parsed.diagnostics);
     *code = 1;
     return true;
   }

@@ -15,7 +15,7 @@
 #include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/plot.h"
 #include "burrlab/analysis/scores.h"
-#include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/streams.h"
 #include "burrlab/results_schema/bids_read.h"
 #include "demo_protocols.h"
 #include "studies/progress.h"

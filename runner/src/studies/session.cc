@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/streams.h"
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/results_schema/records.h"

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/streams.h"
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
 

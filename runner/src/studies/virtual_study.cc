@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "burrlab/analysis/group_stats.h"
+#include "burrlab/protocols/streams.h"
 #include "burrlab/stimuli/interval.h"
 #include "studies/session.h"
 

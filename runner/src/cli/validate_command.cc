@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/protocols/protocol_file.h"
 #include "burrlab/sim/printable.h"
 #include "cli/flags.h"
 #include "station/station_file.h"
@@ -80,7 +81,7 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
   int code = 0;
   for (const std::string& file : files) {
     if (ValidateIfStation(file, out, err, &code)) continue;
-    Result<LoadedProtocol> loaded = LoadProtocol(file);
+    Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(file);
     if (!loaded.ok()) {
       code = ReportLoadError(err, loaded.error());
       continue;

@@ -93,8 +93,9 @@ nlohmann::ordered_json LiveIntervalsJson(const LiveTrial& live) {
 
 class SessionRunner {
  public:
-  SessionRunner(const LoadedProtocol& loaded, const SessionOptions& options,
-                Engine engine, rs::Journal journal)
+  SessionRunner(const protocols::LoadedProtocol& loaded,
+                const SessionOptions& options, Engine engine,
+                rs::Journal journal)
       : loaded_(loaded),
         options_(options),
         engine_(std::move(engine)),
@@ -148,7 +149,7 @@ class SessionRunner {
   rs::TraceSamples ToTrace(const TrialSpec& trial, int interval,
                            stimuli::IntervalResult&& result);
 
-  const LoadedProtocol& loaded_;
+  const protocols::LoadedProtocol& loaded_;
   const SessionOptions& options_;
   Engine engine_;
   rs::Journal journal_;
@@ -510,7 +511,8 @@ stimuli::IntervalOptions IntervalOptionsFor(
   return o;
 }
 
-Status CheckRenderable(const LoadedProtocol& loaded, double radius_mm) {
+Status CheckRenderable(const protocols::LoadedProtocol& loaded,
+                       double radius_mm) {
   const std::vector<protocols::Diagnostic> diagnostics =
       protocols::CheckSimulatedIntervals(loaded.protocol, radius_mm);
   if (diagnostics.empty()) return {};
@@ -539,39 +541,6 @@ int ReportLoadError(std::ostream& err, const Error& error) {
     err << error.message << '\n';
   }
   return 1;
-}
-
-Result<LoadedProtocol> LoadProtocol(const std::string& path) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return Error{fmt::format("cannot read {}: {}", path, ec.message())};
-  if (size > protocols::kMaxProtocolBytes) {
-    return Error{fmt::format(
-        "{}: error: the file is {} bytes; protocol files are limited to {} "
-        "bytes",
-        path, size, protocols::kMaxProtocolBytes)};
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return Error{fmt::format("cannot read {}", path)};
-  std::ostringstream text;
-  text << file.rdbuf();
-  return ParseLoadedProtocol(path, text.str());
-}
-
-Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
-                                           std::string text) {
-  LoadedProtocol loaded;
-  loaded.path = path;
-  loaded.text = std::move(text);
-  protocols::ParseOutcome parsed = protocols::ParseProtocol(path, loaded.text);
-  if (!parsed.protocol.has_value()) {
-    std::string all =
-        protocols::FormatDiagnostics(path, loaded.text, parsed.diagnostics);
-    if (!all.empty() && all.back() == '\n') all.pop_back();
-    return Error{all};
-  }
-  loaded.protocol = std::move(*parsed.protocol);
-  return loaded;
 }
 
 std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
@@ -635,7 +604,7 @@ int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
   return engine->finished() ? n : 0;
 }
 
-Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
+Result<SessionSummary> RunSession(const protocols::LoadedProtocol& loaded,
                                   const SessionOptions& options) {
   rs::SessionInfo info;
   info.study = loaded.protocol.study_name;

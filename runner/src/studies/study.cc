@@ -104,7 +104,7 @@ Result<int> PrerenderProtocol(const protocols::Protocol& protocol,
   return static_cast<int>(stimuli.size());
 }
 
-SimulatedStudyResult RunSimulatedStudy(const LoadedProtocol& loaded,
+SimulatedStudyResult RunSimulatedStudy(const protocols::LoadedProtocol& loaded,
                                        const SimulatedStudyOptions& options) {
   const int n = static_cast<int>(options.labels.size());
   SimulatedStudyResult result;

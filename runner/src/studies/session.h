@@ -31,11 +31,6 @@
 
 namespace burrlab::runner {
 
-// The weakest cue an observer distinguishes from none: a drill interval too
-// short to cut (the rate over its second half can come out 0 or negative)
-// feels like 1 um/s; a probe that barely touches like 0.001 N/mm.
-inline constexpr double kFeltCueFloor = 1e-3;
-
 // The simulated-interval options of one interval of `trial` rendering `set`
 // (burr radius, the protocol's observer forces and trace rate).
 stimuli::IntervalOptions IntervalOptionsFor(const protocols::Protocol& p,

@@ -1,11 +1,10 @@
 // The protocol engine: per-block state machines over the method libraries,
-// trial specs, response handling and the seeded streams.
+// trial specs and response handling.
 #include "burrlab/protocols/engine.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <boost/random/seed_seq.hpp>
 #include <boost/random/uniform_int_distribution.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -13,17 +12,12 @@
 #include <utility>
 #include <variant>
 
+#include "burrlab/protocols/streams.h"
+
 namespace burrlab::protocols {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-std::uint32_t Low(std::uint64_t v) {
-  return static_cast<std::uint32_t>(v & 0xffffffffu);
-}
-std::uint32_t High(std::uint64_t v) {
-  return static_cast<std::uint32_t>(v >> 32);
-}
 
 // "1" or "2" for an interval number.
 std::string IntervalToken(int interval) { return std::to_string(interval); }
@@ -64,25 +58,6 @@ double IntervalDuration(const Block& block, std::size_t i) {
 }
 
 }  // namespace
-
-boost::random::mt19937 StreamFor(std::uint64_t master_seed,
-                                 StreamPurpose purpose, std::uint64_t a,
-                                 std::uint64_t b) {
-  const std::uint32_t words[] = {
-      Low(master_seed), High(master_seed), static_cast<std::uint32_t>(purpose),
-      Low(a),           High(a),           Low(b),
-      High(b)};
-  boost::random::seed_seq seq(std::begin(words), std::end(words));
-  return boost::random::mt19937(seq);
-}
-
-std::uint64_t SeedFor(std::uint64_t master_seed, StreamPurpose purpose,
-                      std::uint64_t a, std::uint64_t b) {
-  boost::random::mt19937 rng = StreamFor(master_seed, purpose, a, b);
-  const std::uint64_t lo = rng();
-  const std::uint64_t hi = rng();
-  return (hi << 32) | lo;
-}
 
 struct Engine::Impl {
   // Per-block method state. Nested here rather than in the anonymous

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "burrlab/base/spelling.h"
+#include "burrlab/protocols/streams.h"
 
 namespace burrlab::protocols {
 namespace {
@@ -66,6 +67,57 @@ Status ObserverParams::Validate() const {
     return s;
   }
   return {};
+}
+
+Result<const ProtocolMaterial*> ReferenceStandIn(const Protocol& protocol,
+                                                 const Block& block) {
+  const std::string& id = block.reference.matching_material == MaterialLabel::kA
+                              ? block.material_a
+                              : block.material_b;
+  const ProtocolMaterial* m = protocol.FindMaterial(id);
+  if (m == nullptr) return Error{"reference stand-in material is missing"};
+  return m;
+}
+
+double ReferenceStandInDuration(const TrialSpec& trial) {
+  return trial.intervals.size() > 1 ? trial.intervals[1].duration_s : 10.0;
+}
+
+ObserverParams DrawSubjectObserver(const ObserverParams& typical,
+                                   WeberSpread spread, std::uint64_t seed,
+                                   int subject) {
+  ObserverParams params = typical;
+  if (spread.stiffness > 0.0 || spread.removal > 0.0) {
+    boost::random::mt19937 population = StreamFor(
+        seed, StreamPurpose::kPopulation, static_cast<std::uint64_t>(subject));
+    boost::random::normal_distribution<double> unit(0.0, 1.0);
+    const double z = unit(population);
+    // A draw beyond the largest Weber fraction is held there (an observer
+    // at chance stays at chance).
+    params.weber_stiffness =
+        std::min(kMaxWeberFraction,
+                 params.weber_stiffness * std::exp(z * spread.stiffness));
+    params.weber_removal = std::min(
+        kMaxWeberFraction, params.weber_removal * std::exp(z * spread.removal));
+  }
+  return params;
+}
+
+Result<TrialCues> RememberedStandards::CuesFor(
+    const TrialSpec& trial, std::span<const double> cues,
+    const std::function<Result<double>()>& feel) {
+  TrialCues trial_cues;
+  trial_cues.cues = cues;
+  if (trial.intervals.size() == 1) {
+    auto it = by_block_.find(trial.block_index);
+    if (it == by_block_.end()) {
+      Result<double> standard = feel();
+      if (!standard.ok()) return standard.error();
+      it = by_block_.emplace(trial.block_index, standard.value()).first;
+    }
+    trial_cues.standard_cue = it->second;
+  }
+  return trial_cues;
 }
 
 ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults) {
@@ -267,6 +319,34 @@ char SimulatedObserver::AdjustStep(Task task, double standard_cue,
   // The comparison feels "more": move the level so the cue shrinks.
   const int sign = direction >= 0 ? 1 : -1;
   return diff * sign > 0.0 ? '-' : '+';
+}
+
+Result<Response> SimulatedObserver::Adjust(const TrialSpec& trial,
+                                           double standard_cue,
+                                           double start_cue, int max_steps,
+                                           boost::random::mt19937& rng,
+                                           const AdjustedCue& cue_at) const {
+  const double start_level = trial.level.value_or(0.0);
+  const double standard_level = trial.standard_level.value_or(0.0);
+  int direction = 1;
+  if (start_level != standard_level && start_cue != standard_cue) {
+    direction =
+        ((start_cue > standard_cue) == (start_level > standard_level)) ? 1 : -1;
+  }
+  std::string path;
+  double cue = start_cue;
+  double rt = 0.0;
+  for (int step = 0; step < max_steps; ++step) {
+    const char c = AdjustStep(trial.task, standard_cue, cue, direction, rng);
+    rt += ResponseTime(rng);
+    if (c == '=') break;
+    Result<std::optional<double>> felt = cue_at(path + c);
+    if (!felt.ok()) return felt.error();
+    if (!felt->has_value()) break;  // a step beyond the limit ends it
+    path += c;
+    cue = **felt;
+  }
+  return Response{path + "=", rt};
 }
 
 }  // namespace burrlab::protocols

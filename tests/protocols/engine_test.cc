@@ -1,7 +1,6 @@
 // The protocol engine with scripted responses: balanced designs, staircase
 // tracks against hand-computed sequences, QUEST against the library (itself
-// matched to Psychtoolbox), limits thresholds, adjustment paths, streams and
-// replay.
+// matched to Psychtoolbox), limits thresholds, adjustment paths and replay.
 #include "burrlab/protocols/engine.h"
 
 #include <gtest/gtest.h>
@@ -377,20 +376,6 @@ TEST(Engine, CounterbalancedBlockOrderFollowsTheSubjectIndex) {
   EXPECT_EQ(even->current().block, "one");
   EXPECT_EQ(odd->current().block, "two");
   EXPECT_EQ(odd->block_order(), (std::vector<int>{1, 0}));
-}
-
-TEST(Streams, DifferByPurposeAndIndexAndRepeatForTheSameInputs) {
-  EXPECT_EQ(SeedFor(1, StreamPurpose::kErosion, 3, 1),
-            SeedFor(1, StreamPurpose::kErosion, 3, 1));
-  std::set<std::uint64_t> seeds;
-  for (std::uint64_t purpose = 1; purpose <= 6; ++purpose) {
-    for (std::uint64_t a = 0; a < 10; ++a) {
-      seeds.insert(SeedFor(42, static_cast<StreamPurpose>(purpose), a, 0));
-    }
-  }
-  EXPECT_EQ(seeds.size(), 60u);
-  EXPECT_NE(SeedFor(1, StreamPurpose::kObserver),
-            SeedFor(2, StreamPurpose::kObserver));
 }
 
 TEST(ScriptedResponse, MapsOneAndZeroToRightAndWrongAnswers) {

@@ -8,11 +8,17 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <boost/math/distributions/normal.hpp>
+#include <boost/random/normal_distribution.hpp>
 #include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/streams.h"
 
 namespace burrlab::protocols {
 namespace {
@@ -264,6 +270,305 @@ TEST(SimulatedObserver, OneUpTwoDownConvergesOnSeventyPointSevenPercent) {
 TEST(SimulatedObserver, OneUpThreeDownConvergesOnSeventyNinePointFourPercent) {
   // Levitt (1971): 1-up/3-down tracks p = 0.5^(1/3) = 0.794.
   EXPECT_NEAR(StaircaseConvergence(3, 300), std::cbrt(0.5), 0.02);
+}
+
+// --- The simulated subject around the decisions: felt cues, stand-ins for
+// real samples, remembered standards, adjustments step by step, population
+// draws.
+
+TEST(FeltCue, HoldsCuesAtTheFloor) {
+  EXPECT_EQ(FeltCue(2.5), 2.5);
+  EXPECT_EQ(FeltCue(kFeltCueFloor), kFeltCueFloor);
+  EXPECT_EQ(FeltCue(0.0), 1e-3);
+  EXPECT_EQ(FeltCue(-4.0), 1e-3);
+}
+
+TEST(ReferenceStandIn, IsTheMaterialTheReferenceIsModelledOn) {
+  Protocol p;
+  p.materials.push_back({"bone", "", {}, {}});
+  p.materials.push_back({"pvc", "", {}, {}});
+  Block block;
+  block.material_a = "bone";
+  block.material_b = "pvc";
+  block.reference.matching_material = MaterialLabel::kA;
+  Result<const ProtocolMaterial*> a = ReferenceStandIn(p, block);
+  ASSERT_TRUE(a.ok());
+  EXPECT_EQ((*a)->id, "bone");
+  block.reference.matching_material = MaterialLabel::kB;
+  Result<const ProtocolMaterial*> b = ReferenceStandIn(p, block);
+  ASSERT_TRUE(b.ok());
+  EXPECT_EQ((*b)->id, "pvc");
+  block.material_b = "cork";
+  Result<const ProtocolMaterial*> missing = ReferenceStandIn(p, block);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, "reference stand-in material is missing");
+}
+
+TEST(ReferenceStandIn, IsFeltAsLongAsTheFirstComparison) {
+  TrialSpec t;
+  t.intervals.resize(3);
+  t.intervals[0].duration_s = 0.0;  // the real reference: subject-paced
+  t.intervals[1].duration_s = 7.5;
+  t.intervals[2].duration_s = 9.0;
+  EXPECT_EQ(ReferenceStandInDuration(t), 7.5);
+  t.intervals.resize(1);
+  EXPECT_EQ(ReferenceStandInDuration(t), 10.0);
+}
+
+TEST(RememberedStandards, FeelsEachBlocksStandardOnce) {
+  RememberedStandards standards;
+  int felt = 0;
+  double next = 1.5;
+  const auto feel = [&]() -> Result<double> {
+    ++felt;
+    return next;
+  };
+  TrialSpec yes_no;
+  yes_no.block_index = 2;
+  yes_no.intervals.resize(1);
+  const std::vector<double> one = {3.0};
+  Result<TrialCues> first = standards.CuesFor(yes_no, one, feel);
+  ASSERT_TRUE(first.ok());
+  EXPECT_EQ(first->cues.data(), one.data());
+  EXPECT_EQ(first->standard_cue, 1.5);
+  next = 9.0;  // later feelings of the standard are not asked for
+  Result<TrialCues> again = standards.CuesFor(yes_no, one, feel);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->standard_cue, 1.5);
+  EXPECT_EQ(felt, 1);
+  yes_no.block_index = 3;  // another block: its own standard
+  Result<TrialCues> other = standards.CuesFor(yes_no, one, feel);
+  ASSERT_TRUE(other.ok());
+  EXPECT_EQ(other->standard_cue, 9.0);
+  EXPECT_EQ(felt, 2);
+  // Two intervals: no standard is felt.
+  TrialSpec two;
+  two.block_index = 4;
+  two.intervals.resize(2);
+  const std::vector<double> cues = {1.0, 2.0};
+  Result<TrialCues> pair = standards.CuesFor(two, cues, feel);
+  ASSERT_TRUE(pair.ok());
+  EXPECT_FALSE(pair->standard_cue.has_value());
+  EXPECT_EQ(pair->cues.size(), 2u);
+  EXPECT_EQ(felt, 2);
+}
+
+TEST(RememberedStandards, AStandardThatCannotBeFeltIsAnErrorAndNotKept) {
+  RememberedStandards standards;
+  TrialSpec yes_no;
+  yes_no.intervals.resize(1);
+  const std::vector<double> one = {3.0};
+  Result<TrialCues> failed = standards.CuesFor(
+      yes_no, one, []() -> Result<double> { return Error{"no standard"}; });
+  ASSERT_FALSE(failed.ok());
+  EXPECT_EQ(failed.error().message, "no standard");
+  Result<TrialCues> later =
+      standards.CuesFor(yes_no, one, []() -> Result<double> { return 2.0; });
+  ASSERT_TRUE(later.ok());
+  EXPECT_EQ(later->standard_cue, 2.0);
+}
+
+// An adjustment trial of the probe task at `level` against a standard at 1.
+TrialSpec AdjustmentSpec(double level) {
+  TrialSpec t;
+  t.method = Method::kAdjustment;
+  t.task = Task::kProbe;
+  t.level = level;
+  t.standard_level = 1.0;
+  t.intervals.resize(2);
+  return t;
+}
+
+// An observer whose percepts are practically the cues (sigma 1e-4), taking
+// exactly `rt` s per step.
+ObserverParams Keen(double rt) {
+  ObserverParams p = NoLapse(1e-4);
+  p.rt_median_s = rt;
+  p.rt_log_sd = 0.0;
+  return p;
+}
+
+// The first step of a walk far from a match (max_steps 1: the walk ends
+// after it).
+std::string FirstStep(const SimulatedObserver& observer, double level,
+                      double start_cue, std::vector<std::string>* asked) {
+  boost::random::mt19937 rng(3);
+  Result<Response> r = observer.Adjust(
+      AdjustmentSpec(level), 1.0, start_cue, 1, rng,
+      [&](const std::string& path) -> Result<std::optional<double>> {
+        asked->push_back(path);
+        return std::optional<double>(1.0);
+      });
+  EXPECT_TRUE(r.ok());
+  return r.ok() ? r->answer : "";
+}
+
+TEST(SimulatedObserverAdjust, StepsAgainstTheFeltDifferenceInTheCuesDirection) {
+  const SimulatedObserver observer(Keen(0.5));
+  std::vector<std::string> asked;
+  // The comparison feels stronger and its level is above the standard's:
+  // the cue grows with the level, so the level goes down.
+  EXPECT_EQ(FirstStep(observer, 2.0, 2.0, &asked), "-=");
+  EXPECT_EQ(asked, (std::vector<std::string>{"-"}));
+  // Stronger below the standard's level: the cue falls with the level, so
+  // the level goes up.
+  asked.clear();
+  EXPECT_EQ(FirstStep(observer, 0.5, 2.0, &asked), "+=");
+  EXPECT_EQ(asked, (std::vector<std::string>{"+"}));
+  // Weaker above: the cue falls with the level; down.
+  EXPECT_EQ(FirstStep(observer, 2.0, 0.5, &asked), "-=");
+  // At the standard's level the cue is taken to grow with it: weaker, up.
+  EXPECT_EQ(FirstStep(observer, 1.0, 0.5, &asked), "+=");
+}
+
+// With the cues alike the observer matches at random (percepts closer than
+// match_tolerance x sigma); the walk ends at the first '=', having felt
+// every step before it and taken one response time per step.
+TEST(SimulatedObserverAdjust, StopsAtAMatch) {
+  const SimulatedObserver observer(Keen(0.5));
+  bool at_once = false;
+  for (std::uint32_t seed = 1; seed <= 50; ++seed) {
+    boost::random::mt19937 rng(seed);
+    int felt = 0;
+    Result<Response> r = observer.Adjust(
+        AdjustmentSpec(2.0), 1.0, 1.0, 1000, rng,
+        [&](const std::string&) -> Result<std::optional<double>> {
+          ++felt;
+          return std::optional<double>(1.0);
+        });
+    ASSERT_TRUE(r.ok());
+    ASSERT_EQ(r->answer.size(), static_cast<std::size_t>(felt) + 1) << seed;
+    EXPECT_LT(felt, 1000) << seed;
+    EXPECT_EQ(r->answer.back(), '=');
+    EXPECT_EQ(r->response_time_s, 0.5 * (felt + 1)) << seed;
+    at_once = at_once || r->answer == "=";
+  }
+  EXPECT_TRUE(at_once);
+}
+
+TEST(SimulatedObserverAdjust, StopsAtAStepBeyondTheLimitOrAfterMaxSteps) {
+  const SimulatedObserver observer(Keen(0.25));
+  boost::random::mt19937 rng(5);
+  std::vector<std::string> asked;
+  // The cue never comes closer; the third step is beyond the limit.
+  const AdjustedCue limited =
+      [&](const std::string& path) -> Result<std::optional<double>> {
+    asked.push_back(path);
+    if (path.size() == 3) return std::optional<double>();
+    return std::optional<double>(2.0);
+  };
+  Result<Response> r =
+      observer.Adjust(AdjustmentSpec(2.0), 1.0, 2.0, 10, rng, limited);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->answer, "--=");
+  EXPECT_EQ(asked, (std::vector<std::string>{"-", "--", "---"}));
+  EXPECT_EQ(r->response_time_s, 0.75);  // three steps, the last refused
+  // Without a limit: max_steps steps, each with its response time.
+  Result<Response> capped =
+      observer.Adjust(AdjustmentSpec(2.0), 1.0, 2.0, 4, rng,
+                      [](const std::string&) -> Result<std::optional<double>> {
+                        return std::optional<double>(2.0);
+                      });
+  ASSERT_TRUE(capped.ok());
+  EXPECT_EQ(capped->answer, "----=");
+  EXPECT_EQ(capped->response_time_s, 1.0);
+}
+
+TEST(SimulatedObserverAdjust, AStepThatCannotBeFeltIsAnError) {
+  const SimulatedObserver observer(Keen(0.25));
+  boost::random::mt19937 rng(6);
+  Result<Response> r = observer.Adjust(
+      AdjustmentSpec(2.0), 1.0, 2.0, 10, rng,
+      [](const std::string& path) -> Result<std::optional<double>> {
+        return Error{"cannot render " + path};
+      });
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "cannot render -");
+}
+
+// Every step draws AdjustStep's two percepts, then a response time: the same
+// draws in the same order as a loop over AdjustStep and ResponseTime.
+TEST(SimulatedObserverAdjust, DrawsAsAdjustStepThenResponseTimePerStep) {
+  ObserverParams params;
+  params.weber_stiffness = 0.3;
+  const SimulatedObserver observer(params);
+  // The comparison's cue at a path: 1.3 x 0.95 per '-', / 0.95 per '+'.
+  const auto cue_of = [](const std::string& path) {
+    double cue = 1.3;
+    for (char c : path) cue *= c == '-' ? 0.95 : 1.0 / 0.95;
+    return cue;
+  };
+  for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+    boost::random::mt19937 rng(seed);
+    Result<Response> r = observer.Adjust(
+        AdjustmentSpec(1.3), 1.0, 1.3, 15, rng,
+        [&](const std::string& path) -> Result<std::optional<double>> {
+          return std::optional<double>(cue_of(path));
+        });
+    ASSERT_TRUE(r.ok());
+    boost::random::mt19937 by_hand(seed);
+    std::string path;
+    double rt = 0.0;
+    for (int step = 0; step < 15; ++step) {
+      const char c =
+          observer.AdjustStep(Task::kProbe, 1.0, cue_of(path), 1, by_hand);
+      rt += observer.ResponseTime(by_hand);
+      if (c == '=') break;
+      path += c;
+    }
+    EXPECT_EQ(r->answer, path + "=") << seed;
+    EXPECT_EQ(r->response_time_s, rt) << seed;
+    EXPECT_EQ(rng, by_hand) << seed;
+  }
+}
+
+TEST(DrawSubjectObserver, WithoutSpreadIsTheTypicalObserver) {
+  ObserverParams typical;
+  typical.weber_stiffness = 0.25;
+  typical.weber_removal = 0.4;
+  typical.lapse = 0.03;
+  const ObserverParams p = DrawSubjectObserver(typical, {}, 12, 3);
+  EXPECT_EQ(p.weber_stiffness, 0.25);
+  EXPECT_EQ(p.weber_removal, 0.4);
+  EXPECT_EQ(p.lapse, 0.03);
+}
+
+// One z from the population stream of (seed, subject) scales both cues.
+TEST(DrawSubjectObserver, OneDrawFromThePopulationStreamScalesBothCues) {
+  ObserverParams typical;
+  typical.weber_stiffness = 0.2;
+  typical.weber_removal = 0.4;
+  const WeberSpread spread{0.5, 0.25};
+  for (int s = 0; s < 10; ++s) {
+    boost::random::mt19937 population =
+        StreamFor(7, StreamPurpose::kPopulation, static_cast<std::uint64_t>(s));
+    boost::random::normal_distribution<double> unit(0.0, 1.0);
+    const double z = unit(population);
+    const ObserverParams p = DrawSubjectObserver(typical, spread, 7, s);
+    EXPECT_EQ(p.weber_stiffness,
+              std::min(kMaxWeberFraction, 0.2 * std::exp(z * 0.5)))
+        << s;
+    EXPECT_EQ(p.weber_removal,
+              std::min(kMaxWeberFraction, 0.4 * std::exp(z * 0.25)))
+        << s;
+    // The same seed and subject, the same draw; another seed, another.
+    EXPECT_EQ(DrawSubjectObserver(typical, spread, 7, s).weber_stiffness,
+              p.weber_stiffness);
+    EXPECT_NE(DrawSubjectObserver(typical, spread, 8, s).weber_stiffness,
+              p.weber_stiffness);
+  }
+}
+
+TEST(DrawSubjectObserver, DrawsBeyondTheLargestWeberFractionAreHeldThere) {
+  ObserverParams typical;
+  bool held = false;
+  for (int s = 0; s < 40; ++s) {
+    const ObserverParams p = DrawSubjectObserver(typical, {20.0, 20.0}, 1, s);
+    EXPECT_LE(p.weber_stiffness, kMaxWeberFraction);
+    EXPECT_LE(p.weber_removal, kMaxWeberFraction);
+    held = held || p.weber_stiffness == kMaxWeberFraction;
+  }
+  EXPECT_TRUE(held);
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include "burrlab/analysis/kinematics.h"
 #include "burrlab/analysis/scores.h"
 #include "burrlab/analysis/thresholds.h"
+#include "burrlab/protocols/protocol_file.h"
 #include "burrlab/results_schema/bids_read.h"
 #include "cli/flags.h"
 #include "cli/json_number.h"
@@ -561,7 +562,8 @@ int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
   if (flags.Given("--lapse") && !(lapse < 1.0)) {
     return Fail(err, fmt::format("--lapse must be below 1, got '{}'", lapse));
   }
-  Result<LoadedProtocol> loaded = LoadProtocol(protocol_path);
+  Result<protocols::LoadedProtocol> loaded =
+      protocols::LoadProtocol(protocol_path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   VirtualStudyOptions options;
   options.subjects = subjects;
@@ -716,7 +718,8 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   if (flags.Given("--lapse") && !(lapse < 0.5)) {
     return Fail(err, fmt::format("--lapse must be below 0.5, got '{}'", lapse));
   }
-  Result<LoadedProtocol> loaded = LoadProtocol(protocol_path);
+  Result<protocols::LoadedProtocol> loaded =
+      protocols::LoadProtocol(protocol_path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   options.fit_spread = !no_spread;
   options.base = protocols::ObserverParamsFrom(loaded->protocol.observer);
@@ -759,7 +762,8 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                      {"spread_removal", population->spread_removal},
                      {"notes", population_notes}};
   if (!predict_path.empty()) {
-    Result<LoadedProtocol> other = LoadProtocol(predict_path);
+    Result<protocols::LoadedProtocol> other =
+        protocols::LoadProtocol(predict_path);
     if (!other.ok()) return ReportLoadError(err, other.error());
     VirtualStudyOptions v = *population;
     v.subjects = predict_subjects > 0 ? predict_subjects : observed[0].n;

@@ -18,6 +18,7 @@
 #include "burrlab/base/file_text.h"
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
+#include "burrlab/protocols/protocol_file.h"
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/stimuli/interval.h"
@@ -145,7 +146,7 @@ int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddSwitch("--json", "print the plan as JSON", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
-  Result<LoadedProtocol> loaded = LoadProtocol(path);
+  Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   if (subject_index < 0) subject_index = DefaultSubjectIndex(subject);
   Result<protocols::Engine> engine =
@@ -286,8 +287,9 @@ std::optional<std::string> CheckRunFlags(const StationFlags& f,
 }
 
 // Runs the session at a station; prints like RunRunCommand.
-int RunAtStation(const LoadedProtocol& loaded, SessionOptions options,
-                 const StationFlags& f, std::ostream& out, std::ostream& err) {
+int RunAtStation(const protocols::LoadedProtocol& loaded,
+                 SessionOptions options, const StationFlags& f,
+                 std::ostream& out, std::ostream& err) {
   for (const protocols::Block& b : loaded.protocol.blocks) {
     if (b.method == protocols::Method::kAdjustment) {
       return Fail(err,
@@ -471,7 +473,7 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (std::optional<std::string> e = CheckRunFlags(station, observer)) {
     return Fail(err, *e);
   }
-  Result<LoadedProtocol> loaded = LoadProtocol(path);
+  Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   SessionOptions options;
   options.out_dir = out_dir;
@@ -569,7 +571,7 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   if (n_subjects <= 0) return Fail(err, "--simulated-subjects is required");
   if (out_dir.empty()) return Fail(err, "--out is required");
-  Result<LoadedProtocol> loaded = LoadProtocol(path);
+  Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   if (Status s = CheckRenderable(loaded.value(), radius_mm); !s.ok()) {
     return ReportLoadError(err, s.error());

@@ -13,6 +13,7 @@
 #include "burrlab/base/file_text.h"
 #include "burrlab/base/printable.h"
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/protocols/protocol_file.h"
 #include "burrlab/stimuli/interval.h"
 #include "cli/flags.h"
 #include "station/station_file.h"
@@ -82,7 +83,7 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
   int code = 0;
   for (const std::string& file : files) {
     if (ValidateIfStation(file, out, err, &code)) continue;
-    Result<LoadedProtocol> loaded = LoadProtocol(file);
+    Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(file);
     if (!loaded.ok()) {
       code = ReportLoadError(err, loaded.error());
       continue;

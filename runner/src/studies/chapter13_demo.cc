@@ -15,7 +15,8 @@
 #include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/plot.h"
 #include "burrlab/analysis/scores.h"
-#include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/protocol_file.h"
+#include "burrlab/protocols/streams.h"
 #include "burrlab/results_schema/bids_read.h"
 #include "demo_protocols.h"
 #include "studies/progress.h"
@@ -248,17 +249,18 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   std::ostream* bar_stream = options.progress;
   std::ostringstream sink;
   std::ostream& progress = bar_stream != nullptr ? *bar_stream : sink;
-  Result<LoadedProtocol> pvc =
-      ParseLoadedProtocol(kDemoPvcVsBonePath, kDemoPvcVsBone);
+  Result<protocols::LoadedProtocol> pvc =
+      protocols::ParseLoadedProtocol(kDemoPvcVsBonePath, kDemoPvcVsBone);
   if (!pvc.ok()) return pvc.error();
-  Result<LoadedProtocol> pettigrew =
-      ParseLoadedProtocol(kDemoPettigrewVsBonePath, kDemoPettigrewVsBone);
+  Result<protocols::LoadedProtocol> pettigrew = protocols::ParseLoadedProtocol(
+      kDemoPettigrewVsBonePath, kDemoPettigrewVsBone);
   if (!pettigrew.ok()) return pettigrew.error();
   if (Status s = PrepareOutDir(options.out_dir); !s.ok()) return s.error();
 
   // 1. Render every stimulus of both designs (shared by all that follows).
   RenderingPool pool(options.renderings, options.seed);
-  for (const LoadedProtocol* p : {&pvc.value(), &pettigrew.value()}) {
+  for (const protocols::LoadedProtocol* p :
+       {&pvc.value(), &pettigrew.value()}) {
     ProgressBar bar(progress, 100);
     Result<int> n = PrerenderProtocol(
         p->protocol, pool, 2.0, options.jobs, 1, [&](int done, int total) {

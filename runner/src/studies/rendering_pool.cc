@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/streams.h"
 
 namespace burrlab::runner {
 namespace {

@@ -18,6 +18,7 @@
 
 #include "burrlab/base/printable.h"
 #include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/streams.h"
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/results_schema/records.h"
@@ -92,8 +93,9 @@ nlohmann::ordered_json LiveIntervalsJson(const LiveTrial& live) {
 
 class SessionRunner {
  public:
-  SessionRunner(const LoadedProtocol& loaded, const SessionOptions& options,
-                Engine engine, rs::Journal journal)
+  SessionRunner(const protocols::LoadedProtocol& loaded,
+                const SessionOptions& options, Engine engine,
+                rs::Journal journal)
       : loaded_(loaded),
         options_(options),
         engine_(std::move(engine)),
@@ -123,6 +125,7 @@ class SessionRunner {
                : stimuli::PresentSimulatedInterval(o);
   }
   Result<Presented> PresentTrial(const TrialSpec& trial);
+  // The cue of the standard of a one-interval trial's block, rendered.
   Result<double> StandardCue(const TrialSpec& trial);
   Result<protocols::Response> SimulatedResponse(const TrialSpec& trial,
                                                 Presented& presented);
@@ -143,13 +146,13 @@ class SessionRunner {
   rs::TraceSamples ToTrace(const TrialSpec& trial, int interval,
                            stimuli::IntervalResult&& result);
 
-  const LoadedProtocol& loaded_;
+  const protocols::LoadedProtocol& loaded_;
   const SessionOptions& options_;
   Engine engine_;
   rs::Journal journal_;
   protocols::SimulatedObserver observer_;
   double clock_s_ = 0.0;
-  std::map<int, double> standard_cues_;  // per block index
+  protocols::RememberedStandards standards_;
   int correct_ = 0;
   int scored_ = 0;
 };
@@ -238,17 +241,13 @@ Result<Presented> SessionRunner::PresentTrial(const TrialSpec& trial) {
     Result<stimuli::IntervalResult> r =
         Present(trial, *interval.material, interval.duration_s, i);
     if (!r.ok()) return r.error();
-    p.cues.push_back(std::max(r->cue, kFeltCueFloor));
+    p.cues.push_back(protocols::FeltCue(r->cue));
     p.traces.push_back(ToTrace(trial, static_cast<int>(i), std::move(*r)));
   }
   return p;
 }
 
 Result<double> SessionRunner::StandardCue(const TrialSpec& trial) {
-  if (auto it = standard_cues_.find(trial.block_index);
-      it != standard_cues_.end()) {
-    return it->second;
-  }
   Result<stimuli::MaterialSet> standard =
       engine_.MaterialAt(trial.standard_level.value_or(0.0));
   if (!standard.ok()) return standard.error();
@@ -261,9 +260,7 @@ Result<double> SessionRunner::StandardCue(const TrialSpec& trial) {
           kStandardSeedBase + static_cast<std::uint64_t>(trial.block_index)));
   Result<stimuli::IntervalResult> r = Render(o);
   if (!r.ok()) return r.error();
-  const double cue = std::max(r->cue, kFeltCueFloor);
-  standard_cues_[trial.block_index] = cue;
-  return cue;
+  return protocols::FeltCue(r->cue);
 }
 
 Result<protocols::Response> SessionRunner::SimulatedResponse(
@@ -272,62 +269,42 @@ Result<protocols::Response> SessionRunner::SimulatedResponse(
       protocols::StreamFor(options_.seed, StreamPurpose::kObserver,
                            static_cast<std::uint64_t>(trial.trial_index));
   const protocols::Block& block = loaded_.protocol.blocks[trial.block_index];
-  // A real reference: the stand-in is the material modelled on the sample.
+  // A real reference: the observer feels its stand-in.
   for (std::size_t i = 0; i < trial.intervals.size(); ++i) {
     if (trial.intervals[i].material.has_value()) continue;
-    const std::string& id =
-        block.reference.matching_material == protocols::MaterialLabel::kA
-            ? block.material_a
-            : block.material_b;
-    const protocols::ProtocolMaterial* m = loaded_.protocol.FindMaterial(id);
-    if (m == nullptr) return Error{"reference stand-in material is missing"};
-    Result<stimuli::IntervalResult> r = Present(
-        trial, m->set, trial.intervals[1].duration_s, kStandInInterval + i);
+    Result<const protocols::ProtocolMaterial*> m =
+        protocols::ReferenceStandIn(loaded_.protocol, block);
+    if (!m.ok()) return m.error();
+    Result<stimuli::IntervalResult> r =
+        Present(trial, (*m)->set, protocols::ReferenceStandInDuration(trial),
+                kStandInInterval + i);
     if (!r.ok()) return r.error();
-    presented.cues[i] = std::max(r->cue, kFeltCueFloor);
+    presented.cues[i] = protocols::FeltCue(r->cue);
   }
   if (trial.method == protocols::Method::kAdjustment) {
-    const double standard_cue = presented.cues.at(0);
-    const double start_cue = presented.cues.at(1);
-    const double start_level = trial.level.value_or(0.0);
-    const double standard_level = trial.standard_level.value_or(0.0);
-    int direction = 1;
-    if (start_level != standard_level && start_cue != standard_cue) {
-      direction = ((start_cue > standard_cue) == (start_level > standard_level))
-                      ? 1
-                      : -1;
-    }
-    std::string path;
-    double cue = start_cue;
-    double rt = 0.0;
-    for (int step = 0; step < block.adjustment.max_steps; ++step) {
-      const char c =
-          observer_.AdjustStep(trial.task, standard_cue, cue, direction, rng);
-      rt += observer_.ResponseTime(rng);
-      if (c == '=') break;
-      Result<double> level = engine_.PreviewAdjustment(path + c);
-      if (!level.ok()) break;  // a step beyond the limit ends the adjustment
-      path += c;
-      Result<stimuli::MaterialSet> set = engine_.MaterialAt(level.value());
-      if (!set.ok()) return set.error();
-      Result<stimuli::IntervalResult> r =
-          Present(trial, *set, trial.intervals[1].duration_s,
-                  static_cast<std::uint64_t>(path.size()) + 1);
-      if (!r.ok()) return r.error();
-      cue = std::max(r->cue, kFeltCueFloor);
-      presented.traces.push_back(
-          ToTrace(trial, static_cast<int>(path.size()) + 1, std::move(*r)));
-    }
-    return protocols::Response{path + "=", rt};
+    // Each step is rendered at the level it reaches, its trace kept.
+    return observer_.Adjust(
+        trial, presented.cues.at(0), presented.cues.at(1),
+        block.adjustment.max_steps, rng,
+        [&](const std::string& path) -> Result<std::optional<double>> {
+          Result<double> level = engine_.PreviewAdjustment(path);
+          if (!level.ok()) return std::optional<double>();  // beyond the limit
+          Result<stimuli::MaterialSet> set = engine_.MaterialAt(level.value());
+          if (!set.ok()) return set.error();
+          const int interval = static_cast<int>(path.size()) + 1;
+          Result<stimuli::IntervalResult> r =
+              Present(trial, *set, trial.intervals[1].duration_s,
+                      static_cast<std::uint64_t>(interval));
+          if (!r.ok()) return r.error();
+          const double cue = protocols::FeltCue(r->cue);
+          presented.traces.push_back(ToTrace(trial, interval, std::move(*r)));
+          return std::optional<double>(cue);
+        });
   }
-  protocols::TrialCues cues;
-  cues.cues = presented.cues;
-  if (trial.intervals.size() == 1) {
-    Result<double> standard = StandardCue(trial);
-    if (!standard.ok()) return standard.error();
-    cues.standard_cue = standard.value();
-  }
-  return observer_.Decide(trial, cues, rng);
+  Result<protocols::TrialCues> cues = standards_.CuesFor(
+      trial, presented.cues, [&] { return StandardCue(trial); });
+  if (!cues.ok()) return cues.error();
+  return observer_.Decide(trial, *cues, rng);
 }
 
 Result<protocols::Response> SessionRunner::TerminalResponse(
@@ -505,7 +482,8 @@ stimuli::IntervalOptions IntervalOptionsFor(
   return o;
 }
 
-Status CheckRenderable(const LoadedProtocol& loaded, double radius_mm) {
+Status CheckRenderable(const protocols::LoadedProtocol& loaded,
+                       double radius_mm) {
   const std::vector<protocols::Diagnostic> diagnostics =
       protocols::CheckSimulatedIntervals(loaded.protocol, radius_mm);
   if (diagnostics.empty()) return {};
@@ -534,39 +512,6 @@ int ReportLoadError(std::ostream& err, const Error& error) {
     err << error.message << '\n';
   }
   return 1;
-}
-
-Result<LoadedProtocol> LoadProtocol(const std::string& path) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return Error{fmt::format("cannot read {}: {}", path, ec.message())};
-  if (size > protocols::kMaxProtocolBytes) {
-    return Error{fmt::format(
-        "{}: error: the file is {} bytes; protocol files are limited to {} "
-        "bytes",
-        path, size, protocols::kMaxProtocolBytes)};
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return Error{fmt::format("cannot read {}", path)};
-  std::ostringstream text;
-  text << file.rdbuf();
-  return ParseLoadedProtocol(path, text.str());
-}
-
-Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
-                                           std::string text) {
-  LoadedProtocol loaded;
-  loaded.path = path;
-  loaded.text = std::move(text);
-  protocols::ParseOutcome parsed = protocols::ParseProtocol(path, loaded.text);
-  if (!parsed.protocol.has_value()) {
-    std::string all =
-        protocols::FormatDiagnostics(path, loaded.text, parsed.diagnostics);
-    if (!all.empty() && all.back() == '\n') all.pop_back();
-    return Error{all};
-  }
-  loaded.protocol = std::move(*parsed.protocol);
-  return loaded;
 }
 
 std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
@@ -630,7 +575,7 @@ int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
   return engine->finished() ? n : 0;
 }
 
-Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
+Result<SessionSummary> RunSession(const protocols::LoadedProtocol& loaded,
                                   const SessionOptions& options) {
   rs::SessionInfo info;
   info.study = loaded.protocol.study_name;

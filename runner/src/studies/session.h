@@ -23,17 +23,13 @@
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/protocols/protocol_file.h"
 #include "burrlab/results_schema/records.h"
 #include "burrlab/stimuli/interval.h"
 #include "common/loop_counters.h"
 #include "studies/rendering_pool.h"
 
 namespace burrlab::runner {
-
-// The weakest cue an observer distinguishes from none: a drill interval too
-// short to cut (the rate over its second half can come out 0 or negative)
-// feels like 1 um/s; a probe that barely touches like 0.001 N/mm.
-inline constexpr double kFeltCueFloor = 1e-3;
 
 // The simulated-interval options of one interval of `trial` rendering `set`
 // (burr radius, the protocol's observer forces and trace rate).
@@ -44,30 +40,22 @@ stimuli::IntervalOptions IntervalOptionsFor(const protocols::Protocol& p,
                                             double duration_s,
                                             std::uint64_t seed);
 
-// A protocol file read and parsed, with its text (for the journal's hash).
-struct LoadedProtocol {
-  std::string path;  // as given
-  std::string text;
-  protocols::Protocol protocol;
-};
-
-// Reads and parses a protocol file; the error holds every diagnostic
-// formatted as `burrlab validate` prints them.
-Result<LoadedProtocol> LoadProtocol(const std::string& path);
-// The same for a protocol's text (e.g. one compiled in); `path` names it in
-// diagnostics and the journal.
-Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
-                                           std::string text);
+// The protocol loader lives in protocols (protocol_file.h); these names keep
+// the runner's tests unchanged.
+using protocols::LoadedProtocol;
+using protocols::LoadProtocol;
+using protocols::ParseLoadedProtocol;
 
 // Refuses a protocol when a simulated interval with burr radius radius_mm
 // cannot render a stimulus one of its blocks can reach
 // (protocols::CheckSimulatedIntervals): the error holds the diagnostics as
 // `burrlab validate` prints them. Runs that render simulated intervals check
 // this before they write anything.
-Status CheckRenderable(const LoadedProtocol& loaded, double radius_mm);
+Status CheckRenderable(const protocols::LoadedProtocol& loaded,
+                       double radius_mm);
 
-// Prints LoadProtocol's error (a read error as one "burrlab: " line, parse
-// errors as their diagnostics) and returns 1.
+// Prints protocols::LoadProtocol's error (a read error as one "burrlab: " line,
+// parse errors as their diagnostics) and returns 1.
 int ReportLoadError(std::ostream& err, const Error& error);
 
 // Lowercase hex SHA-256 of `text` (the journal's protocol identity).
@@ -186,7 +174,7 @@ int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
 // journal records the planned trials when it opens and the session's
 // completion when the protocol has run to its end, before the export (which
 // marks a session that stopped early as incomplete).
-Result<SessionSummary> RunSession(const LoadedProtocol& loaded,
+Result<SessionSummary> RunSession(const protocols::LoadedProtocol& loaded,
                                   const SessionOptions& options);
 
 }  // namespace burrlab::runner

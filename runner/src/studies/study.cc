@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "burrlab/protocols/engine.h"
+#include "burrlab/protocols/streams.h"
 #include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/journal.h"
 
@@ -103,7 +104,7 @@ Result<int> PrerenderProtocol(const protocols::Protocol& protocol,
   return static_cast<int>(stimuli.size());
 }
 
-SimulatedStudyResult RunSimulatedStudy(const LoadedProtocol& loaded,
+SimulatedStudyResult RunSimulatedStudy(const protocols::LoadedProtocol& loaded,
                                        const SimulatedStudyOptions& options) {
   const int n = static_cast<int>(options.labels.size());
   SimulatedStudyResult result;

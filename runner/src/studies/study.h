@@ -58,7 +58,7 @@ Result<int> PrerenderProtocol(const protocols::Protocol& protocol,
                               const std::function<void(int, int)>& progress);
 
 // Runs every subject's session, then writes the BIDS exports.
-SimulatedStudyResult RunSimulatedStudy(const LoadedProtocol& loaded,
+SimulatedStudyResult RunSimulatedStudy(const protocols::LoadedProtocol& loaded,
                                        const SimulatedStudyOptions& options);
 
 }  // namespace burrlab::runner

@@ -4,11 +4,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <boost/random/normal_distribution.hpp>
 #include <boost/random/uniform_int_distribution.hpp>
 #include <cmath>
 
 #include "burrlab/analysis/group_stats.h"
+#include "burrlab/protocols/streams.h"
 #include "burrlab/stimuli/interval.h"
 #include "studies/session.h"
 
@@ -46,7 +46,7 @@ Result<const std::vector<double>*> CuePool::Cues(
                              stimuli::TaskName(o.task), duration_s,
                              cues.error().message)};
   }
-  for (double& c : *cues) c = std::max(c, kFeltCueFloor);
+  for (double& c : *cues) c = protocols::FeltCue(c);
   return &cues_.emplace(std::move(key), std::move(*cues)).first->second;
 }
 
@@ -73,23 +73,9 @@ protocols::ObserverParams SubjectObserver(const VirtualStudyOptions& options,
   if (!options.subject_observers.empty()) {
     return options.subject_observers.at(static_cast<std::size_t>(s));
   }
-  protocols::ObserverParams params = options.observer;
-  if (options.spread_stiffness > 0.0 || options.spread_removal > 0.0) {
-    boost::random::mt19937 population =
-        protocols::StreamFor(options.seed, StreamPurpose::kPopulation,
-                             static_cast<std::uint64_t>(s));
-    boost::random::normal_distribution<double> unit(0.0, 1.0);
-    const double z = unit(population);
-    // A draw beyond the largest Weber fraction is held there (an observer
-    // at chance stays at chance).
-    params.weber_stiffness = std::min(
-        protocols::kMaxWeberFraction,
-        params.weber_stiffness * std::exp(z * options.spread_stiffness));
-    params.weber_removal =
-        std::min(protocols::kMaxWeberFraction,
-                 params.weber_removal * std::exp(z * options.spread_removal));
-  }
-  return params;
+  return protocols::DrawSubjectObserver(
+      options.observer, {options.spread_stiffness, options.spread_removal},
+      options.seed, s);
 }
 
 Result<std::vector<VirtualBlock>> RunVirtualStudy(
@@ -128,7 +114,7 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
     Result<protocols::Engine> engine =
         protocols::Engine::Create(protocol, s, subject_seed);
     if (!engine.ok()) return engine.error();
-    std::map<int, double> standard_cues;
+    protocols::RememberedStandards standards;
     // One observer stream per subject (seeding a Mersenne twister per trial,
     // as sessions do, would be most of the cost here).
     boost::random::mt19937 rng = protocols::StreamFor(
@@ -159,43 +145,35 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
             iv.material.has_value() ? &*iv.material : nullptr;
         double duration = iv.duration_s;
         if (set == nullptr) {
-          // A real reference: felt through the material modelled on it.
-          const std::string& id =
-              block.reference.matching_material == protocols::MaterialLabel::kA
-                  ? block.material_a
-                  : block.material_b;
-          const protocols::ProtocolMaterial* m = protocol.FindMaterial(id);
-          if (m == nullptr)
-            return Error{"reference stand-in material is missing"};
-          set = &m->set;
-          duration =
-              trial.intervals.size() > 1 ? trial.intervals[1].duration_s : 10.0;
+          // A real reference: felt through its stand-in.
+          Result<const protocols::ProtocolMaterial*> m =
+              protocols::ReferenceStandIn(protocol, block);
+          if (!m.ok()) return m.error();
+          set = &(*m)->set;
+          duration = protocols::ReferenceStandInDuration(trial);
         }
         Result<const std::vector<double>*> pooled =
             pool.Cues(protocol, trial, *set, duration);
         if (!pooled.ok()) return pooled.error();
         cues[i] = draw(**pooled, rng);
       }
-      protocols::TrialCues trial_cues;
-      trial_cues.cues = cues;
-      if (trial.intervals.size() == 1) {
-        auto it = standard_cues.find(trial.block_index);
-        if (it == standard_cues.end()) {
-          Result<stimuli::MaterialSet> standard =
-              engine->MaterialAt(trial.standard_level.value_or(0.0));
-          if (!standard.ok()) return standard.error();
-          const double duration =
-              trial.intervals.empty() ? 10.0 : trial.intervals[0].duration_s;
-          Result<const std::vector<double>*> pooled =
-              pool.Cues(protocol, trial, *standard, duration);
-          if (!pooled.ok()) return pooled.error();
-          it = standard_cues.emplace(trial.block_index, draw(**pooled, rng))
-                   .first;
-        }
-        trial_cues.standard_cue = it->second;
-      }
+      // A one-interval trial's standard is drawn from the pool once per
+      // block.
+      Result<protocols::TrialCues> trial_cues =
+          standards.CuesFor(trial, cues, [&]() -> Result<double> {
+            Result<stimuli::MaterialSet> standard =
+                engine->MaterialAt(trial.standard_level.value_or(0.0));
+            if (!standard.ok()) return standard.error();
+            const double duration =
+                trial.intervals.empty() ? 10.0 : trial.intervals[0].duration_s;
+            Result<const std::vector<double>*> pooled =
+                pool.Cues(protocol, trial, *standard, duration);
+            if (!pooled.ok()) return pooled.error();
+            return draw(**pooled, rng);
+          });
+      if (!trial_cues.ok()) return trial_cues.error();
       Result<protocols::Response> response =
-          observer.Decide(trial, trial_cues, rng);
+          observer.Decide(trial, *trial_cues, rng);
       if (!response.ok()) return response.error();
       Result<protocols::Outcome> outcome = engine->Respond(*response);
       if (!outcome.ok()) return outcome.error();

@@ -90,7 +90,8 @@ Status ValidateVirtualStudy(const VirtualStudyOptions& options);
 
 // The observer of subject `s` (0-based) of a study with `options`: its own
 // entry of `subject_observers`, or the typical observer with the subject's
-// draw of the spreads from the population stream of (seed, s). `burrlab
+// draw of the spreads from the population stream of (seed, s)
+// (protocols::DrawSubjectObserver). `burrlab
 // study --weber-spread` draws its subjects the same way, so a real study and
 // a virtual one of the same seed have the same observers.
 protocols::ObserverParams SubjectObserver(const VirtualStudyOptions& options,

@@ -6,12 +6,22 @@
 // (answers at random) at a set rate and takes a log-normal response time. It
 // never sees the materials' parameters: only the cues and the levels the
 // question is about.
+//
+// Everything a simulated subject decides is here; the runner only renders
+// the cues it feels: the floor of a felt cue, the stand-in felt for a real
+// reference, the standard remembered in a yes/no block, the walk of an
+// adjustment and a simulated population's spread of Weber fractions.
 #ifndef BURRLAB_PROTOCOLS_OBSERVER_H_
 #define BURRLAB_PROTOCOLS_OBSERVER_H_
 
+#include <algorithm>
 #include <boost/random/mersenne_twister.hpp>
+#include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "burrlab/base/result.h"
@@ -62,12 +72,74 @@ ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults);
 Result<ObserverParams> ParseObserverSpec(std::string_view spec,
                                          ObserverParams base);
 
+// The weakest cue an observer distinguishes from none: a drill interval too
+// short to cut (the rate over its second half can come out 0 or negative)
+// feels like 1 um/s; a probe that barely touches like 0.001 N/mm.
+inline constexpr double kFeltCueFloor = 1e-3;
+
+// The cue a simulated observer feels of an interval rendered with cue `cue`:
+// at least kFeltCueFloor.
+inline double FeltCue(double cue) { return std::max(cue, kFeltCueFloor); }
+
+// A real sample (an interval with no material: a real reference) is felt by
+// a simulated observer through a stand-in, the protocol material modelled on
+// the sample (an assumption: the model is right): `block`'s material_a or
+// material_b, as its reference.matching_material says. The error "reference
+// stand-in material is missing" when the protocol has no such material.
+Result<const ProtocolMaterial*> ReferenceStandIn(const Protocol& protocol,
+                                                 const Block& block);
+// How long the stand-in is felt: as long as `trial`'s second interval (the
+// first comparison); 10 s when the trial has a single interval.
+double ReferenceStandInDuration(const TrialSpec& trial);
+
+// Spread of the Weber fractions across a simulated population (SD of ln W;
+// 0: all alike).
+struct WeberSpread {
+  double stiffness = 0.0;
+  double removal = 0.0;
+};
+
+// Subject `subject` of a simulated population whose typical observer is
+// `typical`: one z ~ N(0, 1), drawn from StreamFor(seed, kPopulation,
+// subject), scales both Weber fractions, W_stiffness x exp(z
+// spread.stiffness) and W_removal x exp(z spread.removal) (a keen prober is
+// a keen driller); a draw beyond kMaxWeberFraction is held there (an
+// observer at chance stays at chance). Without spread: `typical`, with
+// nothing drawn.
+ObserverParams DrawSubjectObserver(const ObserverParams& typical,
+                                   WeberSpread spread, std::uint64_t seed,
+                                   int subject);
+
 // Cues of one trial's intervals, as the simulated hand felt them.
 struct TrialCues {
   std::span<const double> cues;        // one per interval (same order), > 0
   std::optional<double> standard_cue;  // yes/no trials: the remembered
                                        // standard's cue
 };
+
+// The standards a simulated subject remembers: in a one-interval (yes/no)
+// trial it compares the interval with the block's standard, felt once, the
+// first time the block needs it, and remembered for the block's other trials.
+class RememberedStandards {
+ public:
+  // The cues `trial` is decided on: `cues` (one per interval; the result
+  // refers to them) and, for a one-interval trial, the block's remembered
+  // standard, felt through `feel` when the block has none yet (its error is
+  // returned).
+  Result<TrialCues> CuesFor(const TrialSpec& trial,
+                            std::span<const double> cues,
+                            const std::function<Result<double>()>& feel);
+
+ private:
+  std::map<int, double> by_block_;  // per block index
+};
+
+// An adjustment step as the simulated hand feels it: the comparison's cue
+// (FeltCue) at the level the path of key presses `path` (this step's press
+// last) reaches; none when that step is beyond the limit (it is not taken and
+// the adjustment ends there); an error ends the adjustment with it.
+using AdjustedCue =
+    std::function<Result<std::optional<double>>(const std::string& path)>;
 
 class SimulatedObserver {
  public:
@@ -87,6 +159,18 @@ class SimulatedObserver {
                   int direction, boost::random::mt19937& rng) const;
   // A response time drawn from the log-normal.
   double ResponseTime(boost::random::mt19937& rng) const;
+  // An adjustment trial, step by step, from the comparison's start cue: at
+  // most `max_steps` steps, each an AdjustStep and a response time (drawn in
+  // that order from `rng`); a step other than '=' is felt through `cue_at`.
+  // Ends at '=', at a step beyond the limit or after max_steps; the answer is
+  // the path of the steps taken and '=', its response time the sum of every
+  // step's. The direction is +1 (the cue grows with the level) unless both
+  // the start level differs from the standard's and the start cue from the
+  // standard's cue, and they differ in opposite senses (-1).
+  Result<Response> Adjust(const TrialSpec& trial, double standard_cue,
+                          double start_cue, int max_steps,
+                          boost::random::mt19937& rng,
+                          const AdjustedCue& cue_at) const;
 
   const ObserverParams& params() const { return params_; }
 

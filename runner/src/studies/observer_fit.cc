@@ -18,10 +18,10 @@ struct Moments {
   double sd = 0.0;
 };
 
-class Fitter {
+class PopulationFitter {
  public:
-  Fitter(const protocols::Protocol& protocol, const ObserverFitOptions& options,
-         CuePool& pool)
+  PopulationFitter(const protocols::Protocol& protocol,
+                   const ObserverFitOptions& options, CuePool& pool)
       : protocol_(protocol), options_(options), pool_(pool) {}
 
   // Mean and SD of the block's scores of a population (W, spread).
@@ -251,7 +251,7 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
                                opts.block, names)};
     }
   }
-  Fitter fitter(protocol, opts, pool);
+  PopulationFitter fitter(protocol, opts, pool);
   // The block and its n, from one study.
   Result<Moments> probe = fitter.Evaluate(0.3, 0.0);
   if (!probe.ok()) return probe.error();

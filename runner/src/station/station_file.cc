@@ -8,58 +8,13 @@
 #include <set>
 
 #include "burrlab/base/printable.h"
-#include "burrlab/stimuli/toml_guard.h"
-#include "station/toml_location.h"
+#include "station/station_toml.h"
 
 namespace burrlab::runner {
 namespace {
 
 using protocols::Diagnostic;
 using protocols::SourceLocation;
-
-class Parser {
- public:
-  explicit Parser(std::vector<Diagnostic>* out) : out_(out) {}
-
-  void Report(const toml::node& node, std::string message) {
-    out_->push_back({At(node), std::move(message)});
-  }
-
-  // Reports keys of `table` outside `known`.
-  void OnlyKeys(const toml::table& table, std::string_view where,
-                std::set<std::string_view> known) {
-    for (const auto& [key, node] : table) {
-      if (!known.contains(key.str())) {
-        std::string list;
-        for (std::string_view k : known) {
-          list += (list.empty() ? "" : ", ") + std::string(k);
-        }
-        out_->push_back({{static_cast<int>(key.source().begin.line),
-                          static_cast<int>(key.source().begin.column)},
-                         fmt::format("unknown key '{}' in {} (known: {})",
-                                     PrintableText(key.str()), where, list)});
-      }
-    }
-  }
-
-  std::optional<std::int64_t> Integer(const toml::table& t,
-                                      std::string_view key,
-                                      std::string_view name, std::int64_t lo,
-                                      std::int64_t hi) {
-    const toml::node* n = t.get(key);
-    if (n == nullptr) return std::nullopt;
-    const auto v = n->value<std::int64_t>();
-    if (!v.has_value() || !n->is_integer() || *v < lo || *v > hi) {
-      Report(*n,
-             fmt::format("{} must be an integer from {} to {}", name, lo, hi));
-      return std::nullopt;
-    }
-    return v;
-  }
-
- private:
-  std::vector<Diagnostic>* out_;
-};
 
 }  // namespace
 
@@ -70,44 +25,39 @@ bool LooksLikeStationFile(std::string_view text) {
 StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
   StationParseOutcome outcome;
   std::vector<Diagnostic>& d = outcome.diagnostics;
-  std::variant<toml::table, stimuli::TomlFailure> document =
-      stimuli::ParseTomlDocument(
-          path, text, 64, "too many dotted keys (a station file needs few)");
-  if (const auto* failure = std::get_if<stimuli::TomlFailure>(&document)) {
-    const toml::source_position p =
-        failure->where.value_or(toml::source_position{1, 1});
-    d.push_back({{static_cast<int>(p.line), static_cast<int>(p.column)},
-                 failure->message});
-    return outcome;
-  }
-  const toml::table& root = std::get<toml::table>(document);
-  Parser p(&d);
+  std::optional<toml::table> document =
+      ReadStationToml(path, text, "station file", kStationFormat,
+                      {"format", "device", "response_box", "screen"}, &d);
+  if (!document.has_value()) return outcome;
+  const toml::table& root = *document;
+  const auto report = [&d](const toml::node& n, std::string message) {
+    d.push_back({At(n), std::move(message)});
+  };
+  const auto only_keys = [&d](const toml::table& t, std::string_view where,
+                              const std::set<std::string_view>& known) {
+    OnlyKeys(t, where, known, &d);
+  };
+  const auto integer = [&d](const toml::table& t, std::string_view key,
+                            std::string_view name, std::int64_t lo,
+                            std::int64_t hi) {
+    return Integer(t, key, name, lo, hi, &d);
+  };
   StationConfig config;
-  p.OnlyKeys(root, "the station file",
-             {"format", "device", "response_box", "screen"});
-  const toml::node* format = root.get("format");
-  if (format == nullptr) {
-    d.push_back({{1, 1},
-                 fmt::format("missing key 'format' (expected \"{}\")",
-                             kStationFormat)});
-  } else if (format->value<std::string>() != std::string(kStationFormat)) {
-    p.Report(*format, fmt::format("format must be \"{}\"", kStationFormat));
-  }
   if (const toml::node* n = root.get("device")) {
     const toml::table* t = n->as_table();
     if (t == nullptr) {
-      p.Report(*n, "[device] must be a table");
+      report(*n, "[device] must be a table");
     } else {
-      p.OnlyKeys(*t, "[device]",
-                 {"backend", "max_force_n", "max_stiffness_n_per_mm"});
+      only_keys(*t, "[device]",
+                {"backend", "max_force_n", "max_stiffness_n_per_mm"});
       if (const toml::node* b = t->get("backend")) {
         const std::optional<std::string> name = b->value<std::string>();
         if (!name.has_value() || !b->is_string() ||
             (*name != "mouse" && *name != "hid" && *name != "falcon" &&
              *name != "simulated")) {
-          p.Report(*b,
-                   "backend must be one of \"mouse\", \"hid\", \"falcon\", "
-                   "\"simulated\"");
+          report(*b,
+                 "backend must be one of \"mouse\", \"hid\", \"falcon\", "
+                 "\"simulated\"");
         } else {
           config.device = *name;
         }
@@ -115,7 +65,7 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
       if (const toml::node* f = t->get("max_force_n")) {
         const std::optional<double> v = f->value<double>();
         if (!v.has_value() || !std::isfinite(*v) || *v <= 0.0 || *v > 20.0) {
-          p.Report(*f, "max_force_n must be a number of newtons in (0, 20]");
+          report(*f, "max_force_n must be a number of newtons in (0, 20]");
         } else {
           config.max_force_n = *v;
         }
@@ -123,9 +73,9 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
       if (const toml::node* k = t->get("max_stiffness_n_per_mm")) {
         const std::optional<double> v = k->value<double>();
         if (!v.has_value() || !std::isfinite(*v) || *v <= 0.0 || *v > 50.0) {
-          p.Report(*k,
-                   "max_stiffness_n_per_mm must be a number of N/mm in (0, "
-                   "50]");
+          report(*k,
+                 "max_stiffness_n_per_mm must be a number of N/mm in (0, "
+                 "50]");
         } else {
           config.max_stiffness_n_per_mm = *v;
         }
@@ -135,9 +85,9 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
   if (const toml::node* n = root.get("response_box")) {
     const toml::table* t = n->as_table();
     if (t == nullptr) {
-      p.Report(*n, "[response_box] must be a table");
+      report(*n, "[response_box] must be a table");
     } else {
-      p.OnlyKeys(
+      only_keys(
           *t, "[response_box]",
           {"vendor_id", "product_id", "serial", "button_offset", "buttons"});
       HidBoxOptions box;
@@ -145,9 +95,9 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
       for (auto [key, field] : {std::pair{"vendor_id", &box.vendor_id},
                                 std::pair{"product_id", &box.product_id}}) {
         if (t->get(key) == nullptr) {
-          p.Report(*n, fmt::format("[response_box] needs {}", key));
+          report(*n, fmt::format("[response_box] needs {}", key));
           ok = false;
-        } else if (auto v = p.Integer(*t, key, key, 1, 0xffff)) {
+        } else if (auto v = integer(*t, key, key, 1, 0xffff)) {
           *field = static_cast<std::uint16_t>(*v);
         } else {
           ok = false;
@@ -155,25 +105,25 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
       }
       if (const toml::node* s = t->get("serial")) {
         if (!s->is_string()) {
-          p.Report(*s, "serial must be a string");
+          report(*s, "serial must be a string");
           ok = false;
         } else {
           box.serial = *s->value<std::string>();
         }
       }
-      if (auto v = p.Integer(*t, "button_offset", "button_offset", 0, 63)) {
+      if (auto v = integer(*t, "button_offset", "button_offset", 0, 63)) {
         box.button_offset = static_cast<int>(*v);
       }
       const toml::node* buttons = t->get("buttons");
       const toml::table* bt = buttons ? buttons->as_table() : nullptr;
       if (buttons == nullptr) {
-        p.Report(*n,
-                 "[response_box] needs buttons, e.g. buttons = { 1 = "
-                 "\"1\", 2 = \"2\" }");
+        report(*n,
+               "[response_box] needs buttons, e.g. buttons = { 1 = "
+               "\"1\", 2 = \"2\" }");
         ok = false;
       } else if (bt == nullptr || bt->empty()) {
-        p.Report(*buttons,
-                 "buttons must map button numbers to keys, e.g. { 1 = \"1\" }");
+        report(*buttons,
+               "buttons must map button numbers to keys, e.g. { 1 = \"1\" }");
         ok = false;
       } else {
         for (const auto& [key, value] : *bt) {
@@ -196,9 +146,9 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
           const std::optional<std::string> name = value.value<std::string>();
           if (!value.is_string() || !name.has_value() || name->empty() ||
               name->size() > 16) {
-            p.Report(value, fmt::format("button {} must map to a key name of "
-                                        "1 to 16 characters",
-                                        number));
+            report(value, fmt::format("button {} must map to a key name of "
+                                      "1 to 16 characters",
+                                      number));
             ok = false;
             continue;
           }
@@ -211,18 +161,18 @@ StationParseOutcome ParseStation(std::string_view path, std::string_view text) {
   if (const toml::node* n = root.get("screen")) {
     const toml::table* t = n->as_table();
     if (t == nullptr) {
-      p.Report(*n, "[screen] must be a table");
+      report(*n, "[screen] must be a table");
     } else {
-      p.OnlyKeys(*t, "[screen]", {"width", "height", "fullscreen"});
-      if (auto v = p.Integer(*t, "width", "width", 320, 8192)) {
+      only_keys(*t, "[screen]", {"width", "height", "fullscreen"});
+      if (auto v = integer(*t, "width", "width", 320, 8192)) {
         config.screen_width = static_cast<int>(*v);
       }
-      if (auto v = p.Integer(*t, "height", "height", 240, 8192)) {
+      if (auto v = integer(*t, "height", "height", 240, 8192)) {
         config.screen_height = static_cast<int>(*v);
       }
       if (const toml::node* f = t->get("fullscreen")) {
         if (!f->is_boolean()) {
-          p.Report(*f, "fullscreen must be true or false");
+          report(*f, "fullscreen must be true or false");
         } else {
           config.fullscreen = *f->value<bool>();
         }

@@ -8,8 +8,7 @@
 #include <set>
 
 #include "burrlab/base/printable.h"
-#include "burrlab/stimuli/toml_guard.h"
-#include "station/toml_location.h"
+#include "station/station_toml.h"
 
 namespace burrlab::runner {
 namespace {
@@ -21,22 +20,6 @@ constexpr std::size_t kMaxAnswers = 100'000;
 constexpr std::size_t kMaxUnplugs = 1'000;
 constexpr double kMaxTimeS = 3600.0;
 constexpr double kMaxCoordinateMm = 1000.0;
-
-// Reports keys of `table` outside `known`.
-void OnlyKeys(const toml::table& table, std::string_view where,
-              const std::set<std::string_view>& known,
-              std::vector<Diagnostic>* d) {
-  for (const auto& [key, node] : table) {
-    if (known.contains(key.str())) continue;
-    std::string list;
-    for (std::string_view k : known) {
-      list += (list.empty() ? "" : ", ") + std::string(k);
-    }
-    d->push_back(
-        {AtKey(key), fmt::format("unknown key '{}' in {} (known: {})",
-                                 PrintableText(key.str()), where, list)});
-  }
-}
 
 // A number (integer or float) in [lo, hi], or a diagnostic naming `name`.
 std::optional<double> Number(const toml::node& n, std::string_view name,
@@ -182,32 +165,14 @@ StationScriptParseOutcome ParseStationScript(std::string_view path,
                                              std::string_view text) {
   StationScriptParseOutcome outcome;
   std::vector<Diagnostic>& d = outcome.diagnostics;
-  std::variant<toml::table, stimuli::TomlFailure> document =
-      stimuli::ParseTomlDocument(
-          path, text, 64, "too many dotted keys (a station script needs few)");
-  if (const auto* failure = std::get_if<stimuli::TomlFailure>(&document)) {
-    const toml::source_position p =
-        failure->where.value_or(toml::source_position{1, 1});
-    d.push_back({{static_cast<int>(p.line), static_cast<int>(p.column)},
-                 failure->message});
-    return outcome;
-  }
-  const toml::table& root = std::get<toml::table>(document);
+  std::optional<toml::table> document =
+      ReadStationToml(path, text, "station script", kStationScriptFormat,
+                      {"format", "path", "answers", "start_delay_s",
+                       "response_delay_s", "unplug"},
+                      &d);
+  if (!document.has_value()) return outcome;
+  const toml::table& root = *document;
   StationScript script;
-  OnlyKeys(root, "the station script",
-           {"format", "path", "answers", "start_delay_s", "response_delay_s",
-            "unplug"},
-           &d);
-  const toml::node* format = root.get("format");
-  if (format == nullptr) {
-    d.push_back({{1, 1},
-                 fmt::format("missing key 'format' (expected \"{}\")",
-                             kStationScriptFormat)});
-  } else if (format->value<std::string>() !=
-             std::string(kStationScriptFormat)) {
-    d.push_back({At(*format),
-                 fmt::format("format must be \"{}\"", kStationScriptFormat)});
-  }
   if (const toml::node* n = root.get("path")) {
     ParsePath(*n, &script, &d);
   } else {

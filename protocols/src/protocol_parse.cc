@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "burrlab/base/printable.h"
@@ -44,6 +45,13 @@ constexpr std::string_view kCounterbalanceKeys[] = {"scheme"};
 constexpr std::string_view kMaterialKeys[] = {
     "builtin",     "display_name",   "description", "c_e_n_per_mm2",
     "alpha_per_s", "c_mu_n_per_mm2", "mu",          "c_i_n_s_per_mm3"};
+// The [materials] key of each material parameter, in MaterialParameter order.
+constexpr std::pair<std::string_view, MaterialParameter> kParameterKeys[] = {
+    {"c_e_n_per_mm2", MaterialParameter::kCE},
+    {"alpha_per_s", MaterialParameter::kAlpha},
+    {"c_mu_n_per_mm2", MaterialParameter::kCMu},
+    {"mu", MaterialParameter::kMu},
+    {"c_i_n_s_per_mm3", MaterialParameter::kCI}};
 constexpr std::string_view kAxisKeys[] = {"kind", "parameter", "reference",
                                           "from", "to"};
 constexpr std::string_view kCommonBlockKeys[] = {
@@ -495,6 +503,9 @@ const toml::table* Parser::EntryTable(const std::string& id,
 void Parser::ParseMaterials(const toml::table& root, Protocol& p) {
   const toml::table* materials = Table(root, "materials", "materials");
   if (materials == nullptr) return;
+  // The simulator's rule (sim::Material::Validate), as material files have
+  // it: c_e > 0 (a material with no elastic force cannot be felt), the others
+  // >= 0 (no erosion, no friction, no impact damping).
   struct Param {
     std::string_view key;
     double sim::Material::*field;
@@ -502,10 +513,10 @@ void Parser::ParseMaterials(const toml::table& root, Protocol& p) {
   };
   constexpr Param kParams[] = {
       {"c_e_n_per_mm2", &sim::Material::c_e_n_per_mm2, false},
-      {"alpha_per_s", &sim::Material::alpha_per_s, false},
-      {"c_mu_n_per_mm2", &sim::Material::c_mu_n_per_mm2, false},
+      {"alpha_per_s", &sim::Material::alpha_per_s, true},
+      {"c_mu_n_per_mm2", &sim::Material::c_mu_n_per_mm2, true},
       {"mu", &sim::Material::mu, true},
-      {"c_i_n_s_per_mm3", &sim::Material::c_i_n_s_per_mm3, false},
+      {"c_i_n_s_per_mm3", &sim::Material::c_i_n_s_per_mm3, true},
   };
   for (const auto& [key, node] : *materials) {
     const std::string id(key.str());
@@ -649,11 +660,15 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
         axis.from = *from;
         axis.to = *to;
         for (const std::string& m : {*from, *to}) {
-          if (FindMaterial(p, m)->set.material.mu <= 0.0) {
-            Fail(t, fmt::format("{}: material \"{}\" has mu = 0; a log "
-                                "interpolation needs every parameter > 0",
-                                name, m));
-            ok = false;
+          for (const auto& [parameter_key, parameter] : kParameterKeys) {
+            if (GetParameter(FindMaterial(p, m)->set.material, parameter) <=
+                0.0) {
+              Fail(t, fmt::format("{}: material \"{}\" has {} = 0; a log "
+                                  "interpolation needs every parameter > 0",
+                                  name, m, parameter_key));
+              ok = false;
+              break;
+            }
           }
         }
       }
@@ -675,6 +690,24 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
         ok = false;
       } else {
         axis.reference = *reference;
+        // A ratio or an increment scales the reference's value: of 0, every
+        // level would be the same material.
+        if (parameter.has_value() && (axis.kind == AxisKind::kRatio ||
+                                      axis.kind == AxisKind::kIncrement)) {
+          const double base = GetParameter(
+              FindMaterial(p, *reference)->set.material, axis.parameter);
+          if (base <= 0.0) {
+            Fail(t, fmt::format(
+                        "{}: material \"{}\" has {} = 0; a {} axis "
+                        "scales it, so every level would give 0 (use "
+                        "kind = \"value\")",
+                        name, *reference,
+                        kParameterKeys[static_cast<std::size_t>(axis.parameter)]
+                            .first,
+                        AxisKindName(axis.kind)));
+            ok = false;
+          }
+        }
       }
       for (std::string_view k : {"from", "to"}) {
         if (t.get(k) != nullptr) {

@@ -422,6 +422,68 @@ b = "bone"
 parameter = "c_e"
             ^
 )toml"},
+    {"ratio_of_a_zero_parameter",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.soft]
+c_e_n_per_mm2 = 0.5
+alpha_per_s = 0
+c_mu_n_per_mm2 = 0.1
+mu = 0.5
+c_i_n_s_per_mm3 = 0.001
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.erosion]
+kind = "ratio"
+parameter = "alpha"
+reference = "soft"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "soft"
+b = "bone"
+)toml",
+     R"toml(NAME:16:1: error: axes.erosion: material "soft" has alpha_per_s = 0; a ratio axis scales it, so every level would give 0 (use kind = "value")
+[axes.erosion]
+^
+)toml"},
+    {"log_interp_of_a_zero_parameter",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.soft]
+c_e_n_per_mm2 = 0.5
+alpha_per_s = 0.1
+c_mu_n_per_mm2 = 0.1
+mu = 0.5
+c_i_n_s_per_mm3 = 0
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.mix]
+kind = "log_interpolation"
+from = "soft"
+to = "bone"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "soft"
+b = "bone"
+)toml",
+     R"toml(NAME:16:1: error: axes.mix: material "soft" has c_i_n_s_per_mm3 = 0; a log interpolation needs every parameter > 0
+[axes.mix]
+^
+)toml"},
     {"many_errors",
      R"toml(format = "burrlab-protocol/1"
 

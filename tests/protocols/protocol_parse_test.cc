@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/sim/model.h"
+#include "burrlab/stimuli/materials.h"
 
 namespace burrlab::protocols {
 namespace {
@@ -54,6 +56,61 @@ TEST(ProtocolParse, EveryExampleIsValidAndEveryMethodHasOne) {
   }
   EXPECT_EQ(methods.size(), 7u);
   EXPECT_EQ(designs.size(), 2u);
+}
+
+// One rule for a parameter of 0 in the three places that take materials: a
+// protocol's [materials], a material file and the simulator itself
+// (sim::Material::Validate, the truth the two file kinds follow): c_e must
+// be > 0; alpha, c_mu, mu and c_i may be 0 (no erosion, no friction, no
+// impact damping).
+TEST(ProtocolParse, AParameterOfZeroFollowsTheSimulatorsRuleInBothFileKinds) {
+  struct Parameter {
+    const char* protocol_key;
+    const char* material_key;
+    const char* unit;
+    double sim::Material::*field;
+  };
+  const Parameter kParameters[] = {
+      {"c_e_n_per_mm2", "c_e", "N/mm^2", &sim::Material::c_e_n_per_mm2},
+      {"alpha_per_s", "alpha", "1/s", &sim::Material::alpha_per_s},
+      {"c_mu_n_per_mm2", "c_mu", "N/mm^2", &sim::Material::c_mu_n_per_mm2},
+      {"mu", "mu", "1", &sim::Material::mu},
+      {"c_i_n_s_per_mm3", "c_i", "N*s/mm^3", &sim::Material::c_i_n_s_per_mm3},
+  };
+  for (const Parameter& zero : kParameters) {
+    sim::Material material;
+    material.*zero.field = 0.0;
+    const bool simulator_accepts = material.Validate().ok();
+    EXPECT_EQ(simulator_accepts, zero.field != &sim::Material::c_e_n_per_mm2)
+        << zero.protocol_key;
+
+    std::string protocol =
+        "format = \"burrlab-protocol/1\"\n[study]\nname = \"t\"\n"
+        "[materials.m]\n";
+    std::string material_file =
+        "format = \"burrlab-material/1\"\nname = \"m\"\n"
+        "display_name = \"M\"\n";
+    for (const Parameter& p : kParameters) {
+      const double value = &p == &zero ? 0.0 : 0.5;
+      protocol +=
+          std::string(p.protocol_key) + " = " + std::to_string(value) + "\n";
+      material_file += std::string("[parameters.") + p.material_key +
+                       "]\nvalue = " + std::to_string(value) + "\nunit = \"" +
+                       p.unit + "\"\nsource = \"test\"\n";
+    }
+    protocol +=
+        "[[blocks]]\nmethod = \"same_different\"\ntask = \"probe\"\n"
+        "a = \"m\"\nb = \"bone\"\n[materials.bone]\n"
+        "builtin = \"human_temporal_bone\"\n";
+    const ParseOutcome parsed = ParseProtocol("zero.toml", protocol);
+    EXPECT_EQ(parsed.protocol.has_value(), simulator_accepts)
+        << zero.protocol_key << ": "
+        << FormatDiagnostics("zero.toml", protocol, parsed.diagnostics);
+    const Result<stimuli::MaterialSet> file =
+        stimuli::ParseMaterial("m.toml", material_file);
+    EXPECT_EQ(file.ok(), simulator_accepts)
+        << zero.material_key << ": " << (file.ok() ? "" : file.error().message);
+  }
 }
 
 TEST(ProtocolParse, DissertationSameDifferentExampleMapsToTheModel) {

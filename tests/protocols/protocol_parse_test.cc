@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/base/file_text.h"
 #include "burrlab/protocols/protocol.h"
 #include "burrlab/sim/model.h"
 #include "burrlab/stimuli/materials.h"
@@ -21,11 +22,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The example file's text (an empty text, which fails to parse, when it
+// cannot be read).
 std::string Read(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
+  Result<std::string> text = ReadTextFile(path.string());
+  EXPECT_TRUE(text.ok()) << text.error().message;
+  return text.ok() ? *text : std::string();
 }
 
 std::vector<fs::path> Examples() {

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "burrlab/protocols/protocol.h"
 #include "burrlab/base/result.h"
+#include "burrlab/protocols/protocol.h"
 
 namespace burrlab::protocols {
 

@@ -29,11 +29,13 @@ std::string_view LineAt(std::string_view text, std::size_t start) {
 std::string Format(std::string_view path, const Diagnostic& diagnostic,
                    std::string_view source) {
   const std::string message = PrintableText(diagnostic.message);
+  const std::string_view kind =
+      diagnostic.severity == Severity::kNote ? "note" : "error";
   if (diagnostic.where.line <= 0) {
-    return fmt::format("{}: error: {}\n", path, message);
+    return fmt::format("{}: {}: {}\n", path, kind, message);
   }
-  return fmt::format("{}:{}:{}: error: {}\n{}\n", path, diagnostic.where.line,
-                     diagnostic.where.column, message,
+  return fmt::format("{}:{}:{}: {}: {}\n{}\n", path, diagnostic.where.line,
+                     diagnostic.where.column, kind, message,
                      QuoteLineWithCaret(source, diagnostic.where.column));
 }
 
@@ -82,8 +84,10 @@ std::string FormatDiagnostics(std::string_view path, std::string_view text,
   }
   if (diagnostics.size() > shown) {
     const std::size_t more = diagnostics.size() - shown;
-    out += fmt::format("{}: ... and {} more error{}\n", path, more,
-                       more == 1 ? "" : "s");
+    out += fmt::format(
+        "{}: ... and {} more {}{}\n", path, more,
+        diagnostics[shown].severity == Severity::kNote ? "note" : "error",
+        more == 1 ? "" : "s");
   }
   return out;
 }

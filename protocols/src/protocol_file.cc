@@ -41,6 +41,7 @@ Result<LoadedProtocol> ParseLoadedProtocol(const std::string& path,
     return Error{all};
   }
   loaded.protocol = std::move(*parsed.protocol);
+  loaded.notes = FormatDiagnostics(path, loaded.text, parsed.notes);
   return loaded;
 }
 

@@ -19,12 +19,17 @@
 #include "burrlab/base/printable.h"
 #include "burrlab/base/spelling.h"
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/stimuli/materials.h"
+#include "burrlab/stimuli/toml_fields.h"
 #include "burrlab/stimuli/toml_guard.h"
 
 namespace burrlab::protocols {
 namespace {
 
-using Keys = std::span<const std::string_view>;
+using Keys = stimuli::TomlKeys;
+using stimuli::EchoText;
+using stimuli::JoinKeys;
+using stimuli::TomlTypeName;
 
 // Nesting limit before toml++ parses (see stimuli/toml_guard.h); a protocol
 // with long level lists has a few hundred '.' in numbers.
@@ -42,16 +47,26 @@ constexpr std::string_view kObserverKeys[] = {
     "weber_stiffness", "weber_removal", "lapse",
     "criterion",       "probe_force_n", "drill_force_n"};
 constexpr std::string_view kCounterbalanceKeys[] = {"scheme"};
+// The spelling of each material parameter, in MaterialParameter order (the
+// order of sim::Material), shared with material files.
+constexpr auto& kSpellings = stimuli::kMaterialParameterSpellings;
 constexpr std::string_view kMaterialKeys[] = {
-    "builtin",     "display_name",   "description", "c_e_n_per_mm2",
-    "alpha_per_s", "c_mu_n_per_mm2", "mu",          "c_i_n_s_per_mm3"};
-// The [materials] key of each material parameter, in MaterialParameter order.
-constexpr std::pair<std::string_view, MaterialParameter> kParameterKeys[] = {
-    {"c_e_n_per_mm2", MaterialParameter::kCE},
-    {"alpha_per_s", MaterialParameter::kAlpha},
-    {"c_mu_n_per_mm2", MaterialParameter::kCMu},
-    {"mu", MaterialParameter::kMu},
-    {"c_i_n_s_per_mm3", MaterialParameter::kCI}};
+    "builtin",         "display_name",    "description",     kSpellings[0].key,
+    kSpellings[1].key, kSpellings[2].key, kSpellings[3].key, kSpellings[4].key};
+constexpr std::string_view kParameterKeys[] = {
+    kSpellings[0].key, kSpellings[1].key, kSpellings[2].key, kSpellings[3].key,
+    kSpellings[4].key};
+static_assert(std::size(kSpellings) == 5 &&
+              kSpellings[static_cast<int>(MaterialParameter::kCE)].field ==
+                  &sim::Material::c_e_n_per_mm2 &&
+              kSpellings[static_cast<int>(MaterialParameter::kAlpha)].field ==
+                  &sim::Material::alpha_per_s &&
+              kSpellings[static_cast<int>(MaterialParameter::kCMu)].field ==
+                  &sim::Material::c_mu_n_per_mm2 &&
+              kSpellings[static_cast<int>(MaterialParameter::kMu)].field ==
+                  &sim::Material::mu &&
+              kSpellings[static_cast<int>(MaterialParameter::kCI)].field ==
+                  &sim::Material::c_i_n_s_per_mm3);
 constexpr std::string_view kAxisKeys[] = {"kind", "parameter", "reference",
                                           "from", "to"};
 constexpr std::string_view kCommonBlockKeys[] = {
@@ -88,54 +103,13 @@ constexpr std::string_view kMethods[] = {
     "limits",         "adjustment",   "staircase",
     "quest"};
 
-std::string Join(Keys keys) {
-  std::string out;
-  for (std::string_view k : keys) {
-    if (!out.empty()) out += ", ";
-    out += k;
-  }
-  return out;
-}
-
 // At most kMaxListed ids joined by ", ", then how many there are in all: a
 // message names a few of the declared ids, not all of a hostile file's.
 std::string JoinDeclared(Keys ids) {
   constexpr std::size_t kMaxListed = 20;
-  if (ids.size() <= kMaxListed) return Join(ids);
-  return fmt::format("{}, ... ({} in all)", Join(ids.first(kMaxListed)),
+  if (ids.size() <= kMaxListed) return JoinKeys(ids);
+  return fmt::format("{}, ... ({} in all)", JoinKeys(ids.first(kMaxListed)),
                      ids.size());
-}
-
-// Text of a TOML value's type for messages.
-std::string_view TypeName(const toml::node& node) {
-  switch (node.type()) {
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return "an integer";
-    case toml::node_type::floating_point:
-      return "a number";
-    case toml::node_type::boolean:
-      return "a boolean";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::table:
-      return "a table";
-    default:
-      return "a date or time";
-  }
-}
-
-// Echo of user text in one line: at most 60 bytes (cut on a UTF-8 boundary)
-// with control characters and bytes that are not UTF-8 escaped.
-std::string Echo(std::string_view text) {
-  constexpr std::size_t kMaxEcho = 60;
-  if (text.size() <= kMaxEcho) return PrintableText(text);
-  std::size_t cut = kMaxEcho;
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xc0) == 0x80) {
-    --cut;
-  }
-  return PrintableText(text.substr(0, cut)) + "...";
 }
 
 SourceLocation Where(const toml::node& node) {
@@ -146,6 +120,9 @@ SourceLocation Where(const toml::node& node) {
 class Parser {
  public:
   explicit Parser(std::string_view path) : path_(path) {}
+  // fields_ reports through this parser: no copies.
+  Parser(const Parser&) = delete;
+  Parser& operator=(const Parser&) = delete;
 
   ParseOutcome Parse(const toml::table& root);
   std::vector<Diagnostic>& diagnostics() { return diagnostics_; }
@@ -158,31 +135,39 @@ class Parser {
     Fail(Where(node), std::move(message));
   }
 
-  // Unknown keys of `table` (named `name`): a did-you-mean or the accepted
-  // list; keys in `elsewhere` get `elsewhere_message` instead.
+  // The shared field readers (burrlab/stimuli/toml_fields.h), reporting
+  // through Fail.
   void CheckKeys(const toml::table& table, const std::string& name,
-                 const std::vector<std::string_view>& allowed,
-                 const std::vector<std::string_view>& elsewhere = {},
-                 std::string_view elsewhere_message = {});
-
-  // Typed getters: nullopt when absent or wrong (wrong is reported).
+                 Keys allowed, Keys elsewhere = {},
+                 std::string_view elsewhere_message = {}) {
+    fields_.CheckKeys(table, name, allowed, elsewhere, elsewhere_message);
+  }
   const toml::table* Table(const toml::table& parent, std::string_view key,
-                           const std::string& name);
+                           const std::string& name) {
+    return fields_.Table(parent, key, name);
+  }
   std::optional<std::string> String(const toml::table& t, std::string_view key,
-                                    const std::string& name);
+                                    const std::string& name) {
+    return fields_.String(t, key, name);
+  }
   std::optional<double> Number(const toml::table& t, std::string_view key,
-                               const std::string& name);
+                               const std::string& name) {
+    return fields_.Number(t, key, name);
+  }
   std::optional<std::int64_t> Integer(const toml::table& t,
                                       std::string_view key,
-                                      const std::string& name);
-  // A string that must be one of `choices`; the index.
+                                      const std::string& name) {
+    return fields_.Integer(t, key, name);
+  }
   std::optional<int> Choice(const toml::table& t, std::string_view key,
-                            const std::string& name, Keys choices);
-
-  // Checks value in range; reports at the key.
+                            const std::string& name, Keys choices) {
+    return fields_.Choice(t, key, name, choices);
+  }
   bool Range(const toml::table& t, std::string_view key,
              const std::string& name, double value, double lo, double hi,
-             bool lo_open, bool hi_open);
+             bool lo_open, bool hi_open) {
+    return fields_.Range(t, key, name, value, lo, hi, lo_open, hi_open);
+  }
 
   void ParseStudy(const toml::table& root, Protocol& p);
   void ParseRecording(const toml::table& root, Protocol& p);
@@ -196,6 +181,10 @@ class Parser {
   // reporting a bad id or a value that is not a table.
   const toml::table* EntryTable(const std::string& id, const toml::node& node,
                                 std::string_view kind, const std::string& name);
+  // An axis's parameter, by its key or (with a note) its old spelling; the
+  // index into kSpellings.
+  std::optional<int> AxisParameter(const toml::table& t,
+                                   const std::string& name);
   // A material id that must be declared.
   std::optional<std::string> MaterialRef(const toml::table& t,
                                          std::string_view key,
@@ -232,6 +221,11 @@ class Parser {
 
   std::string path_;
   std::vector<Diagnostic> diagnostics_;
+  std::vector<Diagnostic> notes_;
+  stimuli::TomlFields fields_{[this](toml::source_position p, std::string m) {
+    Fail(SourceLocation{static_cast<int>(p.line), static_cast<int>(p.column)},
+         std::move(m));
+  }};
   std::set<std::string> broken_materials_;  // declared, but with errors
   std::set<std::string> broken_axes_;       // declared, but with errors
   std::map<std::string, std::size_t, std::less<>> material_index_;
@@ -274,120 +268,6 @@ std::string_view Parser::Suggest(std::string_view typed, Keys ids) {
   if (ids.size() > suggestion_budget_) return {};
   suggestion_budget_ -= ids.size();
   return DidYouMean(typed, ids);
-}
-
-void Parser::CheckKeys(const toml::table& table, const std::string& name,
-                       const std::vector<std::string_view>& allowed,
-                       const std::vector<std::string_view>& elsewhere,
-                       std::string_view elsewhere_message) {
-  for (const auto& [key, node] : table) {
-    const std::string_view k = key.str();
-    if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) {
-      continue;
-    }
-    if (std::find(elsewhere.begin(), elsewhere.end(), k) != elsewhere.end()) {
-      Fail(Where(node), fmt::format("key \"{}\" {}", k, elsewhere_message));
-      continue;
-    }
-    const std::string_view hint = DidYouMean(k, allowed);
-    if (!hint.empty()) {
-      Fail(Where(node), fmt::format("unknown key \"{}\" in {} (did you mean "
-                                    "\"{}\"?)",
-                                    Echo(k), name, hint));
-    } else {
-      Fail(Where(node), fmt::format("unknown key \"{}\" in {}; accepted: {}",
-                                    Echo(k), name, Join(allowed)));
-    }
-  }
-}
-
-const toml::table* Parser::Table(const toml::table& parent,
-                                 std::string_view key,
-                                 const std::string& name) {
-  const toml::node* node = parent.get(key);
-  if (node == nullptr) return nullptr;
-  if (!node->is_table()) {
-    Fail(*node,
-         fmt::format("{} must be a table, got {}", name, TypeName(*node)));
-    return nullptr;
-  }
-  return node->as_table();
-}
-
-std::optional<std::string> Parser::String(const toml::table& t,
-                                          std::string_view key,
-                                          const std::string& name) {
-  const toml::node* node = t.get(key);
-  if (node == nullptr) return std::nullopt;
-  if (!node->is_string()) {
-    Fail(*node,
-         fmt::format("{} must be a string, got {}", name, TypeName(*node)));
-    return std::nullopt;
-  }
-  return std::string(node->as_string()->get());
-}
-
-std::optional<double> Parser::Number(const toml::table& t, std::string_view key,
-                                     const std::string& name) {
-  const toml::node* node = t.get(key);
-  if (node == nullptr) return std::nullopt;
-  if (node->is_integer()) {
-    return static_cast<double>(node->as_integer()->get());
-  }
-  if (!node->is_floating_point()) {
-    Fail(*node,
-         fmt::format("{} must be a number, got {}", name, TypeName(*node)));
-    return std::nullopt;
-  }
-  const double v = node->as_floating_point()->get();
-  if (!std::isfinite(v)) {
-    Fail(*node, fmt::format("{} must be a finite number, got {}", name, v));
-    return std::nullopt;
-  }
-  return v;
-}
-
-std::optional<std::int64_t> Parser::Integer(const toml::table& t,
-                                            std::string_view key,
-                                            const std::string& name) {
-  const toml::node* node = t.get(key);
-  if (node == nullptr) return std::nullopt;
-  if (!node->is_integer()) {
-    Fail(*node,
-         fmt::format("{} must be an integer, got {}", name, TypeName(*node)));
-    return std::nullopt;
-  }
-  return node->as_integer()->get();
-}
-
-std::optional<int> Parser::Choice(const toml::table& t, std::string_view key,
-                                  const std::string& name, Keys choices) {
-  std::optional<std::string> value = String(t, key, name);
-  if (!value.has_value()) return std::nullopt;
-  for (std::size_t i = 0; i < choices.size(); ++i) {
-    if (choices[i] == *value) return static_cast<int>(i);
-  }
-  const std::string_view hint = DidYouMean(*value, choices);
-  Fail(*t.get(key),
-       fmt::format(
-           "{} must be one of {}, got \"{}\"{}", name, Join(choices),
-           Echo(*value),
-           hint.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", hint)));
-  return std::nullopt;
-}
-
-bool Parser::Range(const toml::table& t, std::string_view key,
-                   const std::string& name, double value, double lo, double hi,
-                   bool lo_open, bool hi_open) {
-  const bool ok = (lo_open ? value > lo : value >= lo) &&
-                  (hi_open ? value < hi : value <= hi);
-  if (ok) return true;
-  const std::string lo_text = std::isinf(lo) ? "-inf" : fmt::format("{}", lo);
-  const std::string hi_text = std::isinf(hi) ? "inf" : fmt::format("{}", hi);
-  Fail(*t.get(key), fmt::format("{} must be in {}{}, {}{}, got {}", name,
-                                lo_open ? "(" : "[", lo_text, hi_text,
-                                hi_open ? ")" : "]", value));
-  return false;
 }
 
 void Parser::ParseStudy(const toml::table& root, Protocol& p) {
@@ -490,11 +370,12 @@ const toml::table* Parser::EntryTable(const std::string& id,
   if (!ValidId(id)) {
     Fail(node, fmt::format("{} id \"{}\" must start with a letter and hold "
                            "only letters, digits and '_' (at most 64)",
-                           kind, Echo(id)));
+                           kind, EchoText(id)));
     return nullptr;
   }
   if (!node.is_table()) {
-    Fail(node, fmt::format("{} must be a table, got {}", name, TypeName(node)));
+    Fail(node,
+         fmt::format("{} must be a table, got {}", name, TomlTypeName(node)));
     return nullptr;
   }
   return node.as_table();
@@ -506,21 +387,9 @@ void Parser::ParseMaterials(const toml::table& root, Protocol& p) {
   // The simulator's rule (sim::Material::Validate), as material files have
   // it: c_e > 0 (a material with no elastic force cannot be felt), the others
   // >= 0 (no erosion, no friction, no impact damping).
-  struct Param {
-    std::string_view key;
-    double sim::Material::*field;
-    bool zero_ok;
-  };
-  constexpr Param kParams[] = {
-      {"c_e_n_per_mm2", &sim::Material::c_e_n_per_mm2, false},
-      {"alpha_per_s", &sim::Material::alpha_per_s, true},
-      {"c_mu_n_per_mm2", &sim::Material::c_mu_n_per_mm2, true},
-      {"mu", &sim::Material::mu, true},
-      {"c_i_n_s_per_mm3", &sim::Material::c_i_n_s_per_mm3, true},
-  };
   for (const auto& [key, node] : *materials) {
     const std::string id(key.str());
-    const std::string name = fmt::format("materials.{}", Echo(id));
+    const std::string name = fmt::format("materials.{}", EchoText(id));
     const toml::table* entry = EntryTable(id, node, "material", name);
     if (entry == nullptr) {
       broken_materials_.insert(id);
@@ -550,21 +419,24 @@ void Parser::ParseMaterials(const toml::table& root, Protocol& p) {
       m.set.display_name = id;
       m.set.source = fmt::format("protocol {}", path_);
       std::vector<std::string_view> missing;
-      for (const Param& param : kParams) {
+      for (const stimuli::MaterialParameterSpelling& param : kSpellings) {
         if (t.get(param.key) == nullptr) missing.push_back(param.key);
       }
       if (!missing.empty()) {
         Fail(t, fmt::format("[{}] needs \"builtin\" or all of c_e_n_per_mm2, "
                             "alpha_per_s, c_mu_n_per_mm2, mu, "
                             "c_i_n_s_per_mm3 (missing {})",
-                            name, Join(missing)));
+                            name, JoinKeys(missing)));
         ok = false;
       }
     }
-    for (const Param& param : kParams) {
+    for (const stimuli::MaterialParameterSpelling& param : kSpellings) {
       const std::string field = fmt::format("{}.{}", name, param.key);
+      // c_e > 0 (a material with no elastic force cannot be felt), the
+      // others >= 0, as sim::Material::Validate and material files have it.
+      const bool zero_ok = param.field != &sim::Material::c_e_n_per_mm2;
       if (auto v = Number(t, param.key, field)) {
-        if (Range(t, param.key, field, *v, 0.0, 1e6, !param.zero_ok, false)) {
+        if (Range(t, param.key, field, *v, 0.0, 1e6, !zero_ok, false)) {
           m.set.material.*param.field = *v;
         } else {
           ok = false;
@@ -605,7 +477,7 @@ std::optional<std::string> Parser::MaterialRef(const toml::table& t,
   const Keys ids = material_ids_;
   const std::string_view hint = Suggest(*id, ids);
   Fail(*t.get(key),
-       fmt::format("{}: unknown material \"{}\"{}", name, Echo(*id),
+       fmt::format("{}: unknown material \"{}\"{}", name, EchoText(*id),
                    !hint.empty() ? fmt::format(" (did you mean \"{}\"?)", hint)
                    : ids.empty()
                        ? std::string(" (no [materials] declared)")
@@ -613,16 +485,36 @@ std::optional<std::string> Parser::MaterialRef(const toml::table& t,
   return std::nullopt;
 }
 
+std::optional<int> Parser::AxisParameter(const toml::table& t,
+                                         const std::string& name) {
+  const toml::node* node = t.get("parameter");
+  if (node != nullptr && node->is_string()) {
+    const std::string_view value = node->as_string()->get();
+    for (std::size_t i = 0; i < std::size(kSpellings); ++i) {
+      if (kSpellings[i].old_key.empty() || value != kSpellings[i].old_key) {
+        continue;
+      }
+      notes_.push_back(
+          {Where(*node),
+           fmt::format("{}.parameter \"{}\" is the old spelling of \"{}\" "
+                       "(read in {}); rename it, a later format will refuse "
+                       "the old spelling",
+                       name, value, kSpellings[i].key, kSpellings[i].unit),
+           Severity::kNote});
+      return static_cast<int>(i);
+    }
+  }
+  return Choice(t, "parameter", name + ".parameter", kParameterKeys);
+}
+
 void Parser::ParseAxes(const toml::table& root, Protocol& p) {
   const toml::table* axes = Table(root, "axes", "axes");
   if (axes == nullptr) return;
   constexpr std::string_view kKinds[] = {"ratio", "increment", "value",
                                          "log_interpolation"};
-  constexpr std::string_view kParameters[] = {"c_e", "alpha", "c_mu", "mu",
-                                              "c_i"};
   for (const auto& [key, node] : *axes) {
     const std::string id(key.str());
-    const std::string name = fmt::format("axes.{}", Echo(id));
+    const std::string name = fmt::format("axes.{}", EchoText(id));
     const toml::table* entry = EntryTable(id, node, "axis", name);
     if (entry == nullptr) {
       broken_axes_.insert(id);
@@ -638,7 +530,7 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
     if (!kind.has_value()) {
       if (t.get("kind") == nullptr) {
         Fail(t, fmt::format("[{}] needs \"kind\" (one of {})", name,
-                            Join(kKinds)));
+                            JoinKeys(kKinds)));
       }
       continue;
     }
@@ -660,9 +552,10 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
         axis.from = *from;
         axis.to = *to;
         for (const std::string& m : {*from, *to}) {
-          for (const auto& [parameter_key, parameter] : kParameterKeys) {
-            if (GetParameter(FindMaterial(p, m)->set.material, parameter) <=
-                0.0) {
+          for (const stimuli::MaterialParameterSpelling& spelling :
+               kSpellings) {
+            const std::string_view parameter_key = spelling.key;
+            if (FindMaterial(p, m)->set.material.*spelling.field <= 0.0) {
               Fail(t, fmt::format("{}: material \"{}\" has {} = 0; a log "
                                   "interpolation needs every parameter > 0",
                                   name, m, parameter_key));
@@ -673,12 +566,11 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
         }
       }
     } else {
-      std::optional<int> parameter =
-          Choice(t, "parameter", name + ".parameter", kParameters);
+      std::optional<int> parameter = AxisParameter(t, name);
       if (!parameter.has_value()) {
         if (t.get("parameter") == nullptr) {
           Fail(t, fmt::format("[{}] needs \"parameter\" (one of {})", name,
-                              Join(kParameters)));
+                              JoinKeys(kParameterKeys)));
         }
         ok = false;
       } else {
@@ -697,14 +589,14 @@ void Parser::ParseAxes(const toml::table& root, Protocol& p) {
           const double base = GetParameter(
               FindMaterial(p, *reference)->set.material, axis.parameter);
           if (base <= 0.0) {
-            Fail(t, fmt::format(
-                        "{}: material \"{}\" has {} = 0; a {} axis "
-                        "scales it, so every level would give 0 (use "
-                        "kind = \"value\")",
-                        name, *reference,
-                        kParameterKeys[static_cast<std::size_t>(axis.parameter)]
-                            .first,
-                        AxisKindName(axis.kind)));
+            Fail(t,
+                 fmt::format(
+                     "{}: material \"{}\" has {} = 0; a {} axis "
+                     "scales it, so every level would give 0 (use "
+                     "kind = \"value\")",
+                     name, *reference,
+                     kParameterKeys[static_cast<std::size_t>(axis.parameter)],
+                     AxisKindName(axis.kind)));
             ok = false;
           }
         }
@@ -782,7 +674,8 @@ void Parser::ParseIntervals(const toml::table& t, const std::string& name,
     }
     for (const toml::node& v : *a) {
       if (!v.is_number()) {
-        Fail(v, fmt::format("{} must hold numbers, got {}", key, TypeName(v)));
+        Fail(v,
+             fmt::format("{} must hold numbers, got {}", key, TomlTypeName(v)));
         return;
       }
       values.push_back({v.value<double>().value_or(0.0), &v});
@@ -790,7 +683,7 @@ void Parser::ParseIntervals(const toml::table& t, const std::string& name,
   } else {
     Fail(*node, fmt::format("{} must be a number or an array of numbers, got "
                             "{}",
-                            key, TypeName(*node)));
+                            key, TomlTypeName(*node)));
     return;
   }
   b.interval_s.clear();
@@ -860,7 +753,7 @@ void Parser::ParseStaircase(const toml::table& t, const std::string& name,
     if (a == nullptr || !a->is_array_of_tables()) {
       Fail(*node, fmt::format("{}.step_schedule must be an array of tables "
                               "{{after_reversals, step_down, step_up}}, got {}",
-                              name, TypeName(*node)));
+                              name, TomlTypeName(*node)));
     } else if (a->size() > kMaxScheduleEntries) {
       // Every interleaved staircase copies the block's schedule: bounded, so
       // that copies stay linear in the file.
@@ -909,7 +802,7 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
   if (!method.has_value()) {
     if (t.get("method") == nullptr) {
       Fail(t, fmt::format("{} needs \"method\" (one of {})", name,
-                          Join(kMethods)));
+                          JoinKeys(kMethods)));
     }
     return;
   }
@@ -984,7 +877,7 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
         const std::string_view hint = Suggest(*id, ids);
         Fail(*t.get("axis"),
              fmt::format(
-                 "{}.axis: unknown axis \"{}\"{}", name, Echo(*id),
+                 "{}.axis: unknown axis \"{}\"{}", name, EchoText(*id),
                  !hint.empty() ? fmt::format(" (did you mean \"{}\"?)", hint)
                  : ids.empty()
                      ? std::string(" (no [axes] declared)")
@@ -1139,13 +1032,13 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
         if (a == nullptr) {
           Fail(*node, fmt::format("{}.levels must be an array of numbers, got "
                                   "{}",
-                                  name, TypeName(*node)));
+                                  name, TomlTypeName(*node)));
         } else {
           bool ok = true;
           for (const toml::node& v : *a) {
             if (!v.is_number()) {
               Fail(v, fmt::format("{}.levels must hold numbers, got {}", name,
-                                  TypeName(v)));
+                                  TomlTypeName(v)));
               ok = false;
               break;
             }
@@ -1623,7 +1516,7 @@ void Parser::ParseBlocks(const toml::table& root, Protocol& p) {
   if (blocks == nullptr || !blocks->is_array_of_tables() || blocks->empty()) {
     Fail(*node, fmt::format("blocks must be an array of tables ([[blocks]]), "
                             "got {}",
-                            TypeName(*node)));
+                            TomlTypeName(*node)));
     return;
   }
   std::map<std::string, int> names;
@@ -1637,7 +1530,7 @@ void Parser::ParseBlocks(const toml::table& root, Protocol& p) {
       const toml::node* at = t.get("name");
       Fail(at != nullptr ? Where(*at) : Where(t),
            fmt::format("blocks[{}]: name \"{}\" is already used by blocks[{}]",
-                       i + 1, Echo(b.name), it->second));
+                       i + 1, EchoText(b.name), it->second));
     }
     if (diagnostics_.size() == before) p.blocks.push_back(std::move(b));
   }
@@ -1648,11 +1541,11 @@ ParseOutcome Parser::Parse(const toml::table& root) {
   CheckKeys(root, "the protocol", {std::begin(kRootKeys), std::end(kRootKeys)});
   if (const toml::node* f = root.get("format")) {
     if (!f->is_string() || f->as_string()->get() != kProtocolFormat) {
-      Fail(*f,
-           fmt::format("format must be \"{}\", got {}", kProtocolFormat,
-                       f->is_string()
-                           ? fmt::format("\"{}\"", Echo(f->as_string()->get()))
-                           : std::string(TypeName(*f))));
+      Fail(*f, fmt::format(
+                   "format must be \"{}\", got {}", kProtocolFormat,
+                   f->is_string()
+                       ? fmt::format("\"{}\"", EchoText(f->as_string()->get()))
+                       : std::string(TomlTypeName(*f))));
     }
   } else {
     Fail(SourceLocation{1, 1},
@@ -1683,6 +1576,12 @@ ParseOutcome Parser::Parse(const toml::table& root) {
                             std::pair(b.where.line, b.where.column);
                    });
   outcome.diagnostics = std::move(diagnostics_);
+  std::stable_sort(notes_.begin(), notes_.end(),
+                   [](const Diagnostic& a, const Diagnostic& b) {
+                     return std::pair(a.where.line, a.where.column) <
+                            std::pair(b.where.line, b.where.column);
+                   });
+  outcome.notes = std::move(notes_);
   if (outcome.diagnostics.empty()) outcome.protocol = std::move(p);
   return outcome;
 }

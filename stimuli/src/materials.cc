@@ -25,6 +25,7 @@
 #include "burrlab/base/file_text.h"
 #include "burrlab/base/printable.h"
 #include "burrlab/base/spelling.h"
+#include "burrlab/stimuli/toml_fields.h"
 #include "burrlab/stimuli/toml_guard.h"
 
 namespace burrlab::stimuli {
@@ -49,26 +50,8 @@ constexpr EmbeddedMaterial kBuiltinMaterials[] = {
 #include "builtin_materials.inc"
 };
 
-// One parameter of the schema: its key, unit and the sim::Material field.
-struct ParameterSpec {
-  std::string_view key;
-  std::string_view unit;
-  bool strictly_positive;
-  double sim::Material::*field;
-};
-
-constexpr ParameterSpec kParameters[] = {
-    {"c_e", "N/mm^2", true, &sim::Material::c_e_n_per_mm2},
-    {"alpha", "1/s", false, &sim::Material::alpha_per_s},
-    {"c_mu", "N/mm^2", false, &sim::Material::c_mu_n_per_mm2},
-    {"mu", "1", false, &sim::Material::mu},
-    {"c_i", "N*s/mm^3", false, &sim::Material::c_i_n_s_per_mm3},
-};
-
 constexpr std::string_view kRootKeys[] = {"format", "name", "display_name",
                                           "description", "parameters"};
-constexpr std::string_view kParameterKeys[] = {"c_e", "alpha", "c_mu", "mu",
-                                               "c_i"};
 constexpr std::string_view kEntryKeys[] = {"value", "unit", "source"};
 
 std::string Suggestion(std::string_view typed,
@@ -97,78 +80,26 @@ std::string OneLine(std::string_view text) {
   return out;
 }
 
-// `text` as quoted in a message: at most 64 bytes, cut on a UTF-8 boundary,
-// escaped by OneLine.
-std::string Echo(std::string_view text) {
-  constexpr std::size_t kMaxEcho = 64;
-  if (text.size() <= kMaxEcho) return OneLine(text);
-  std::size_t cut = kMaxEcho;
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xc0) == 0x80) {
-    --cut;
-  }
-  return fmt::format("{}...", OneLine(text.substr(0, cut)));
-}
-
 bool IsValid(const toml::source_position& position) {
   return position.line > 0 && position.column > 0;
 }
 
-// "path:line:col: error: message" on one line.
-Error ErrorAt(std::string_view path, const toml::source_position& position,
-              std::string_view message) {
+bool Before(const toml::source_position& a, const toml::source_position& b) {
+  return a.line < b.line || (a.line == b.line && a.column < b.column);
+}
+
+// "path:line:col: <kind>: message" on one line.
+std::string LineAt(std::string_view path, const toml::source_position& position,
+                   std::string_view kind, std::string_view message) {
   const toml::source_position where =
       IsValid(position) ? position : toml::source_position{1, 1};
-  return Error{OneLine(fmt::format("{}:{}:{}: error: {}", path, where.line,
-                                   where.column, message))};
+  return OneLine(fmt::format("{}:{}:{}: {}: {}", path, where.line, where.column,
+                             kind, message));
 }
 
-// Where a table entry starts: the header of a [table], else its key.
-toml::source_position EntryPosition(const toml::key& key,
-                                    const toml::node& node,
-                                    const toml::source_position& fallback) {
-  const toml::table* table = node.as_table();
-  if (table != nullptr && !table->is_inline() && IsValid(node.source().begin)) {
-    return node.source().begin;
-  }
-  if (IsValid(key.source().begin)) return key.source().begin;
-  if (IsValid(node.source().begin)) return node.source().begin;
-  return fallback;
-}
-
-toml::source_position TablePosition(const toml::table& table,
-                                    const toml::source_position& fallback) {
-  return IsValid(table.source().begin) ? table.source().begin : fallback;
-}
-
-toml::source_position NodePosition(const toml::node& node,
-                                   const toml::source_position& fallback) {
-  return IsValid(node.source().begin) ? node.source().begin : fallback;
-}
-
-std::string_view TypeName(const toml::node& node) {
-  switch (node.type()) {
-    case toml::node_type::table:
-      return "table";
-    case toml::node_type::array:
-      return "array";
-    case toml::node_type::string:
-      return "string";
-    case toml::node_type::integer:
-      return "integer";
-    case toml::node_type::floating_point:
-      return "float";
-    case toml::node_type::boolean:
-      return "boolean";
-    case toml::node_type::date:
-      return "date";
-    case toml::node_type::time:
-      return "time";
-    case toml::node_type::date_time:
-      return "date-time";
-    case toml::node_type::none:
-      break;
-  }
-  return "nothing";
+Error ErrorAt(std::string_view path, const toml::source_position& position,
+              std::string_view message) {
+  return Error{LineAt(path, position, "error", message)};
 }
 
 // `prefix.key`, or `key` at the top level.
@@ -176,90 +107,87 @@ std::string Dotted(std::string_view prefix, std::string_view key) {
   return prefix.empty() ? std::string(key) : fmt::format("{}.{}", prefix, key);
 }
 
-// Validates one parsed file against the schema, reporting the first problem.
+// Validates one parsed file against the schema, reporting the first problem:
+// the field readers every file kind shares (burrlab/stimuli/toml_fields.h)
+// collect what one step finds, and the step returns the earliest in the file.
 class SchemaChecker {
  public:
   explicit SchemaChecker(std::string_view path) : path_(path) {}
+  // fields_ reports through this checker: no copies.
+  SchemaChecker(const SchemaChecker&) = delete;
+  SchemaChecker& operator=(const SchemaChecker&) = delete;
 
-  Result<MaterialSet> Check(const toml::table& root) const {
-    const toml::source_position root_at = TablePosition(root, {1, 1});
-
+  Result<MaterialSet> Check(const toml::table& root) {
     // The format id first: a file of another format gets that message rather
     // than one about the keys it does not share with this one.
     const toml::node* format = root.get("format");
     if (format == nullptr) {
-      return ErrorAt(path_, root_at,
+      return ErrorAt(path_, {1, 1},
                      fmt::format("missing key 'format' (material files start "
                                  "with format = \"{}\")",
                                  kFormat));
     }
-    if (!format->is_string()) {
+    const std::optional<std::string> id =
+        fields_.String(root, "format", "format");
+    if (!id.has_value()) return First();
+    if (*id != kFormat) {
       return ErrorAt(
-          path_, NodePosition(*format, root_at),
-          fmt::format("format must be a string, got {}", TypeName(*format)));
+          path_, PositionOf(*format),
+          fmt::format("format must be '{}', got '{}'", kFormat, EchoText(*id)));
     }
-    if (const std::string& id = format->as_string()->get(); id != kFormat) {
-      return ErrorAt(
-          path_, NodePosition(*format, root_at),
-          fmt::format("format must be '{}', got '{}'", kFormat, Echo(id)));
-    }
-    if (auto error = UnknownKey(root, "", kRootKeys, root_at)) return *error;
+    fields_.CheckKeys(root, "the material file", kRootKeys);
+    if (!problems_.empty()) return First();
 
     MaterialSet set;
-    Result<std::string> name = RequiredString(root, "", "name", root_at);
-    if (!name.ok()) return name.error();
-    const toml::node& name_node = *root.get("name");
+    std::optional<std::string> name = RequiredString(root, "", "name");
+    if (!name.has_value()) return First();
     if (!IsIdentifier(*name)) {
-      return ErrorAt(path_, NodePosition(name_node, root_at),
+      return ErrorAt(path_, PositionOf(*root.get("name")),
                      fmt::format("name must be lowercase letters, digits and "
                                  "underscores ([a-z0-9_]+), got '{}'",
-                                 Echo(*name)));
+                                 EchoText(*name)));
     }
     set.name = std::move(*name);
-
-    Result<std::string> display_name =
-        RequiredString(root, "", "display_name", root_at);
-    if (!display_name.ok()) return display_name.error();
+    std::optional<std::string> display_name =
+        RequiredString(root, "", "display_name");
+    if (!display_name.has_value()) return First();
     set.display_name = std::move(*display_name);
+    std::optional<std::string> description =
+        fields_.String(root, "description", "description");
+    if (!problems_.empty()) return First();
+    set.description = description.value_or("");
 
-    if (const toml::node* description = root.get("description");
-        description != nullptr) {
-      if (!description->is_string()) {
-        return ErrorAt(path_, NodePosition(*description, root_at),
-                       fmt::format("description must be a string, got {}",
-                                   TypeName(*description)));
+    if (root.get("parameters") == nullptr) {
+      return ErrorAt(path_, {1, 1}, "missing key 'parameters'");
+    }
+    const toml::table* parameters =
+        fields_.Table(root, "parameters", "parameters");
+    if (parameters == nullptr) return First();
+    std::vector<std::string_view> keys;
+    std::vector<TomlRename> renamed;
+    for (const MaterialParameterSpelling& spelling :
+         kMaterialParameterSpellings) {
+      keys.push_back(spelling.key);
+      if (!spelling.old_key.empty()) {
+        renamed.push_back({spelling.old_key, spelling.key});
       }
-      set.description = description->as_string()->get();
     }
-
-    const toml::node* parameters_node = root.get("parameters");
-    if (parameters_node == nullptr) {
-      return ErrorAt(path_, root_at, "missing key 'parameters'");
-    }
-    const toml::table* parameters = parameters_node->as_table();
-    if (parameters == nullptr) {
-      return ErrorAt(path_, NodePosition(*parameters_node, root_at),
-                     fmt::format("parameters must be a table, got {}",
-                                 TypeName(*parameters_node)));
-    }
-    const toml::source_position parameters_at =
-        TablePosition(*parameters, root_at);
-    if (auto error =
-            UnknownKey(*parameters, "parameters", kParameterKeys, root_at)) {
-      return *error;
-    }
+    fields_.CheckKeys(*parameters, "[parameters]", keys, {}, {}, renamed);
+    if (!problems_.empty()) return First();
     std::vector<std::string> sources;
-    for (const ParameterSpec& spec : kParameters) {
-      Result<Parameter> parameter =
-          CheckParameter(*parameters, spec, parameters_at);
-      if (!parameter.ok()) return parameter.error();
-      set.material.*spec.field = parameter->value;
-      sources.push_back(fmt::format("{}: {}", spec.key, parameter->source));
+    for (const MaterialParameterSpelling& spelling :
+         kMaterialParameterSpellings) {
+      std::optional<Parameter> parameter =
+          CheckParameter(*parameters, spelling, set.notes);
+      if (!parameter.has_value()) return First();
+      set.material.*spelling.field = parameter->value;
+      sources.push_back(
+          fmt::format("{}: {}", spelling.symbol, parameter->source));
     }
     set.source = fmt::format("{}", fmt::join(sources, "; "));
     // The checks above cover Material::Validate's rules; this catches drift.
     if (Status status = set.material.Validate(); !status.ok()) {
-      return ErrorAt(path_, parameters_at, status.error().message);
+      return ErrorAt(path_, PositionOf(*parameters), status.error().message);
     }
     return set;
   }
@@ -269,6 +197,10 @@ class SchemaChecker {
     double value = 0.0;
     std::string source;
   };
+  struct Problem {
+    toml::source_position where;
+    std::string message;
+  };
 
   static bool IsIdentifier(std::string_view text) {
     return !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
@@ -276,136 +208,125 @@ class SchemaChecker {
     });
   }
 
-  // The first key of `table` (in file order) not in `allowed`, as an error.
-  std::optional<Error> UnknownKey(const toml::table& table,
-                                  std::string_view prefix,
-                                  std::span<const std::string_view> allowed,
-                                  const toml::source_position& fallback) const {
-    const toml::key* first_key = nullptr;
-    toml::source_position first_at{};
-    for (auto&& [key, node] : table) {
-      if (std::find(allowed.begin(), allowed.end(), key.str()) !=
-          allowed.end()) {
-        continue;
-      }
-      const toml::source_position at = EntryPosition(key, node, fallback);
-      if (first_key == nullptr || at.line < first_at.line ||
-          (at.line == first_at.line && at.column < first_at.column)) {
-        first_key = &key;
-        first_at = at;
-      }
+  // The earliest problem reported (a step reports at least one before it
+  // returns this).
+  Error First() const {
+    const Problem* first = &problems_.front();
+    for (const Problem& problem : problems_) {
+      if (Before(problem.where, first->where)) first = &problem;
     }
-    if (first_key == nullptr) return std::nullopt;
-    return ErrorAt(path_, first_at,
-                   fmt::format("unknown key '{}'{}",
-                               Dotted(prefix, Echo(first_key->str())),
-                               Suggestion(first_key->str(), allowed)));
+    return ErrorAt(path_, first->where, first->message);
   }
 
-  // table[key] as a non-empty string.
-  Result<std::string> RequiredString(
-      const toml::table& table, std::string_view prefix, std::string_view key,
-      const toml::source_position& table_at) const {
+  void Fail(toml::source_position where, std::string message) {
+    problems_.push_back({where, std::move(message)});
+  }
+
+  // table[key] as a string with something besides white space; nullopt after
+  // a report.
+  std::optional<std::string> RequiredString(const toml::table& table,
+                                            std::string_view prefix,
+                                            std::string_view key) {
     const std::string dotted = Dotted(prefix, key);
     const toml::node* node = table.get(key);
     if (node == nullptr) {
-      return ErrorAt(path_, table_at, fmt::format("missing key '{}'", dotted));
+      Fail(PositionOf(table), fmt::format("missing key '{}'", dotted));
+      return std::nullopt;
     }
-    const toml::source_position at = NodePosition(*node, table_at);
-    if (!node->is_string()) {
-      return ErrorAt(
-          path_, at,
-          fmt::format("{} must be a string, got {}", dotted, TypeName(*node)));
-    }
-    const std::string& text = node->as_string()->get();
-    if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
-      return ErrorAt(path_, at, fmt::format("{} must not be empty", dotted));
+    std::optional<std::string> text = fields_.String(table, key, dotted);
+    if (text.has_value() &&
+        text->find_first_not_of(" \t\r\n") == std::string::npos) {
+      Fail(PositionOf(*node), fmt::format("{} must not be empty", dotted));
+      return std::nullopt;
     }
     return text;
   }
 
-  // parameters.<spec.key>: a table of value, unit and source.
-  Result<Parameter> CheckParameter(
-      const toml::table& parameters, const ParameterSpec& spec,
-      const toml::source_position& parameters_at) const {
-    const std::string dotted = Dotted("parameters", spec.key);
-    const toml::node* node = parameters.get(spec.key);
-    if (node == nullptr) {
-      return ErrorAt(path_, parameters_at,
-                     fmt::format("missing key '{}'", dotted));
+  // [parameters.<key>] (or its old spelling, with a note): a table of value,
+  // source and, optionally, the unit its key spells.
+  std::optional<Parameter> CheckParameter(
+      const toml::table& parameters, const MaterialParameterSpelling& spelling,
+      std::vector<std::string>& notes) {
+    std::string_view key = spelling.key;
+    if (!spelling.old_key.empty() &&
+        parameters.get(spelling.old_key) != nullptr) {
+      if (parameters.get(spelling.key) != nullptr) {
+        Fail(PositionOf(*parameters.get(spelling.old_key)),
+             fmt::format("[parameters.{}] and [parameters.{}] are the same "
+                         "parameter; keep [parameters.{}]",
+                         spelling.old_key, spelling.key, spelling.key));
+        return std::nullopt;
+      }
+      key = spelling.old_key;
+      notes.push_back(
+          LineAt(path_, PositionOf(*parameters.get(key)), "note",
+                 fmt::format("[parameters.{}] is the old spelling of "
+                             "[parameters.{}] (read in {}); rename it, a later "
+                             "format will refuse the old spelling",
+                             spelling.old_key, spelling.key, spelling.unit)));
     }
-    const toml::table* entry = node->as_table();
+    const std::string dotted = Dotted("parameters", key);
+    if (parameters.get(key) == nullptr) {
+      Fail(PositionOf(parameters),
+           fmt::format("missing key '{}'", Dotted("parameters", spelling.key)));
+      return std::nullopt;
+    }
+    const toml::node& node = *parameters.get(key);
+    const toml::table* entry = node.as_table();
     if (entry == nullptr) {
-      return ErrorAt(path_, NodePosition(*node, parameters_at),
-                     fmt::format("{} must be a table with value, unit and "
-                                 "source, got {}",
-                                 dotted, TypeName(*node)));
+      Fail(PositionOf(node), fmt::format("{} must be a table with value and "
+                                         "source, got {}",
+                                         dotted, TomlTypeName(node)));
+      return std::nullopt;
     }
-    const toml::source_position entry_at = TablePosition(*entry, parameters_at);
-    if (auto error = UnknownKey(*entry, dotted, kEntryKeys, entry_at)) {
-      return *error;
-    }
+    fields_.CheckKeys(*entry, fmt::format("[{}]", dotted), kEntryKeys);
+    if (!problems_.empty()) return std::nullopt;
 
+    if (entry->get("value") == nullptr) {
+      Fail(PositionOf(*entry), fmt::format("missing key '{}.value'", dotted));
+      return std::nullopt;
+    }
+    const std::string value_name = fmt::format("{}.value", dotted);
+    const std::optional<double> value =
+        fields_.Number(*entry, "value", value_name);
+    if (!value.has_value()) return std::nullopt;
+    const toml::source_position value_at = PositionOf(*entry->get("value"));
+    // c_e must be positive: a material with no elastic force cannot be felt
+    // (sim::Material::Validate); the others may be 0.
+    if (spelling.field == &sim::Material::c_e_n_per_mm2 && *value <= 0.0) {
+      Fail(value_at,
+           fmt::format("{} must be positive, got {}", value_name, *value));
+      return std::nullopt;
+    }
+    if (*value < 0.0) {
+      Fail(value_at, fmt::format("{} must be zero or positive, got {}",
+                                 value_name, *value));
+      return std::nullopt;
+    }
     Parameter parameter;
-    const toml::node* value = entry->get("value");
-    if (value == nullptr) {
-      return ErrorAt(path_, entry_at,
-                     fmt::format("missing key '{}.value'", dotted));
-    }
-    const toml::source_position value_at = NodePosition(*value, entry_at);
-    if (const auto* integer = value->as_integer()) {
-      parameter.value = static_cast<double>(integer->get());
-    } else if (const auto* floating = value->as_floating_point()) {
-      parameter.value = floating->get();
-    } else {
-      return ErrorAt(path_, value_at,
-                     fmt::format("{}.value must be a number, got {}", dotted,
-                                 TypeName(*value)));
-    }
-    if (!std::isfinite(parameter.value)) {
-      return ErrorAt(path_, value_at,
-                     fmt::format("{}.value must be finite, got {}", dotted,
-                                 parameter.value));
-    }
-    if (spec.strictly_positive && parameter.value <= 0.0) {
-      return ErrorAt(path_, value_at,
-                     fmt::format("{}.value must be positive, got {}", dotted,
-                                 parameter.value));
-    }
-    if (parameter.value < 0.0) {
-      return ErrorAt(path_, value_at,
-                     fmt::format("{}.value must be zero or positive, got {}",
-                                 dotted, parameter.value));
-    }
-    parameter.value += 0.0;  // -0 reads as 0
+    parameter.value = *value + 0.0;  // -0 reads as 0
 
-    const toml::node* unit = entry->get("unit");
-    if (unit == nullptr) {
-      return ErrorAt(path_, entry_at,
-                     fmt::format("missing key '{}.unit' (expected unit = "
-                                 "\"{}\")",
-                                 dotted, spec.unit));
+    const std::optional<std::string> unit =
+        fields_.String(*entry, "unit", fmt::format("{}.unit", dotted));
+    if (!problems_.empty()) return std::nullopt;
+    if (unit.has_value() && *unit != spelling.unit) {
+      Fail(PositionOf(*entry->get("unit")),
+           fmt::format("{}.unit must be '{}', got '{}'", dotted, spelling.unit,
+                       EchoText(*unit)));
+      return std::nullopt;
     }
-    const toml::source_position unit_at = NodePosition(*unit, entry_at);
-    if (!unit->is_string()) {
-      return ErrorAt(path_, unit_at,
-                     fmt::format("{}.unit must be the string '{}', got {}",
-                                 dotted, spec.unit, TypeName(*unit)));
-    }
-    if (const std::string& text = unit->as_string()->get(); text != spec.unit) {
-      return ErrorAt(path_, unit_at,
-                     fmt::format("{}.unit must be '{}', got '{}'", dotted,
-                                 spec.unit, Echo(text)));
-    }
-
-    Result<std::string> source =
-        RequiredString(*entry, dotted, "source", entry_at);
-    if (!source.ok()) return source.error();
+    std::optional<std::string> source =
+        RequiredString(*entry, dotted, "source");
+    if (!source.has_value()) return std::nullopt;
     parameter.source = std::move(*source);
     return parameter;
   }
 
   std::string_view path_;
+  std::vector<Problem> problems_;
+  TomlFields fields_{[this](toml::source_position where, std::string message) {
+    Fail(where, std::move(message));
+  }};
 };
 
 // The built-in names in the order of kBuiltinMaterials (sorted by CMake).
@@ -469,6 +390,13 @@ Result<MaterialSet> LoadMaterialFile(const std::string& path) {
                                             : failure.reason);
 }
 
+Result<MaterialSet> LoadMaterial(const std::string& name_or_path) {
+  const bool is_path = name_or_path.ends_with(".toml") ||
+                       name_or_path.find('/') != std::string::npos;
+  return is_path ? LoadMaterialFile(name_or_path)
+                 : LoadBuiltinMaterial(name_or_path);
+}
+
 Result<MaterialSet> LoadBuiltinMaterial(std::string_view name) {
   for (const EmbeddedMaterial& material : kBuiltinMaterials) {
     if (material.name != name) continue;
@@ -481,9 +409,9 @@ Result<MaterialSet> LoadBuiltinMaterial(std::string_view name) {
     return set;
   }
   const std::vector<std::string_view> names = BuiltinNameViews();
-  return Error{OneLine(
-      fmt::format("unknown material '{}': known materials are {}{}", Echo(name),
-                  fmt::join(names, ", "), Suggestion(name, names)))};
+  return Error{OneLine(fmt::format(
+      "unknown material '{}': known materials are {}{}", EchoText(name),
+      fmt::join(names, ", "), Suggestion(name, names)))};
 }
 
 std::vector<std::string> BuiltinMaterialNames() {

@@ -35,7 +35,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [counterbalance]
@@ -65,7 +65,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -92,7 +92,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -119,7 +119,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -146,7 +146,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -181,7 +181,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -208,7 +208,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -236,7 +236,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -263,7 +263,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -291,7 +291,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -319,7 +319,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -329,9 +329,9 @@ a = "pvc"
 b = "bone"
 levels = [1, 2]
 )toml",
-     R"toml(NAME:22:10: error: key "levels" does not apply to method same_different
+     R"toml(NAME:22:1: error: key "levels" does not apply to method same_different
 levels = [1, 2]
-         ^
+^
 )toml"},
     {"level_outside_domain",
      R"toml(format = "burrlab-protocol/1"
@@ -347,7 +347,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -376,7 +376,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -408,7 +408,7 @@ builtin = "human_temporal_bone"
 
 [axes.mix]
 kind = "log_interpolation"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 from = "pvc"
 to = "bone"
 
@@ -419,7 +419,7 @@ a = "pvc"
 b = "bone"
 )toml",
      R"toml(NAME:14:13: error: axes.mix.parameter does not apply to kind log_interpolation (it moves every parameter)
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
             ^
 )toml"},
     {"ratio_of_a_zero_parameter",
@@ -440,7 +440,7 @@ builtin = "human_temporal_bone"
 
 [axes.erosion]
 kind = "ratio"
-parameter = "alpha"
+parameter = "alpha_per_s"
 reference = "soft"
 
 [[blocks]]
@@ -498,7 +498,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -518,9 +518,9 @@ b = "bone"
      R"toml(NAME:22:10: error: blocks[1].trials = 14 cannot be balanced over AA, AB, BA and BB (same-different needs a multiple of 4)
 trials = 14
          ^
-NAME:23:10: error: unknown key "trails" in blocks[1] (did you mean "trials"?)
+NAME:23:1: error: unknown key "trails" in blocks[1] (did you mean "trials"?)
 trails = 3
-         ^
+^
 NAME:27:8: error: blocks[2].task must be one of probe, drill, got "poke" (did you mean "probe"?)
 task = "poke"
        ^
@@ -538,7 +538,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -565,7 +565,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -587,7 +587,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -614,7 +614,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 )toml",
      R"toml(NAME:1:1: error: the protocol needs at least one [[blocks]] table
@@ -635,7 +635,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [observer]
@@ -665,7 +665,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -693,7 +693,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -719,7 +719,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -750,7 +750,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -778,7 +778,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -805,7 +805,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -835,7 +835,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -862,7 +862,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -889,7 +889,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -921,12 +921,12 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [axes.inc]
 kind = "increment"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -953,12 +953,12 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [axes.inc]
 kind = "increment"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -982,12 +982,12 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [axes.inc]
 kind = "increment"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1014,12 +1014,12 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [axes.inc]
 kind = "increment"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1047,12 +1047,12 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [axes.inc]
 kind = "increment"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1081,12 +1081,12 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [axes.inc]
 kind = "increment"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1117,7 +1117,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1147,7 +1147,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1175,7 +1175,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1203,7 +1203,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [recording]
@@ -1233,7 +1233,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1261,7 +1261,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1289,7 +1289,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1318,7 +1318,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1328,9 +1328,9 @@ a = "pvc"
 b = "bone"
 trails = 12
 )toml",
-     R"toml(NAME:22:10: error: unknown key "trails" in blocks[1] (did you mean "trials"?)
+     R"toml(NAME:22:1: error: unknown key "trails" in blocks[1] (did you mean "trials"?)
 trails = 12
-         ^
+^
 )toml"},
     {"unknown_builtin",
      R"toml(format = "burrlab-protocol/1"
@@ -1346,7 +1346,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1373,7 +1373,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1400,7 +1400,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 [zzz]
 q = 1
@@ -1429,7 +1429,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 [stduy]
 name = "x"
@@ -1458,7 +1458,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]
@@ -1531,11 +1531,11 @@ method = "same_different"
 task = "probe"
 )toml";
   EXPECT_EQ(Formatted("NAME", escaped),
-            "NAME:2:21: error: unknown key \"bad\\x1b[2Jkey\" in the protocol; "
+            "NAME:2:1: error: unknown key \"bad\\x1b[2Jkey\" in the protocol; "
             "accepted: format, study, recording, observer, counterbalance, "
             "materials, axes, blocks\n"
             "\"bad\\u001b[2Jkey\" = 1\n"
-            "                    ^\n"
+            "^\n"
             "NAME:8:10: error: counterbalance.scheme must be one of none, "
             "latin_square, reverse, got \"la\\x07tin\"\n"
             "scheme = \"la\\u0007tin\"\n"
@@ -1576,9 +1576,9 @@ TEST(ProtocolParse, FiftyThousandBadKeysPrintAHundredAndACount) {
   }
   EXPECT_EQ(errors, kMaxPrintedDiagnostics);
   EXPECT_TRUE(printed.starts_with(
-      "big.toml:14:6: error: unknown key \"k0\" in [observer]; accepted: "
+      "big.toml:14:1: error: unknown key \"k0\" in [observer]; accepted: "
       "weber_stiffness, weber_removal, lapse, criterion, probe_force_n, "
-      "drill_force_n\nk0 = 1\n     ^\n"))
+      "drill_force_n\nk0 = 1\n^\n"))
       << printed.substr(0, 300);
   EXPECT_TRUE(printed.ends_with("big.toml: ... and 49900 more errors\n"))
       << printed.substr(printed.size() - 300);

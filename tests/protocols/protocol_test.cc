@@ -130,7 +130,7 @@ name = "t"
 builtin = "human_temporal_bone"
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 [[blocks]]
 method = "staircase"

@@ -31,7 +31,7 @@ builtin = "human_temporal_bone"
 
 [axes.ce]
 kind = "increment"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 
 [[blocks]]

@@ -28,17 +28,17 @@ constexpr std::string_view kValid = R"(format = "burrlab-material/1"
 name = "test_material"
 display_name = "Test material"
 
-[parameters.c_e]
+[parameters.c_e_n_per_mm2]
 value = 2.145
 unit = "N/mm^2"
 source = "elastic source"
 
-[parameters.alpha]
+[parameters.alpha_per_s]
 value = 0.087
 unit = "1/s"
 source = "erosion source"
 
-[parameters.c_mu]
+[parameters.c_mu_n_per_mm2]
 value = 0.5
 unit = "N/mm^2"
 source = "cheap friction source"
@@ -48,7 +48,7 @@ value = 0.5
 unit = "1"
 source = "friction source"
 
-[parameters.c_i]
+[parameters.c_i_n_s_per_mm3]
 value = 0
 unit = "N*s/mm^3"
 source = "impact source"
@@ -236,7 +236,7 @@ TEST(BuiltinMaterials, UnknownNameListsTheKnownOnesAndSuggestsTheClosest) {
 
 TEST(BuiltinMaterials, UnknownNameErrorIsOneLine) {
   EXPECT_EQ(LoadBuiltinMaterial("a\nb").error().message,
-            "unknown material 'a\\nb': known materials are "
+            "unknown material 'a\\x0ab': known materials are "
             "human_temporal_bone, pettigrew_temporal_bone, pvc_k70");
 }
 
@@ -292,27 +292,75 @@ TEST(ParseMaterial, DotsInStringsAndCommentsDoNotCountAsNesting) {
                          "display_name = \"Test material\"\ndescription = \"" +
                              dots + "\"\nname_note_ = '''" + dots + "'''"));
   ASSERT_FALSE(set.ok());  // name_note_ is unknown: the dots passed the guard
-  EXPECT_EQ(set.error().message, "x.toml:6:1: error: unknown key 'name_note_'");
+  EXPECT_EQ(set.error().message,
+            "x.toml:6:1: error: unknown key \"name_note_\" in the material "
+            "file; accepted: format, name, display_name, description, "
+            "parameters");
 }
 
 // --- ParseMaterial: malformed files, one exact message each -------------
 
 TEST(ParseMaterial, MissingParameterIsReportedAtTheParametersTable) {
-  EXPECT_EQ(ParseError(Edit("[parameters.alpha]\nvalue = 0.087\nunit = "
+  EXPECT_EQ(ParseError(Edit("[parameters.alpha_per_s]\nvalue = 0.087\nunit = "
                             "\"1/s\"\nsource = \"erosion source\"\n",
                             "")),
-            "x.toml:5:1: error: missing key 'parameters.alpha'");
+            "x.toml:5:1: error: missing key 'parameters.alpha_per_s'");
 }
 
 TEST(ParseMaterial, MissingValueIsReportedAtItsTable) {
   EXPECT_EQ(ParseError(Edit("value = 0.087\n", "")),
-            "x.toml:10:1: error: missing key 'parameters.alpha.value'");
+            "x.toml:10:1: error: missing key 'parameters.alpha_per_s.value'");
 }
 
-TEST(ParseMaterial, MissingUnitNamesTheExpectedUnit) {
-  EXPECT_EQ(ParseError(Edit("unit = \"N*s/mm^3\"\n", "")),
-            "x.toml:25:1: error: missing key 'parameters.c_i.unit' (expected "
-            "unit = \"N*s/mm^3\")");
+TEST(ParseMaterial, TheUnitIsOptionalSinceTheKeySpellsIt) {
+  Result<MaterialSet> set =
+      ParseMaterial("x.toml", Edit("unit = \"N*s/mm^3\"\n", ""));
+  ASSERT_TRUE(set.ok()) << set.error().message;
+  EXPECT_EQ(set->material.c_i_n_s_per_mm3, 0.0);
+  EXPECT_TRUE(set->notes.empty());
+}
+
+// Material files spelled the parameters without units (c_e, alpha, c_mu,
+// c_i) until both file kinds took the protocol files' spelling; such a file
+// still reads, to the same numbers, with one note per old key.
+TEST(ParseMaterial, TheOldSpellingReadsWithANotePerKey) {
+  std::string old = Edit("[parameters.c_e_n_per_mm2]", "[parameters.c_e]");
+  old = Edit("[parameters.c_i_n_s_per_mm3]", "[parameters.c_i]", old);
+  Result<MaterialSet> set = ParseMaterial("x.toml", old);
+  ASSERT_TRUE(set.ok()) << set.error().message;
+  Result<MaterialSet> now = ParseMaterial("x.toml", kValid);
+  ASSERT_TRUE(now.ok()) << now.error().message;
+  EXPECT_EQ(set->material.c_e_n_per_mm2, now->material.c_e_n_per_mm2);
+  EXPECT_EQ(set->material.c_i_n_s_per_mm3, now->material.c_i_n_s_per_mm3);
+  EXPECT_EQ(set->source, now->source);
+  EXPECT_TRUE(now->notes.empty());
+  EXPECT_EQ(set->notes,
+            (std::vector<std::string>{
+                "x.toml:5:1: note: [parameters.c_e] is the old spelling of "
+                "[parameters.c_e_n_per_mm2] (read in N/mm^2); rename it, a "
+                "later format will refuse the old spelling",
+                "x.toml:25:1: note: [parameters.c_i] is the old spelling of "
+                "[parameters.c_i_n_s_per_mm3] (read in N*s/mm^3); rename it, a "
+                "later format will refuse the old spelling"}));
+  // The old key's own fields are named with the old key.
+  EXPECT_EQ(ParseError(Edit("value = 2.145", "value = -1", old)),
+            "x.toml:6:9: error: parameters.c_e.value must be positive, got -1");
+}
+
+TEST(ParseMaterial, BothSpellingsOfOneParameterAreRefused) {
+  EXPECT_EQ(ParseError(std::string(kValid) +
+                       "\n[parameters.alpha]\nvalue = 1\nsource = \"s\"\n"),
+            "x.toml:30:1: error: [parameters.alpha] and "
+            "[parameters.alpha_per_s] are the same parameter; keep "
+            "[parameters.alpha_per_s]");
+}
+
+TEST(BuiltinMaterials, UseTheCurrentSpelling) {
+  for (const std::string& name : BuiltinMaterialNames()) {
+    Result<MaterialSet> set = LoadBuiltinMaterial(name);
+    ASSERT_TRUE(set.ok()) << set.error().message;
+    EXPECT_TRUE(set->notes.empty()) << name << ": " << set->notes.front();
+  }
 }
 
 TEST(ParseMaterial, MissingFormatSaysHowFilesStart) {
@@ -332,84 +380,91 @@ TEST(ParseMaterial, MissingParametersTable) {
 
 TEST(ParseMaterial, StringValueIsNotANumber) {
   EXPECT_EQ(ParseError(Edit("value = 2.145", "value = \"2.145\"")),
-            "x.toml:6:9: error: parameters.c_e.value must be a number, got "
-            "string");
+            "x.toml:6:9: error: parameters.c_e_n_per_mm2.value must be a "
+            "number, got a string");
 }
 
 TEST(ParseMaterial, BooleanValueIsNotANumber) {
   EXPECT_EQ(ParseError(Edit("value = 0.5\nunit = \"1\"",
                             "value = true\nunit = \"1\"")),
             "x.toml:21:9: error: parameters.mu.value must be a number, got "
-            "boolean");
+            "a boolean");
 }
 
 TEST(ParseMaterial, ParameterGivenAsABareNumberMustBeATable) {
   EXPECT_EQ(ParseError("format = \"burrlab-material/1\"\nname = \"a\"\n"
-                       "display_name = \"A\"\n[parameters]\nc_e = 2.145\n"),
-            "x.toml:5:7: error: parameters.c_e must be a table with value, "
-            "unit and source, got float");
+                       "display_name = \"A\"\n[parameters]\n"
+                       "c_e_n_per_mm2 = 2.145\n"),
+            "x.toml:5:17: error: parameters.c_e_n_per_mm2 must be a table "
+            "with value and source, got a number");
 }
 
 TEST(ParseMaterial, WrongUnitNamesTheExpectedOne) {
-  EXPECT_EQ(ParseError(Edit("unit = \"N/mm^2\"", "unit = \"N/m^2\"")),
-            "x.toml:7:8: error: parameters.c_e.unit must be 'N/mm^2', got "
-            "'N/m^2'");
+  EXPECT_EQ(
+      ParseError(Edit("unit = \"N/mm^2\"", "unit = \"N/m^2\"")),
+      "x.toml:7:8: error: parameters.c_e_n_per_mm2.unit must be 'N/mm^2', got "
+      "'N/m^2'");
   EXPECT_EQ(ParseError(Edit("unit = \"N/mm^2\"",
                             "unit = \"" + std::string(100, 'x') + "\"")),
-            "x.toml:7:8: error: parameters.c_e.unit must be 'N/mm^2', got '" +
-                std::string(64, 'x') + "...'");
+            "x.toml:7:8: error: parameters.c_e_n_per_mm2.unit must be "
+            "'N/mm^2', got '" +
+                std::string(60, 'x') + "...'");
   EXPECT_EQ(ParseError(Edit("unit = \"1/s\"", "unit = 1")),
-            "x.toml:12:8: error: parameters.alpha.unit must be the string "
-            "'1/s', got integer");
+            "x.toml:12:8: error: parameters.alpha_per_s.unit must be a "
+            "string, got an integer");
 }
 
 TEST(ParseMaterial, UnknownParameterSuggestsTheClosestKey) {
-  EXPECT_EQ(ParseError(Edit("[parameters.alpha]", "[parameters.alpah]")),
-            "x.toml:10:1: error: unknown key 'parameters.alpah' (did you mean "
-            "'alpha'?)");
+  EXPECT_EQ(ParseError(Edit("[parameters.alpha_per_s]", "[parameters.alpah]")),
+            "x.toml:10:1: error: unknown key \"alpah\" in [parameters] (did "
+            "you mean \"alpha_per_s\"?)");
 }
 
 TEST(ParseMaterial, UnknownKeysAreNamedWithTheirPath) {
   EXPECT_EQ(ParseError(Edit("unit = \"1/s\"", "units = \"1/s\"")),
-            "x.toml:12:1: error: unknown key 'parameters.alpha.units' (did you "
-            "mean 'unit'?)");
+            "x.toml:12:1: error: unknown key \"units\" in "
+            "[parameters.alpha_per_s] (did you mean \"unit\"?)");
   EXPECT_EQ(ParseError(Edit("display_name", "colour = \"red\"\ndisplay_name")),
-            "x.toml:3:1: error: unknown key 'colour'");
+            "x.toml:3:1: error: unknown key \"colour\" in the material file; "
+            "accepted: format, name, display_name, description, parameters");
   EXPECT_EQ(
       ParseError(Edit("display_name", "descripton = \"x\"\ndisplay_name")),
-      "x.toml:3:1: error: unknown key 'descripton' (did you mean "
-      "'description'?)");
+      "x.toml:3:1: error: unknown key \"descripton\" in the material file "
+      "(did you mean \"description\"?)");
 }
 
 TEST(ParseMaterial, TheFirstUnknownKeyInTheFileIsReported) {
   EXPECT_EQ(
       ParseError(Edit("display_name", "zeta = 1\nbeta = 2\ndisplay_name")),
-      "x.toml:3:1: error: unknown key 'zeta'");
+      "x.toml:3:1: error: unknown key \"zeta\" in the material file; "
+      "accepted: format, name, display_name, description, parameters");
 }
 
 TEST(ParseMaterial, NanIsRejected) {
   EXPECT_EQ(ParseError(Edit("value = 2.145", "value = nan")),
-            "x.toml:6:9: error: parameters.c_e.value must be finite, got nan");
+            "x.toml:6:9: error: parameters.c_e_n_per_mm2.value must be a "
+            "finite number, got nan");
 }
 
 TEST(ParseMaterial, InfinityIsRejected) {
   EXPECT_EQ(ParseError(Edit("value = 0.087", "value = +inf")),
-            "x.toml:11:9: error: parameters.alpha.value must be finite, got "
-            "inf");
+            "x.toml:11:9: error: parameters.alpha_per_s.value must be a finite "
+            "number, got inf");
   EXPECT_EQ(ParseError(Edit("value = 0\n", "value = -inf\n")),
-            "x.toml:26:9: error: parameters.c_i.value must be finite, got "
-            "-inf");
+            "x.toml:26:9: error: parameters.c_i_n_s_per_mm3.value must be a "
+            "finite number, got -inf");
 }
 
 TEST(ParseMaterial, NegativeValueIsRejected) {
   EXPECT_EQ(ParseError(Edit("value = 0.087", "value = -0.087")),
-            "x.toml:11:9: error: parameters.alpha.value must be zero or "
+            "x.toml:11:9: error: parameters.alpha_per_s.value must be zero or "
             "positive, got -0.087");
 }
 
 TEST(ParseMaterial, ZeroElasticConstantIsRejected) {
   EXPECT_EQ(ParseError(Edit("value = 2.145", "value = 0")),
-            "x.toml:6:9: error: parameters.c_e.value must be positive, got 0");
+            "x.toml:6:9: error: parameters.c_e_n_per_mm2.value must be "
+            "positive, got 0");
 }
 
 TEST(ParseMaterial, EmptySourceIsRejected) {
@@ -422,7 +477,7 @@ TEST(ParseMaterial, WrongFormatIdIsRejected) {
             "x.toml:1:10: error: format must be 'burrlab-material/1', got "
             "'burrlab-material/2'");
   EXPECT_EQ(ParseError(Edit("\"burrlab-material/1\"", "1")),
-            "x.toml:1:10: error: format must be a string, got integer");
+            "x.toml:1:10: error: format must be a string, got an integer");
 }
 
 TEST(ParseMaterial, NameMustBeAnIdentifier) {
@@ -454,7 +509,8 @@ TEST(ParseMaterial, InvalidUtf8IsASyntaxError) {
 
 TEST(ParseMaterial, ControlCharactersInMessagesAreEscaped) {
   EXPECT_EQ(ParseError(Edit("display_name", "\"a\\nb\" = 1\ndisplay_name")),
-            "x.toml:3:1: error: unknown key 'a\\nb'");
+            "x.toml:3:1: error: unknown key \"a\\x0ab\" in the material file; "
+            "accepted: format, name, display_name, description, parameters");
 }
 
 TEST(ParseMaterial, DeeplyNestedDottedKeysAreRefusedBeforeParsing) {
@@ -475,7 +531,9 @@ TEST(ParseMaterial, NestingAtTheLimitsIsRejectedWithoutCrashing) {
   deep += "1";
   for (int i = 0; i < 127; ++i) deep += "}]";
   deep += "\n";
-  EXPECT_EQ(ParseError(deep), "x.toml:2:1: error: unknown key 'a'");
+  EXPECT_EQ(ParseError(deep),
+            "x.toml:2:1: error: unknown key \"a\" in the material file; "
+            "accepted: format, name, display_name, description, parameters");
 }
 
 TEST(ParseMaterial, TextOverOneMebibyteIsRefused) {
@@ -506,7 +564,8 @@ TEST(LoadMaterialFile, ErrorsNameThePathGiven) {
   WriteFile(path, Edit("value = 2.145", "value = nan"));
   EXPECT_EQ(LoadMaterialFile(path.string()).error().message,
             path.string() +
-                ":6:9: error: parameters.c_e.value must be finite, got nan");
+                ":6:9: error: parameters.c_e_n_per_mm2.value must be a finite "
+                "number, got nan");
 }
 
 TEST(LoadMaterialFile, MissingFileCannotBeRead) {

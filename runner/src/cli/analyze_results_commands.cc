@@ -565,6 +565,7 @@ int RunPower(const Args& args, std::ostream& out, std::ostream& err) {
   Result<protocols::LoadedProtocol> loaded =
       protocols::LoadProtocol(protocol_path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  err << loaded->notes;
   VirtualStudyOptions options;
   options.subjects = subjects;
   options.spread_stiffness = weber_spread;
@@ -721,6 +722,7 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   Result<protocols::LoadedProtocol> loaded =
       protocols::LoadProtocol(protocol_path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  err << loaded->notes;
   options.fit_spread = !no_spread;
   options.base = protocols::ObserverParamsFrom(loaded->protocol.observer);
   if (flags.Given("--lapse")) options.base.lapse = lapse;
@@ -765,6 +767,7 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     Result<protocols::LoadedProtocol> other =
         protocols::LoadProtocol(predict_path);
     if (!other.ok()) return ReportLoadError(err, other.error());
+    err << other->notes;
     VirtualStudyOptions v = *population;
     v.subjects = predict_subjects > 0 ? predict_subjects : observed[0].n;
     CuePool other_pool(cue_samples, 2.0, options.seed);

@@ -424,12 +424,9 @@ int RunDiscoverCommand(const Args& args, std::ostream& out, std::ostream& err) {
   // The reference material: the flag, else the material column when every
   // run names the same built-in set.
   if (!reference_name.empty()) {
-    const bool is_path = reference_name.ends_with(".toml") ||
-                         reference_name.find('/') != std::string::npos;
-    Result<stimuli::MaterialSet> set =
-        is_path ? stimuli::LoadMaterialFile(reference_name)
-                : stimuli::LoadBuiltinMaterial(reference_name);
+    Result<stimuli::MaterialSet> set = stimuli::LoadMaterial(reference_name);
     if (!set.ok()) return Fail(err, "--reference: " + set.error().message);
+    for (const std::string& note : set->notes) err << note << '\n';
     options.reference = set->material;
   } else if (!data->runs[0].material.empty()) {
     const std::string& name = data->runs[0].material;

@@ -148,6 +148,7 @@ int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  err << loaded->notes;
   if (subject_index < 0) subject_index = DefaultSubjectIndex(subject);
   Result<protocols::Engine> engine =
       protocols::Engine::Create(loaded->protocol, subject_index, seed);
@@ -475,6 +476,7 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   }
   Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  err << loaded->notes;
   SessionOptions options;
   options.out_dir = out_dir;
   options.subject = subject;
@@ -573,6 +575,7 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (out_dir.empty()) return Fail(err, "--out is required");
   Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
+  err << loaded->notes;
   if (Status s = CheckRenderable(loaded.value(), radius_mm); !s.ok()) {
     return ReportLoadError(err, s.error());
   }

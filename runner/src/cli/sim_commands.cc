@@ -48,12 +48,15 @@ std::string MaterialFlagHelp() {
          ") or the path of a material file (*.toml)";
 }
 
-// A material by built-in name, or from a file when the argument is a path.
-Result<stimuli::MaterialSet> LoadMaterial(const std::string& name_or_path) {
-  const bool is_path = name_or_path.ends_with(".toml") ||
-                       name_or_path.find('/') != std::string::npos;
-  return is_path ? stimuli::LoadMaterialFile(name_or_path)
-                 : stimuli::LoadBuiltinMaterial(name_or_path);
+// A material by built-in name, or from a file when the argument is a path,
+// with the file's notes (an old spelling) printed on `err`.
+Result<stimuli::MaterialSet> LoadMaterial(const std::string& name_or_path,
+                                          std::ostream& err) {
+  Result<stimuli::MaterialSet> set = stimuli::LoadMaterial(name_or_path);
+  if (set.ok()) {
+    for (const std::string& note : set->notes) err << note << '\n';
+  }
+  return set;
 }
 
 // Exactly one way of naming the material: --material NAME, or the constants
@@ -172,7 +175,7 @@ int RunForceCurve(const Args& args, std::ostream& out, std::ostream& err) {
   options.method =
       method == 0 ? sim::MomentMethod::kMono : sim::MomentMethod::kOctree;
   if (flags.Given("--material")) {
-    Result<stimuli::MaterialSet> set = LoadMaterial(material_name);
+    Result<stimuli::MaterialSet> set = LoadMaterial(material_name, err);
     if (!set.ok()) return Fail(err, set.error().message);
     options.c_e_n_per_mm2 = set->material.c_e_n_per_mm2;
   }
@@ -290,7 +293,7 @@ int RunDescentCommand(const Args& args, std::ostream& out, std::ostream& err) {
   }
   const bool by_name = flags.Given("--material");
   if (by_name) {
-    Result<stimuli::MaterialSet> set = LoadMaterial(material_name);
+    Result<stimuli::MaterialSet> set = LoadMaterial(material_name, err);
     if (!set.ok()) return Fail(err, set.error().message);
     options.material = set->material;
     material_name = set->name;
@@ -724,7 +727,7 @@ int RunMeasure(const Args& args, std::ostream& out, std::ostream& err) {
       return Fail(err, s.error().message);
     }
   }
-  Result<stimuli::MaterialSet> set = LoadMaterial(material_name);
+  Result<stimuli::MaterialSet> set = LoadMaterial(material_name, err);
   if (!set.ok()) return Fail(err, set.error().message);
   options.material = set->material;
   // Open the traces before the runs so a bad path fails fast.

@@ -88,6 +88,7 @@ int RunValidateCommand(const Args& args, std::ostream& out, std::ostream& err) {
       code = ReportLoadError(err, loaded.error());
       continue;
     }
+    err << loaded->notes;
     if (Status s = CheckRenderable(loaded.value(), radius_mm); !s.ok()) {
       code = ReportLoadError(err, s.error());
       continue;

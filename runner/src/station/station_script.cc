@@ -5,9 +5,8 @@
 #include <toml++/toml.h>
 
 #include <cmath>
-#include <set>
 
-#include "burrlab/base/printable.h"
+#include "burrlab/stimuli/toml_fields.h"
 #include "station/station_toml.h"
 
 namespace burrlab::runner {
@@ -20,6 +19,10 @@ constexpr std::size_t kMaxAnswers = 100'000;
 constexpr std::size_t kMaxUnplugs = 1'000;
 constexpr double kMaxTimeS = 3600.0;
 constexpr double kMaxCoordinateMm = 1000.0;
+constexpr std::string_view kScriptKeys[] = {
+    "format", "path", "answers", "start_delay_s", "response_delay_s", "unplug"};
+constexpr std::string_view kUnplugKeys[] = {"presentation", "interval",
+                                            "after_s", "resume"};
 
 // A number (integer or float) in [lo, hi], or a diagnostic naming `name`.
 std::optional<double> Number(const toml::node& n, std::string_view name,
@@ -116,43 +119,37 @@ void ParseUnplugs(const toml::node& node, StationScript* script,
                                         kMaxUnplugs)});
     return;
   }
+  const stimuli::TomlFields fields = StationFields(d);
   for (const toml::node& n : *unplugs) {
     const toml::table& t = *n.as_table();
-    OnlyKeys(t, "[[unplug]]", {"presentation", "interval", "after_s", "resume"},
-             d);
+    fields.CheckKeys(t, "[[unplug]]", kUnplugKeys);
     ScriptedUnplug u;
     bool ok = true;
     for (auto [key, field] : {std::pair{"presentation", &u.presentation},
                               std::pair{"interval", &u.interval}}) {
-      const toml::node* v = t.get(key);
-      if (v == nullptr) {
-        d->push_back({At(n), fmt::format("[[unplug]] needs {}", key)});
+      if (t.get(key) == nullptr) {
+        fields.Fail(n, fmt::format("[[unplug]] needs {}", key));
         ok = false;
-        continue;
-      }
-      const std::optional<std::int64_t> i = v->value<std::int64_t>();
-      if (!v->is_integer() || !i.has_value() || *i < 1 || *i > 1'000'000) {
-        d->push_back(
-            {At(*v),
-             fmt::format("{} must be an integer from 1 to 1000000", key)});
+      } else if (auto v = fields.IntegerIn(t, key, key, 1, 1'000'000)) {
+        *field = static_cast<int>(*v);
+      } else {
         ok = false;
-        continue;
       }
-      *field = static_cast<int>(*i);
     }
-    if (const toml::node* v = t.get("after_s")) {
-      if (auto s = Number(*v, "after_s", 0.0, kMaxTimeS, " of s", d)) {
+    if (t.get("after_s") != nullptr) {
+      const std::optional<double> s = fields.Number(t, "after_s", "after_s");
+      if (s.has_value() && fields.Range(t, "after_s", "after_s", *s, 0.0,
+                                        kMaxTimeS, false, false)) {
         u.after_s = *s;
       } else {
         ok = false;
       }
     }
-    if (const toml::node* v = t.get("resume")) {
-      if (!v->is_boolean()) {
-        d->push_back({At(*v), "resume must be true or false"});
-        ok = false;
+    if (t.get("resume") != nullptr) {
+      if (auto v = fields.Boolean(t, "resume", "resume")) {
+        u.resume = *v;
       } else {
-        u.resume = *v->value<bool>();
+        ok = false;
       }
     }
     if (ok) script->unplugs.push_back(u);
@@ -165,11 +162,8 @@ StationScriptParseOutcome ParseStationScript(std::string_view path,
                                              std::string_view text) {
   StationScriptParseOutcome outcome;
   std::vector<Diagnostic>& d = outcome.diagnostics;
-  std::optional<toml::table> document =
-      ReadStationToml(path, text, "station script", kStationScriptFormat,
-                      {"format", "path", "answers", "start_delay_s",
-                       "response_delay_s", "unplug"},
-                      &d);
+  std::optional<toml::table> document = ReadStationToml(
+      path, text, "station script", kStationScriptFormat, kScriptKeys, &d);
   if (!document.has_value()) return outcome;
   const toml::table& root = *document;
   StationScript script;
@@ -181,11 +175,14 @@ StationScriptParseOutcome ParseStationScript(std::string_view path,
                  "e.g. path = [[0.0, 0.0, 0.0, 3.0], [0.5, 0.0, 0.0, 1.0]])"});
   }
   if (const toml::node* n = root.get("answers")) ParseAnswers(*n, &script, &d);
+  const stimuli::TomlFields fields = StationFields(&d);
   for (auto [key, field] :
        {std::pair{"start_delay_s", &script.start_delay_s},
         std::pair{"response_delay_s", &script.response_delay_s}}) {
-    if (const toml::node* n = root.get(key)) {
-      if (auto v = Number(*n, key, 0.0, 60.0, " of s", &d)) *field = *v;
+    const std::optional<double> v = fields.Number(root, key, key);
+    if (v.has_value() &&
+        fields.Range(root, key, key, *v, 0.0, 60.0, false, false)) {
+      *field = *v;
     }
   }
   if (const toml::node* n = root.get("unplug")) ParseUnplugs(*n, &script, &d);

@@ -1,7 +1,7 @@
 // What station files and station scripts read alike: the document (nesting
 // limit, syntax, unknown top-level keys, the format line), where a node or key
-// starts, unknown keys of a table and bounded integers, each problem as a
-// diagnostic (file:line:col, printed as `burrlab validate` prints them).
+// starts, and the field readers every burrlab file kind shares, each problem
+// as a diagnostic (file:line:col, printed as `burrlab validate` prints them).
 #ifndef BURRLAB_RUNNER_STATION_STATION_TOML_H_
 #define BURRLAB_RUNNER_STATION_STATION_TOML_H_
 
@@ -9,12 +9,12 @@
 
 #include <cstdint>
 #include <optional>
-#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "burrlab/protocols/protocol.h"
+#include "burrlab/stimuli/toml_fields.h"
 
 namespace burrlab::runner {
 
@@ -34,21 +34,12 @@ inline protocols::SourceLocation AtKey(const toml::key& key) {
 // when the text is not TOML or nests too deep (64 dots).
 std::optional<toml::table> ReadStationToml(
     std::string_view path, std::string_view text, std::string_view what,
-    std::string_view format, const std::set<std::string_view>& known,
+    std::string_view format, stimuli::TomlKeys known,
     std::vector<protocols::Diagnostic>* d);
 
-// A diagnostic for every key of `table` outside `known`; `where` names the
-// table ("[device]").
-void OnlyKeys(const toml::table& table, std::string_view where,
-              const std::set<std::string_view>& known,
-              std::vector<protocols::Diagnostic>* d);
-
-// The integer at `key` of `t` in [lo, hi]; nullopt when absent, or with a
-// diagnostic naming `name` when it is not such an integer.
-std::optional<std::int64_t> Integer(const toml::table& t, std::string_view key,
-                                    std::string_view name, std::int64_t lo,
-                                    std::int64_t hi,
-                                    std::vector<protocols::Diagnostic>* d);
+// The shared TOML field readers (burrlab/stimuli/toml_fields.h) reporting
+// into `d`, which must outlive them.
+stimuli::TomlFields StationFields(std::vector<protocols::Diagnostic>* d);
 
 }  // namespace burrlab::runner
 

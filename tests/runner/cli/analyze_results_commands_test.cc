@@ -170,7 +170,7 @@ trace_hz = 100
 builtin = "human_temporal_bone"
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 [[blocks]]
 name = "constant"

@@ -435,15 +435,15 @@ void WriteFile(const std::filesystem::path& path, const std::string& bytes) {
 const char kMaterialFile[] = R"(format = "burrlab-material/1"
 name = "soft_test"
 display_name = "Soft test material"
-[parameters.c_e]
+[parameters.c_e_n_per_mm2]
 value = 1.0
 unit = "N/mm^2"
 source = "test"
-[parameters.alpha]
+[parameters.alpha_per_s]
 value = 0.2
 unit = "1/s"
 source = "test"
-[parameters.c_mu]
+[parameters.c_mu_n_per_mm2]
 value = 0.3
 unit = "N/mm^2"
 source = "test"
@@ -451,7 +451,7 @@ source = "test"
 value = 0.5
 unit = "1"
 source = "test"
-[parameters.c_i]
+[parameters.c_i_n_s_per_mm3]
 value = 0.0
 unit = "N*s/mm^3"
 source = "test"
@@ -465,6 +465,7 @@ TEST(ForceCurveCommand, MaterialMayBeAFile) {
                                  (dir / "soft.toml").string(), "--radius-mm",
                                  "3", "--points", "2"});
   ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_EQ(run.err, "");
   const std::vector<std::string> lines = SplitLines(run.out);
   ASSERT_EQ(lines.size(), 3u);
   const std::vector<double> row = SplitCsvNumbers(lines[2]);
@@ -472,18 +473,51 @@ TEST(ForceCurveCommand, MaterialMayBeAFile) {
   EXPECT_NEAR(row[3], 9.0 * std::pow(row[1] / 3.0, 1.5), 1e-3);
 }
 
+// A material file in the spelling before units joined the keys runs to the
+// same output, with a note per old key on stderr.
+TEST(ForceCurveCommand, AMaterialFileInTheOldSpellingRunsWithNotes) {
+  const CliTempDir temp("old_material");
+  const std::filesystem::path& dir = temp.path();
+  std::string old = kMaterialFile;
+  old.replace(old.find("c_e_n_per_mm2"), std::string("c_e_n_per_mm2").size(),
+              "c_e");
+  old.replace(old.find("alpha_per_s"), std::string("alpha_per_s").size(),
+              "alpha");
+  WriteFile(dir / "new.toml", kMaterialFile);
+  WriteFile(dir / "old.toml", old);
+  const std::vector<std::string> flags = {"--radius-mm", "3", "--points", "4"};
+  std::vector<std::string> args = {"sim", "force-curve", "--material",
+                                   (dir / "new.toml").string()};
+  args.insert(args.end(), flags.begin(), flags.end());
+  const CliRun now = RunBurrlab(args);
+  args[3] = (dir / "old.toml").string();
+  const CliRun before = RunBurrlab(args);
+  ASSERT_EQ(before.code, 0) << before.err;
+  EXPECT_EQ(before.out, now.out);
+  EXPECT_EQ(before.err,
+            args[3] +
+                ":4:1: note: [parameters.c_e] is the old spelling of "
+                "[parameters.c_e_n_per_mm2] (read in N/mm^2); rename it, a "
+                "later format will refuse the old spelling\n" +
+                args[3] +
+                ":8:1: note: [parameters.alpha] is the old spelling of "
+                "[parameters.alpha_per_s] (read in 1/s); rename it, a later "
+                "format will refuse the old spelling\n");
+}
+
 TEST(ForceCurveCommand, MaterialFileWithAMissingKeyIsOneErrorLine) {
   const CliTempDir temp("bad_material");
   const std::filesystem::path& dir = temp.path();
   std::string text = kMaterialFile;
-  text.replace(text.find("[parameters.alpha]"),
-               std::string("[parameters.alpha]").size(), "[parameters.alpah]");
+  text.replace(text.find("[parameters.alpha_per_s]"),
+               std::string("[parameters.alpha_per_s]").size(),
+               "[parameters.alpah]");
   WriteFile(dir / "bad.toml", text);
   const std::string path = (dir / "bad.toml").string();
   ExpectError({"sim", "force-curve", "--material", path, "--radius-mm", "3"},
               "burrlab: " + path +
-                  ":8:1: error: unknown key 'parameters.alpah' (did you mean "
-                  "'alpha'?)");
+                  ":8:1: error: unknown key \"alpah\" in [parameters] (did "
+                  "you mean \"alpha_per_s\"?)");
 }
 
 TEST(VolumeCommand, SummarisesAnNrrdVolume) {

@@ -96,8 +96,8 @@ TEST_F(RunAtStationTest, ReportsABadStationFileAndScriptWithTheirPlaces) {
                                  "max_force_n = 30\n");
   ExpectRefused({"--device", "mouse", "--station", station.string()},
                 station.string() +
-                    ":3:15: error: max_force_n must be a number of newtons "
-                    "in (0, 20]\nmax_force_n = 30\n              ^\n");
+                    ":3:15: error: device.max_force_n must be in (0, 20], got "
+                    "30\nmax_force_n = 30\n              ^\n");
   const fs::path script = Write("script.toml",
                                 "format = \"burrlab-station-script/1\"\n"
                                 "path = [[0.5, 0, 0, 3], [0.2, 0, 0, 1]]\n");

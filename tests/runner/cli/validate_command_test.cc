@@ -133,6 +133,51 @@ TEST_F(ValidateTest, EveryShippedExampleRunsToItsEndAnsweringRightOrWrong) {
   EXPECT_EQ(examples, 9);
 }
 
+// An axis in the spelling before units joined the parameter names is still
+// read, to the same protocol, with a note on stderr; validate says ok.
+TEST_F(ValidateTest, AnAxisInTheOldSpellingIsOkWithANote) {
+  const std::string protocol = R"toml(format = "burrlab-protocol/1"
+[study]
+name = "old"
+[materials.bone]
+builtin = "human_temporal_bone"
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+[[blocks]]
+method = "constant_stimuli"
+task = "probe"
+axis = "ce"
+levels = [1.1, 1.2]
+repetitions = 1
+)toml";
+  std::string old = protocol;
+  old.replace(old.find("\"c_e_n_per_mm2\""), 15, "\"c_e\"");
+  const std::string now_path = Write("now.toml", protocol);
+  const std::string old_path = Write("old.toml", old);
+  const CliRun now = RunBurrlab({"validate", now_path});
+  EXPECT_EQ(now.code, 0) << now.err;
+  EXPECT_EQ(now.err, "");
+  const CliRun before = RunBurrlab({"validate", old_path});
+  EXPECT_EQ(before.code, 0) << before.err;
+  EXPECT_EQ(before.out, old_path + ": ok (1 block, study \"old\")\n");
+  EXPECT_EQ(before.err,
+            old_path +
+                ":8:13: note: axes.ce.parameter \"c_e\" is the old spelling "
+                "of \"c_e_n_per_mm2\" (read in N/mm^2); rename it, a later "
+                "format will refuse the old spelling\n"
+                "parameter = \"c_e\"\n"
+                "            ^\n");
+  // The same trials, seed for seed, and the note from `plan` too.
+  const CliRun plan_now = RunBurrlab({"plan", now_path, "--seed", "3"});
+  const CliRun plan_old = RunBurrlab({"plan", old_path, "--seed", "3"});
+  EXPECT_EQ(plan_now.code, 0) << plan_now.err;
+  EXPECT_FALSE(plan_now.out.empty());
+  EXPECT_EQ(plan_old.out, plan_now.out);
+  EXPECT_EQ(plan_old.err, before.err);
+}
+
 // One extreme-value variant: a block after the common header, and whether
 // validate must accept it (then it must run to its end both ways).
 struct Variant {
@@ -157,15 +202,15 @@ builtin = "human_temporal_bone"
 builtin = "pvc_k70"
 [axes.ce]
 kind = "ratio"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 [axes.inc]
 kind = "increment"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 [axes.value]
 kind = "value"
-parameter = "c_e"
+parameter = "c_e_n_per_mm2"
 reference = "bone"
 [axes.t]
 kind = "log_interpolation"

@@ -66,36 +66,36 @@ TEST(ParseStation, DefaultsToTheMouse) {
 TEST(ParseStation, NamesEachProblemWithItsPlace) {
   EXPECT_EQ(Problems("format = \"burrlab-station/1\"\n[device]\nbackend = "
                      "\"phantom\"\n"),
-            "station.toml:3:11: error: backend must be one of \"mouse\", "
-            "\"hid\", \"falcon\", \"simulated\"\n"
+            "station.toml:3:11: error: device.backend must be one of mouse, "
+            "hid, falcon, simulated, got \"phantom\"\n"
             "backend = \"phantom\"\n"
             "          ^\n");
   EXPECT_EQ(Problems("format = \"burrlab-station/1\"\n[device]\nmax_force_n = "
                      "nan\n"),
-            "station.toml:3:15: error: max_force_n must be a number of "
-            "newtons in (0, 20]\n"
+            "station.toml:3:15: error: device.max_force_n must be a finite "
+            "number, got nan\n"
             "max_force_n = nan\n"
             "              ^\n");
   EXPECT_EQ(Problems("format = \"burrlab-station/1\"\n[device]\n"
                      "max_stiffness_n_per_mm = 0\n"),
-            "station.toml:3:26: error: max_stiffness_n_per_mm must be a "
-            "number of N/mm in (0, 50]\n"
+            "station.toml:3:26: error: device.max_stiffness_n_per_mm must be "
+            "in (0, 50], got 0\n"
             "max_stiffness_n_per_mm = 0\n"
             "                         ^\n");
   EXPECT_EQ(Problems("format = \"burrlab-station/1\"\n[screen]\nwidth = 99\n"
                      "colour = 1\n"),
-            "station.toml:4:1: error: unknown key 'colour' in [screen] (known: "
-            "fullscreen, height, width)\n"
+            "station.toml:4:1: error: unknown key \"colour\" in [screen]; "
+            "accepted: width, height, fullscreen\n"
             "colour = 1\n"
             "^\n"
-            "station.toml:3:9: error: width must be an integer from 320 to "
-            "8192\n"
+            "station.toml:3:9: error: screen.width must be in [320, 8192], got "
+            "99\n"
             "width = 99\n"
             "        ^\n");
   EXPECT_EQ(
       Problems("format = \"burrlab-station/1\"\n[response_box]\nvendor_id "
                "= 1\nproduct_id = 2\nbuttons = { x = \"1\" }\n"),
-      "station.toml:5:13: error: button 'x' must be a number from 1 to "
+      "station.toml:5:13: error: button \"x\" must be a number from 1 to "
       "512\n"
       "buttons = { x = \"1\" }\n"
       "            ^\n");
@@ -134,8 +134,8 @@ TEST(ValidateCommand, ChecksStationFiles) {
   run = RunBurrlab({"validate", bad});
   EXPECT_EQ(run.code, 1);
   EXPECT_EQ(run.err, bad +
-                         ":3:15: error: max_force_n must be a number of "
-                         "newtons in (0, 20]\n"
+                         ":3:15: error: device.max_force_n must be in (0, "
+                         "20], got -1\n"
                          "max_force_n = -1\n"
                          "              ^\n");
   std::filesystem::remove_all(dir);
@@ -151,10 +151,10 @@ TEST(ParseStation, EscapesControlCharactersOfKeysInMessages) {
                    "buttons = { \"\\u001b\" = \"1\" }\n");
   ASSERT_EQ(o.diagnostics.size(), 2u);
   EXPECT_EQ(o.diagnostics[0].message,
-            "unknown key '\\x1b[2J\\x09' in the station file (known: device, "
-            "format, response_box, screen)");
+            "unknown key \"\\x1b[2J\\x09\" in the station file; accepted: "
+            "format, device, response_box, screen");
   EXPECT_EQ(o.diagnostics[1].message,
-            "button '\\x1b' must be a number from 1 to 512");
+            "button \"\\x1b\" must be a number from 1 to 512");
 }
 
 }  // namespace

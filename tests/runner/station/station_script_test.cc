@@ -86,15 +86,15 @@ TEST(ParseStationScript, NamesEachProblemWithItsPlace) {
   EXPECT_EQ(ScriptProblems("format = \"burrlab-station-script/1\"\n"
                            "path = [[0, 0, 0, 1]]\n[[unplug]]\ninterval = 0\n"
                            "speed = 1\n"),
-            "script.toml:5:1: error: unknown key 'speed' in [[unplug]] "
-            "(known: after_s, interval, presentation, resume)\n"
+            "script.toml:5:1: error: unknown key \"speed\" in [[unplug]]; "
+            "accepted: presentation, interval, after_s, resume\n"
             "speed = 1\n"
             "^\n"
             "script.toml:3:1: error: [[unplug]] needs presentation\n"
             "[[unplug]]\n"
             "^\n"
-            "script.toml:4:12: error: interval must be an integer from 1 to "
-            "1000000\n"
+            "script.toml:4:12: error: interval must be in [1, 1000000], got "
+            "0\n"
             "interval = 0\n"
             "           ^\n");
   EXPECT_EQ(ScriptProblems(
@@ -111,10 +111,9 @@ TEST(ParseStationScript, EscapesControlCharactersOfKeysInMessages) {
       "format = \"burrlab-station-script/1\"\npath = [[0.0, 0, 0, 1]]\n"
       "\" \\t f\\t\" = \"p\"\n");
   ASSERT_EQ(o.diagnostics.size(), 1u);
-  EXPECT_EQ(
-      o.diagnostics[0].message,
-      "unknown key ' \\x09 f\\x09' in the station script (known: answers, "
-      "format, path, response_delay_s, start_delay_s, unplug)");
+  EXPECT_EQ(o.diagnostics[0].message,
+            "unknown key \" \\x09 f\\x09\" in the station script; accepted: "
+            "format, path, answers, start_delay_s, response_delay_s, unplug");
 }
 
 }  // namespace

@@ -43,14 +43,19 @@ struct SourceLocation {
   int column = 0;
 };
 
+// An error stops the file from being used; a note says what reads but should
+// change (an old spelling).
+enum class Severity { kError, kNote };
+
 // One problem found in a protocol file.
 struct Diagnostic {
   SourceLocation where;  // the offending key or value
   std::string message;   // one line: what is wrong and what is accepted
+  Severity severity = Severity::kError;
 };
 
-// "path:line:col: error: message", then the source line and a caret under
-// the column, each line ending in '\n'. Without a location:
+// "path:line:col: error: message" ("note:" for a note), then the source line
+// and a caret under the column, each line ending in '\n'. Without a location:
 // "path: error: message\n". `text` is the whole file. Control characters and
 // bytes that are not UTF-8 in the message and the source line are escaped
 // (\x1b; see burrlab/base/printable.h), except the source line's tabs, which
@@ -254,7 +259,8 @@ struct Protocol {
 // diagnostic in file order (line, then column).
 struct ParseOutcome {
   std::optional<Protocol> protocol;
-  std::vector<Diagnostic> diagnostics;
+  std::vector<Diagnostic> diagnostics;  // errors, in file order
+  std::vector<Diagnostic> notes;        // notes, in file order
 };
 
 // Parses and validates protocol text; `path` names the file in messages.

@@ -15,6 +15,10 @@ struct LoadedProtocol {
   std::string path;  // as given
   std::string text;
   Protocol protocol;
+  // The parser's notes formatted as `burrlab validate` prints them (each
+  // "path:line:col: note: ...", its line and a caret), or empty; the
+  // commands print them on stderr before they go on.
+  std::string notes;
 };
 
 // Reads and parses a protocol file; the error holds every diagnostic

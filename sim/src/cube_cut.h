@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstddef>
 #include <glm/vec3.hpp>
+#include <utility>
 
 namespace burrlab::sim::internal {
 
@@ -55,7 +56,10 @@ inline double CutUnitCube(std::array<double, 3> a, double b) {
 inline double CubeFractionBelow(const glm::dvec3& unit, double s_over_edge) {
   std::array<double, 3> a = {std::abs(unit.x), std::abs(unit.y),
                              std::abs(unit.z)};
-  std::sort(a.begin(), a.end(), [](double l, double r) { return l > r; });
+  // Descending, by three compare-exchanges (the same order std::sort gives).
+  if (a[0] < a[1]) std::swap(a[0], a[1]);
+  if (a[1] < a[2]) std::swap(a[1], a[2]);
+  if (a[0] < a[1]) std::swap(a[0], a[1]);
   const double total = a[0] + a[1] + a[2];
   // Corner form: u = w + 1/2 in [0, 1]^3, so a . u <= s + total / 2.
   const double b = s_over_edge + 0.5 * total;

@@ -102,7 +102,7 @@ struct MomentVisitor {
 
   internal::BlockAction OnBlock(const internal::BlockView& b) {
     const double size_vox = static_cast<double>(1 << b.level);
-    const bool whole = b.dmax_vox <= radius_vox - 2.0 * eta_vox;
+    const bool whole = b.DmaxVox() <= radius_vox - 2.0 * eta_vox;
     if (!whole && size_vox > ell_vox) return internal::BlockAction::kRefine;
     const double unit =
         voxel_volume / kSolidOccupancy;  // mm^3 per occupancy unit

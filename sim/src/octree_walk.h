@@ -19,15 +19,18 @@ namespace burrlab::sim::internal {
 
 enum class BlockAction { kSkip, kAccept, kRefine };
 
-// A block at level >= 1, with the distances from the sphere centre to the
-// nearest and the farthest voxel centre it contains (voxels beyond the volume's
-// edge excluded).
+// A block at level >= 1, with the squared distances from the sphere centre to
+// the nearest and the farthest voxel centre it contains (voxels beyond the
+// volume's edge excluded); a visitor takes the square root of the one it
+// needs (DminVox, DmaxVox), so the walk pays for no other.
 struct BlockView {
   int level;
   int bx, by, bz;
   const MomentOctree::Node* node;
-  double dmin_vox;
-  double dmax_vox;
+  double dmin2_vox2;
+  double dmax2_vox2;
+  double DminVox() const { return std::sqrt(dmin2_vox2); }
+  double DmaxVox() const { return std::sqrt(dmax2_vox2); }
 };
 
 // Visitor: BlockAction OnBlock(const BlockView&); void OnVoxel(int i, int j,
@@ -86,8 +89,8 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
       dmax2 += far * far;
     }
     if (dmin2 >= outer_vox * outer_vox) continue;
-    const BlockView view{item.level, item.bx,          item.by,         item.bz,
-                         &node,      std::sqrt(dmin2), std::sqrt(dmax2)};
+    const BlockView view{item.level, item.bx, item.by, item.bz,
+                         &node,      dmin2,   dmax2};
     const BlockAction action = visitor.OnBlock(view);
     if (action != BlockAction::kRefine) continue;
     if (item.level == 1) {

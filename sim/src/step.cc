@@ -82,7 +82,7 @@ struct ErosionVisitor {
     if (b.level > kThinningLevel) return internal::BlockAction::kRefine;
     const double p_max = std::min(
         1.0, rate_per_step * max_factor *
-                 ErosionShape(b.dmin_vox / radius_vox) * kSolidOccupancy);
+                 ErosionShape(b.DminVox() / radius_vox) * kSolidOccupancy);
     if (p_max >= 0.5)
       return internal::BlockAction::kRefine;  // per-voxel draws are cheaper
     if (p_max <= 0.0)
@@ -145,8 +145,8 @@ struct SurfaceFrictionVisitor {
   glm::dvec3 force{0.0};
 
   internal::BlockAction OnBlock(const internal::BlockView& b) {
-    return b.dmax_vox <= radius_vox - eta_vox ? internal::BlockAction::kSkip
-                                              : internal::BlockAction::kRefine;
+    return b.DmaxVox() <= radius_vox - eta_vox ? internal::BlockAction::kSkip
+                                               : internal::BlockAction::kRefine;
   }
   void OnVoxel(int, int, int, std::uint8_t occupancy,
                const glm::dvec3& offset_vox, double d_vox) {

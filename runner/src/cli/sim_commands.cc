@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -23,6 +24,7 @@
 #include "burrlab/sim/effects.h"
 #include "burrlab/sim/force_curve.h"
 #include "burrlab/sim/nrrd.h"
+#include "burrlab/stimuli/interval.h"
 #include "burrlab/stimuli/materials.h"
 #include "cli/flags.h"
 #include "cli/sim_materials_command.h"
@@ -483,12 +485,53 @@ int RunLoopBenchCommand(double seconds, bool json, std::ostream& out,
   return 0;
 }
 
+// One interval as studies render it (stimuli::PresentSimulatedInterval at
+// its defaults: R 2 mm, voxels of 0.3 mm, presses to 2 N, drilling at 3 N),
+// timed whole.
+struct IntervalBenchResult {
+  std::string material;
+  stimuli::Task task = stimuli::Task::kProbe;
+  double duration_s = 0.0;
+  double wall_s = 0.0;
+  std::int64_t steps = 0;
+  double cue = 0.0;
+  std::string cue_name;
+};
+
+Result<IntervalBenchResult> RunIntervalBench(const std::string& material,
+                                             stimuli::Task task,
+                                             double duration_s) {
+  Result<stimuli::MaterialSet> set = stimuli::LoadBuiltinMaterial(material);
+  if (!set.ok()) return set.error();
+  stimuli::IntervalOptions options;
+  options.material = set->material;
+  options.task = task;
+  options.duration_s = duration_s;
+  const auto start = std::chrono::steady_clock::now();
+  Result<stimuli::IntervalResult> interval =
+      stimuli::PresentSimulatedInterval(options);
+  const auto stop = std::chrono::steady_clock::now();
+  if (!interval.ok()) return interval.error();
+  IntervalBenchResult r;
+  r.material = material;
+  r.task = task;
+  r.duration_s = duration_s;
+  r.wall_s = std::chrono::duration<double>(stop - start).count();
+  r.steps = interval->steps;
+  r.cue = interval->cue;
+  r.cue_name = interval->cue_name;
+  return r;
+}
+
 int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Times simulator steps (force + erosion): the burr slides at 10 mm/s a "
       "quarter of its radius deep in a solid half-space. Cases: mono and "
       "octree moments x R = 1, 2, 3, 5 mm x probe and drill. A step over "
-      "1000 us misses the 1 kHz haptic deadline. With --loop, runs the 1 kHz "
+      "1000 us misses the 1 kHz haptic deadline. Then the intervals studies "
+      "render (probe and drill on each built-in material, R 2 mm, voxels of "
+      "0.3 mm, 20 s), each timed whole, with its real-time factor (simulated "
+      "over wall time). With --loop, runs the 1 kHz "
       "haptic loop on its own thread (SCHED_FIFO and mlockall when "
       "permitted) with a simulated device and reports how late ticks start "
       "(p50, p99, max) and the overruns.",
@@ -498,6 +541,7 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
   bool json = false;
   bool loop = false;
   double seconds = 10.0;
+  double interval_s = 20.0;
   FlagSet flags(&app);
   flags.AddInteger("--steps",
                    fmt::format("timed steps per case (default {})", steps), 1,
@@ -506,9 +550,18 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddPositive("--seconds",
                     "length of the --loop run, s (default 10, at most 3600)",
                     "s", &seconds, kMaxLoopSeconds);
+  flags.AddPositive("--interval-s",
+                    "length of each interval case, s (default 20, as studies "
+                    "render them; from 1, one press, to 60)",
+                    "s", &interval_s, 60.0);
   flags.AddSwitch("--json", "print the results as JSON", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--interval-s") && loop) {
+    return Fail(err,
+                "--interval-s and --loop are mutually exclusive; the loop "
+                "runs for --seconds");
+  }
   if (flags.Given("--seconds") && !loop) {
     return Fail(err,
                 "--seconds needs --loop (the step benchmark uses --steps)");
@@ -523,8 +576,11 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
     if (flags.Given("--steps")) bench_case.steps = steps;
   }
   std::vector<sim::BenchCaseResult> results;
+  std::vector<IntervalBenchResult> intervals;
+  const std::vector<std::string> materials = stimuli::BuiltinMaterialNames();
   {
-    ProgressBar progress(err, static_cast<int>(cases.size()));
+    ProgressBar progress(err,
+                         static_cast<int>(cases.size() + 2 * materials.size()));
     for (const sim::BenchCase& bench_case : cases) {
       progress.Update(
           static_cast<int>(results.size()),
@@ -538,6 +594,23 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
                                      MethodName(bench_case.method),
                                      bench_case.radius_mm,
                                      bench_case.drill ? "drill" : "probe"));
+      }
+    }
+    for (const std::string& material : materials) {
+      for (stimuli::Task task :
+           {stimuli::Task::kProbe, stimuli::Task::kDrill}) {
+        progress.Update(
+            static_cast<int>(results.size() + intervals.size()),
+            fmt::format("{} {} interval", material, stimuli::TaskName(task)));
+        Result<IntervalBenchResult> r =
+            RunIntervalBench(material, task, interval_s);
+        if (!r.ok()) {
+          return Fail(err, fmt::format("sim bench: the {} {} interval did not "
+                                       "run: {}",
+                                       material, stimuli::TaskName(task),
+                                       r.error().message));
+        }
+        intervals.push_back(std::move(*r));
       }
     }
   }
@@ -559,6 +632,20 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
                             {"max_us", result.max_us},
                             {"removed_mm3", result.removed_mm3}});
     }
+    j["intervals"] = nlohmann::ordered_json::array();
+    for (const IntervalBenchResult& r : intervals) {
+      j["intervals"].push_back(
+          {{"material", r.material},
+           {"task", stimuli::TaskName(r.task)},
+           {"radius_mm", stimuli::kDefaultBurrRadiusMm},
+           {"voxel_mm", stimuli::IntervalOptions{}.voxel_mm},
+           {"duration_s", r.duration_s},
+           {"steps", r.steps},
+           {"wall_s", r.wall_s},
+           {"real_time_factor", r.duration_s / r.wall_s},
+           {"us_per_step", 1e6 * r.wall_s / static_cast<double>(r.steps)},
+           {r.cue_name, r.cue}});
+    }
     out << j.dump(2) << '\n';
     return 0;
   }
@@ -574,6 +661,19 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
                        MethodName(c.method), c.radius_mm,
                        c.drill ? "drill" : "probe", result.median_us,
                        result.p99_us, result.max_us);
+  }
+  out << fmt::format(
+      "\nintervals as studies render them ({:g} s each, R {:g} mm, voxels of "
+      "{:g} mm), each timed whole\n\n",
+      interval_s, stimuli::kDefaultBurrRadiusMm,
+      stimuli::IntervalOptions{}.voxel_mm);
+  out << fmt::format("{:<24}  {:<5}  {:>7}  {:>11}  {:>8}\n", "material",
+                     "task", "wall s", "× real time", "µs/step");
+  for (const IntervalBenchResult& r : intervals) {
+    out << fmt::format("{:<24}  {:<5}  {:>7.2f}  {:>11.0f}  {:>8.1f}\n",
+                       r.material, stimuli::TaskName(r.task), r.wall_s,
+                       r.duration_s / r.wall_s,
+                       1e6 * r.wall_s / static_cast<double>(r.steps));
   }
   return 0;
 }

@@ -380,7 +380,8 @@ TEST(DescentCommand, UnwritableTraceIsOneErrorLine) {
 }
 
 TEST(BenchCommand, JsonHasEveryDefaultCase) {
-  const CliRun run = RunBurrlab({"sim", "bench", "--json", "--steps", "20"});
+  const CliRun run = RunBurrlab(
+      {"sim", "bench", "--json", "--steps", "20", "--interval-s", "1"});
   ASSERT_EQ(run.code, 0) << run.err;
   EXPECT_EQ(run.err, "");  // no progress bar unless stderr is a terminal
   const nlohmann::json j = nlohmann::json::parse(run.out);
@@ -395,6 +396,34 @@ TEST(BenchCommand, JsonHasEveryDefaultCase) {
     EXPECT_GE(c["p99_us"].get<double>(), c["median_us"].get<double>());
     EXPECT_GE(c["max_us"].get<double>(), c["p99_us"].get<double>());
   }
+  // The intervals studies render: probe and drill on each built-in material,
+  // 1000 steps of 1 ms each, their real-time factor simulated over wall
+  // time.
+  ASSERT_EQ(j["intervals"].size(), 6u);
+  for (const nlohmann::json& c : j["intervals"]) {
+    EXPECT_TRUE(c["task"] == "probe" || c["task"] == "drill") << c;
+    EXPECT_EQ(c["steps"], 1000) << c;
+    EXPECT_EQ(c["duration_s"], 1.0) << c;
+    EXPECT_NEAR(c["real_time_factor"].get<double>() * c["wall_s"].get<double>(),
+                1.0, 1e-9)
+        << c;
+    EXPECT_NEAR(c["us_per_step"].get<double>(),
+                1e6 * c["wall_s"].get<double>() / 1000.0, 1e-6)
+        << c;
+    EXPECT_TRUE(c.contains(c["task"] == "probe" ? "stiffness_n_per_mm"
+                                                : "penetration_mm_per_s"))
+        << c;
+  }
+  EXPECT_EQ(j["intervals"][0]["material"], "human_temporal_bone");
+}
+
+TEST(BenchCommand, IntervalSecondsAndTheLoopAreExclusive) {
+  const CliRun run =
+      RunBurrlab({"sim", "bench", "--loop", "--interval-s", "1"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err,
+            "burrlab: --interval-s and --loop are mutually exclusive; the "
+            "loop runs for --seconds\n");
 }
 
 }  // namespace

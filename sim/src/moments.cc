@@ -4,6 +4,7 @@
 #include "burrlab/sim/moments.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -37,6 +38,24 @@ double LensCentroidDistance(double d, double radius, double eta) {
       d - 3.0 * (2.0 * eta - h2) * (2.0 * eta - h2) / (4.0 * (3.0 * eta - h2));
   return (v1 * z1 + v2 * z2) / (v1 + v2);
 }
+
+// cbrt(occupancy / 255) for every occupancy, the radius of a partial voxel's
+// own-volume sphere over the voxel sphere's (AddVoxel), looked up rather than
+// computed for every partial voxel of every step. The table is filled at run
+// time (once, at start-up, so the tick never meets a first-use guard) by the
+// same libm cbrt the step called before, through a volatile pointer: a loop
+// calling std::cbrt itself was compiled to give the correctly rounded values
+// (cbrt(225/255) = ...251) rather than glibc's (...262), and that last bit
+// changed every result downstream.
+const std::array<double, 256> kCbrtOfOccupancy = [] {
+  std::array<double, 256> table{};
+  double (*volatile libm_cbrt)(double) = &::cbrt;
+  for (std::size_t o = 0; o < table.size(); ++o) {
+    table[o] = libm_cbrt(static_cast<double>(o) /
+                         static_cast<double>(kSolidOccupancy));
+  }
+  return table;
+}();
 
 // One voxel's contribution by the voxel-sphere approximation (eqs. 6.21-6.22).
 // The voxel sphere wholly inside the burr contributes its full volume at its
@@ -72,7 +91,7 @@ inline void AddVoxel(const Volume& volume, int i, int j, int k,
       offset_mm += (shift / g) * gradient;
       d_mm = std::sqrt(offset_mm.x * offset_mm.x + offset_mm.y * offset_mm.y +
                        offset_mm.z * offset_mm.z);
-      sphere_eta = eta * std::cbrt(density);
+      sphere_eta = eta * kCbrtOfOccupancy[occupancy];
       voxel_volume *= density;
       density = 1.0;
     }

@@ -48,21 +48,28 @@ constexpr BuiltIn kBuiltIns[] = {
     {"pvc_k70", 0.462, 0.296, "0.323,0.439,0.554,0.67"},
 };
 
-// Every material in the optimised build; the sanitizer build (several times
-// slower on the full rig) checks PVC only, the fastest to settle.
+// Every material and both definitions in the optimised build; the sanitizer
+// build (several times slower on the full rig) checks PVC's initial velocities
+// only: settling PVC there took 50 s, and the settled rig runs under the
+// sanitizers in its own tests (tests/sim/descent_test.cc).
 #if defined(__SANITIZE_ADDRESS__)
 constexpr std::size_t kFirstChecked = 2;
+constexpr const char* kDefinitions[] = {"initial"};
 #else
 constexpr std::size_t kFirstChecked = 0;
+constexpr const char* kDefinitions[] = {"settled", "initial"};
 #endif
 
 // Truth: the full voxel rig (sim measure), another discretisation of the
 // physics than the surrogate the fit uses, under either definition; the file
-// names its definition and calibrate fits that one.
+// names its definition and calibrate fits that one. Bone's initial velocities
+// are the README's modeller tour (the same command), measured and checked
+// there by ReadmeCommands.
 TEST_F(CalibrateCommand, RecoversTheBuiltInMaterialsFromSimMeasureData) {
-  for (const char* definition : {"settled", "initial"}) {
+  for (const char* definition : kDefinitions) {
     for (std::size_t k = kFirstChecked; k < std::size(kBuiltIns); ++k) {
       const BuiltIn& m = kBuiltIns[k];
+      if (k == 0 && std::string(definition) == "initial") continue;
       const CliRun measure =
           RunBurrlab({"sim", "measure", "--material", m.name, "--forces",
                       m.forces_n, "--replicates", "4", "--noise-cv", "0.05",

@@ -591,20 +591,5 @@ TEST(VolumeCommand, NeedsExactlyOneMapping) {
 }  // namespace
 }  // namespace burrlab::runner
 
-namespace burrlab::runner {
-namespace {
-
-TEST(SimMaterialsCommand, PrintsTheOrderCheckAndWritesThreeFigures) {
-  const CliTempDir temp("materials");
-  const std::filesystem::path dir = temp.path() / "figures";
-  const CliRun run = RunBurrlab({"sim", "materials", "--plots", dir.string()});
-  ASSERT_EQ(run.code, 0) << run.err;
-  EXPECT_THAT(run.out, HasSubstr("at 4 N:  PVC > Pettigrew > bone holds"));
-  for (const char* name :
-       {"force_depth.png", "descent_depth.png", "descent_velocity.png"}) {
-    EXPECT_GT(std::filesystem::file_size(dir / name), 1000u) << name;
-  }
-}
-
-}  // namespace
-}  // namespace burrlab::runner
+// `sim materials` (nine constant-force descents, 25 s) is checked where the
+// README's tour runs it: ReadmeCommands.EveryShellBlockRunsAsWritten.

@@ -70,14 +70,25 @@ TEST(ObserverFit, SpreadExplainsAnSdAboveTheBinomial) {
       ExampleProtocol("two_interval_2afc.toml");
   CuePool pool(2, 2.0, 1);
   ObserverFitOptions options;
-  options.virtual_subjects = 300;
   // 9 of 12 with SD 2.2 (binomial alone gives about 1.5).
   ObservedGroup observed{9.0, 2.2 / std::sqrt(20.0), 20, ""};
+#if defined(__SANITIZE_ADDRESS__)
+  // The sanitizer build (ten times slower on this fit: 50 s) runs the spread
+  // fit's plumbing on a small population; the optimised build checks what it
+  // finds.
+  options.virtual_subjects = 40;
+  Result<ObserverFit> fit = FitObservers(protocol, observed, options, pool);
+  ASSERT_TRUE(fit.ok()) << fit.error().message;
+  EXPECT_GE(fit->weber_spread, 0.0);
+  EXPECT_TRUE(std::isfinite(fit->fitted_sd));
+#else
+  options.virtual_subjects = 300;
   Result<ObserverFit> fit = FitObservers(protocol, observed, options, pool);
   ASSERT_TRUE(fit.ok()) << fit.error().message;
   EXPECT_GT(fit->weber_spread, 0.1);
   EXPECT_NEAR(fit->fitted_sd, 2.2, 0.25);
   EXPECT_NEAR(fit->fitted_mean, 9.0, 0.15);
+#endif
 }
 
 TEST(ObserverFit, ObservedTextIsParsedStrictly) {

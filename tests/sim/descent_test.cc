@@ -116,6 +116,11 @@ TEST(Descent, InitialWindowHoldsTheForceOverTheFirstThirdOfTheRadius) {
   options.definition = VelocityDefinition::kInitial;
   options.material = kPettigrew;
   options.force_n = 4.0;
+#if defined(__SANITIZE_ADDRESS__)
+  // The sanitizer build (26 s for the 83 s window at R = 3 mm, R/20) runs a
+  // 1.5 mm burr: load 1.2 instead of 0.3, R/12, a 10 s window in 2 s.
+  options.radius_mm = 1.5;
+#endif
   Result<DescentResult> result = RunDescent(options);
   ASSERT_TRUE(result.ok());
   ASSERT_TRUE(result->velocity_mm_s) << result->no_velocity_reason;
@@ -153,6 +158,12 @@ TEST(Descent, SampleFollowsTheBurrWithoutDisturbingTheForce) {
   options.radius_mm = 2.0;
   options.force_n = 3.0;
   options.run_on_s = 40.0;
+#if defined(__SANITIZE_ADDRESS__)
+  // The sanitizer build (14 s at R/12 and 1 ms) runs R/8 at 5 ms: 2 s, the
+  // same six shifts.
+  options.voxel_mm = 0.25;
+  options.dt_s = 5e-3;
+#endif
   const DescentResult r = RunDescent(options).value();
   ASSERT_TRUE(r.velocity_mm_s) << r.no_velocity_reason;
   EXPECT_GT(r.final_depth_mm, 3.0 * (3.0 * options.radius_mm + 2.0));
@@ -185,6 +196,10 @@ TEST(Descent, SaysHowLongTheWindowNeedsWhenTheDurationRunsOut) {
   options.radius_mm = 2.0;
   options.force_n = 1.0;
   options.duration_s = 20.0;
+#if defined(__SANITIZE_ADDRESS__)
+  // The sanitizer build (8 s at the default R/40) runs R/10: 1 s.
+  options.voxel_mm = 0.2;
+#endif
   const DescentResult r = RunDescent(options).value();
   ASSERT_FALSE(r.velocity_mm_s);
   EXPECT_THAT(r.no_velocity_reason,
@@ -202,6 +217,11 @@ TEST(Descent, SaysTheBurrDidNotCutBelowACuttingThreshold) {
   options.force_n = 2.0;
   options.duration_s = 60.0;
   options.effects.cutting_threshold_n = 3.0;
+#if defined(__SANITIZE_ADDRESS__)
+  // The sanitizer build (19 s at the default R/38) runs R/6: 1 s. Nothing is
+  // cut, so the voxels do not matter here.
+  options.voxel_mm = 0.5;
+#endif
   const DescentResult r = RunDescent(options).value();
   ASSERT_FALSE(r.velocity_mm_s);
   EXPECT_THAT(r.no_velocity_reason,
@@ -264,6 +284,10 @@ DescentOptions TraceRig(const Effects& effects) {
   options.radius_mm = 1.0;
   options.voxel_mm = 0.1;
   options.dt_s = 2e-3;
+#if defined(__SANITIZE_ADDRESS__)
+  // The sanitizer build (3 s a test at 2 ms) runs 5 ms.
+  options.dt_s = 5e-3;
+#endif
   options.run_on_s = 5.0;
   options.effects = effects;
   return options;

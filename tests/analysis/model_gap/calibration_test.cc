@@ -200,7 +200,15 @@ TEST(Calibrate, RecoversTheInitialVelocityWithItsTransient) {
 TEST(Calibrate, RecoversTheInitialVelocityNearFullImmersion) {
   const Truth truth{0.462, 0.296, 2.0};
   MeasuredData data;
-  for (const double force_n : {0.2, 0.4, 0.6, 0.8, 1.0, 1.5, 2.0, 2.5, 3.0}) {
+#if defined(__SANITIZE_ADDRESS__)
+  // The sanitizer build (23 s at nine levels) fits three, the top one still
+  // at 3 N, where the refits cycle: 6 s.
+  const std::vector<double> forces_n = {0.2, 1.0, 3.0};
+#else
+  const std::vector<double> forces_n = {0.2, 0.4, 0.6, 0.8, 1.0,
+                                        1.5, 2.0, 2.5, 3.0};
+#endif
+  for (const double force_n : forces_n) {
     DescentSurrogateInput in;
     in.force_n = force_n;
     in.c_e_n_per_mm2 = truth.c_e_n_per_mm2;
@@ -212,7 +220,7 @@ TEST(Calibrate, RecoversTheInitialVelocityNearFullImmersion) {
         in, sim::VelocityDefinition::kInitial, InitialTransientFactor(in));
     data.runs.push_back(run);
   }
-  data.force_levels = 9;
+  data.force_levels = static_cast<int>(forces_n.size());
   CalibrationOptions options = InitialWithoutBootstrap(truth.radius_mm);
   Result<CalibrationSummary> fit = Calibrate(data, options);
   ASSERT_TRUE(fit.ok()) << fit.error().message;

@@ -126,6 +126,10 @@ Status DescentOptions::Validate() const {
         "ell_over_r must be zero or a positive finite number, got {}",
         *ell_over_r)};
   }
+  if (!(moment_reuse_over_h >= 0.0 && moment_reuse_over_h <= 0.1)) {
+    return Error{fmt::format("moment_reuse_over_h must lie in [0, 0.1], got {}",
+                             moment_reuse_over_h)};
+  }
   if (!(settling_band > 0.0 && settling_band < 1.0)) {
     return Error{
         fmt::format("settling_band must lie in (0, 1), got {}", settling_band)};
@@ -346,6 +350,7 @@ Result<DescentResult> RunDescent(const DescentOptions& o) {
   model.radius_mm = radius;
   model.dt_s = o.dt_s;
   model.ell_over_r = o.EllOverR();
+  model.moment_reuse_over_h = o.moment_reuse_over_h;
   model.sample_estimate_hold =
       false;  // the rig reads the model force through its load cell
   Result<State> state = State::Create(model, std::move(*volume), o.seed);

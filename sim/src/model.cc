@@ -44,6 +44,10 @@ Status Model::Validate() const {
     return s;
   if (Status s = CheckNonNegative("dt_s", dt_s, true); !s.ok()) return s;
   if (Status s = CheckNonNegative("ell_over_r", ell_over_r); !s.ok()) return s;
+  if (Status s = CheckNonNegative("moment_reuse_over_h", moment_reuse_over_h);
+      !s.ok()) {
+    return s;
+  }
   if (std::isnan(max_force_n) || max_force_n <= 0.0) {
     return Error{
         fmt::format("max_force_n must be positive, got {}", max_force_n)};

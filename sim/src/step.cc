@@ -53,6 +53,13 @@ struct ErosionVisitor {
   boost::random::mt19937* rng;
   double radius_vox, eta_vox, rate_per_step;  // rate_per_step = alpha dt
   double max_factor;  // largest erosion factor of any label
+  // Moments kept for reuse (Model::moment_reuse_over_h), about reuse_centre:
+  // each removal takes its units out of them; null when none are kept.
+  Moments* reuse = nullptr;
+  double* reuse_budget_mm3 = nullptr;
+  glm::dvec3 reuse_centre_vox{0.0};
+  double unit_mm3 = 0.0;  // volume of one occupancy unit
+  double voxel_mm = 0.0;
   std::int64_t removed_units = 0;
 
   // Units to remove from one voxel; `probability` is its fractional part's
@@ -70,12 +77,27 @@ struct ErosionVisitor {
     return lambda * occupancy;
   }
   void Remove(int i, int j, int k, std::size_t index, std::uint8_t occupancy,
-              int units) {
+              int units, double d_vox) {
     units = std::min(units, static_cast<int>(occupancy));
     if (units <= 0) return;
     volume->occupancy()[index] = static_cast<std::uint8_t>(occupancy - units);
     octree->OnVoxelDecrement(i, j, k, units);
     removed_units += units;
+    if (reuse != nullptr) {
+      // The voxel's centre lies inside the burr; its voxel sphere counts
+      // whole there, or by its overlap with the burr near the burr's surface
+      // (eqs. 6.17, 6.21-6.22).
+      double dm0 = units * unit_mm3;
+      if (d_vox > radius_vox - eta_vox) {
+        dm0 *= LensVolume(d_vox, radius_vox, eta_vox) /
+               (4.0 / 3.0 * std::numbers::pi * eta_vox * eta_vox * eta_vox);
+      }
+      *reuse_budget_mm3 -= dm0;
+      reuse->m0_mm3 -= dm0;
+      reuse->m1_mm4 -=
+          dm0 * voxel_mm *
+          (glm::dvec3(i + 0.5, j + 0.5, k + 0.5) - reuse_centre_vox);
+    }
   }
 
   internal::BlockAction OnBlock(const internal::BlockView& b) {
@@ -106,9 +128,9 @@ struct ErosionVisitor {
       if (occupancy == 0) continue;
       const double dx = i + 0.5 - centre_vox.x, dy = j + 0.5 - centre_vox.y,
                    dz = k + 0.5 - centre_vox.z;
-      const double p =
-          Expected(index, occupancy, std::sqrt(dx * dx + dy * dy + dz * dz));
-      if (uniform(*rng) * p_max < p) Remove(i, j, k, index, occupancy, 1);
+      const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const double p = Expected(index, occupancy, d);
+      if (uniform(*rng) * p_max < p) Remove(i, j, k, index, occupancy, 1, d);
     }
     return internal::BlockAction::kAccept;
   }
@@ -123,7 +145,7 @@ struct ErosionVisitor {
       boost::random::bernoulli_distribution<double> coin(fraction);
       if (coin(*rng)) whole += 1.0;
     }
-    Remove(i, j, k, index, occupancy, static_cast<int>(whole));
+    Remove(i, j, k, index, occupancy, static_cast<int>(whole), d_vox);
   }
 
   glm::dvec3 centre_vox{0.0};
@@ -268,6 +290,7 @@ Result<State> State::Create(const Model& model, Volume volume,
 void State::ShiftContentUp(int layers, std::uint8_t occupancy) {
   volume_.ShiftContentUp(layers, occupancy);
   octree_ = MomentOctree::Build(volume_);
+  reuse_reach_mm_ = -1.0;  // the moments kept are of the content before
 }
 
 Output EvaluateForce(const Model& model, const Volume& volume,
@@ -290,10 +313,41 @@ void Step(const Model& model, State& state, const Input& input,
     state.seh_.Reset();
     return;
   }
-  // Collide and force.
-  const Moments moments =
-      ComputeMoments(model, state.volume_, state.octree_, input.position_mm);
-  ComputeForces(model, state.volume_, state.octree_, input, moments, out);
+  // Collide and force: the moments afresh, or those of a nearby centre moved
+  // to this one (Model::moment_reuse_over_h).
+  const bool reusing = model.moment_reuse_over_h > 0.0;
+  Moments moments;
+  const glm::dvec3 move_mm = input.position_mm - state.reuse_centre_mm_;
+  if (reusing && state.reuse_reach_mm_ > 0.0 &&
+      state.reuse_budget_mm3_ >= 0.0 &&
+      Norm(move_mm) <= state.reuse_reach_mm_) {
+    moments.m0_mm3 =
+        state.reuse_moments_.m0_mm3 + Dot(state.reuse_sweep_mm2_, move_mm);
+    moments.m1_mm4 = state.reuse_moments_.m1_mm4 - moments.m0_mm3 * move_mm;
+    ComputeForces(model, state.volume_, state.octree_, input, moments, out);
+  } else {
+    moments =
+        ComputeMoments(model, state.volume_, state.octree_, input.position_mm);
+    ++state.counters_.moment_evaluations;
+    ComputeForces(model, state.volume_, state.octree_, input, moments, out);
+    if (reusing) {
+      // What the move since the last computation added beyond the erosion's
+      // account, per millimetre along that move; estimated from a move of at
+      // least half the reach (a shorter one, ended by the erosion budget,
+      // leaves too little to measure).
+      const double moved2 = Dot(move_mm, move_mm);
+      state.reuse_sweep_mm2_ =
+          state.reuse_reach_mm_ > 0.0 &&
+                  moved2 >= 0.25 * state.reuse_reach_mm_ * state.reuse_reach_mm_
+              ? ((moments.m0_mm3 - state.reuse_moments_.m0_mm3) / moved2) *
+                    move_mm
+              : glm::dvec3(0.0);
+      state.reuse_moments_ = moments;
+      state.reuse_centre_mm_ = input.position_mm;
+      state.reuse_reach_mm_ = model.moment_reuse_over_h * out->h_mm;
+      state.reuse_budget_mm3_ = model.moment_reuse_over_h * moments.m0_mm3;
+    }
+  }
   // Erode: only a spinning burr cuts (a probing burr has no friction and no
   // erosion).
   const double alpha = model.material.alpha_per_s;
@@ -324,6 +378,13 @@ void Step(const Model& model, State& state, const Input& input,
                            alpha * scale * model.dt_s,
                            state.max_erosion_factor_};
     erosion.centre_vox = input.position_mm / v;
+    if (reusing && state.reuse_reach_mm_ > 0.0) {
+      erosion.reuse = &state.reuse_moments_;
+      erosion.reuse_budget_mm3 = &state.reuse_budget_mm3_;
+      erosion.reuse_centre_vox = state.reuse_centre_mm_ / v;
+      erosion.unit_mm3 = v * v * v / kSolidOccupancy;
+      erosion.voxel_mm = v;
+    }
     internal::WalkSphere(state.octree_, state.volume_, input.position_mm / v,
                          model.radius_mm / v, erosion);
     out->eroded_units = erosion.removed_units;

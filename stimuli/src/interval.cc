@@ -130,6 +130,12 @@ class MaterialWindow {
     return {};
   }
 
+  // Steps that computed the moments afresh, over every window.
+  std::int64_t MomentEvaluations() const {
+    return evaluations_before_ +
+           (has_state_ ? state_.counters().moment_evaluations : 0);
+  }
+
   // Material removed so far, from the volume change of every window.
   double RemovedMm3() const {
     return removed_before_mm3_ + (initial_mm3_ - state_.volume().MaterialMm3());
@@ -164,7 +170,10 @@ class MaterialWindow {
         std::memset(to, sim::kSolidOccupancy, layer_size);
       }
     }
-    if (has_state_) removed_before_mm3_ = RemovedMm3();
+    if (has_state_) {
+      removed_before_mm3_ = RemovedMm3();
+      evaluations_before_ = MomentEvaluations();
+    }
     initial_mm3_ = volume->MaterialMm3();
     const std::uint64_t seed =
         windows_ == 0
@@ -193,8 +202,9 @@ class MaterialWindow {
   sim::State state_;
   bool has_state_ = false;
   std::uint64_t windows_ = 0;
-  double initial_mm3_ = 0.0;         // material of this window when built
-  double removed_before_mm3_ = 0.0;  // removed in earlier windows
+  double initial_mm3_ = 0.0;             // material of this window when built
+  double removed_before_mm3_ = 0.0;      // removed in earlier windows
+  std::int64_t evaluations_before_ = 0;  // moment evaluations of earlier ones
   sim::Input input_;
 };
 
@@ -378,6 +388,8 @@ Status IntervalOptions::Validate() const {
                  "in (0, 20]", drill_force_n),
            Check(voxel_mm >= 0.05 && voxel_mm <= 1.0, "voxel_mm",
                  "in [0.05, 1]", voxel_mm),
+           Check(moment_reuse_over_h >= 0.0 && moment_reuse_over_h <= 0.1,
+                 "moment_reuse_over_h", "in [0, 0.1]", moment_reuse_over_h),
        }) {
     if (!s.ok()) return s;
   }
@@ -408,6 +420,7 @@ Result<IntervalResult> PresentSimulatedInterval(const IntervalOptions& o) {
   model.radius_mm = radius;
   model.dt_s = kDtS;
   model.method = sim::MomentMethod::kOctree;  // 2-3x the mono speed at R = 2
+  model.moment_reuse_over_h = o.moment_reuse_over_h;
   Result<MaterialWindow> block =
       MaterialWindow::Create(model, o.voxel_mm, o.seed);
   if (!block.ok()) return block.error();
@@ -519,6 +532,7 @@ Result<IntervalResult> PresentSimulatedInterval(const IntervalOptions& o) {
   }
   result.removed_mm3 = block->RemovedMm3();
   result.steps = ticks;
+  result.moment_evaluations = block->MomentEvaluations();
   return result;
 }
 

@@ -85,6 +85,7 @@ sim::DescentOptions RigAt(const SyntheticMeasurementOptions& o, double force_n,
   rig.spindle_rad_s = o.spindle_rad_s;
   rig.voxel_mm = o.voxel_mm;
   rig.ell_over_r = o.ell_over_r;
+  rig.moment_reuse_over_h = o.moment_reuse_over_h;
   rig.dt_s = o.dt_s;
   rig.seed = seed;
   rig.definition = o.definition;

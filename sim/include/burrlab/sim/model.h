@@ -56,6 +56,17 @@ struct Model {
   double max_force_n =
       std::numeric_limits<double>::infinity();  // clamp on |force|
   Effects effects;  // physical effects beyond the base model; null by default
+  // Moment reuse between steps. 0 (the default): the moments are computed
+  // afresh every step. r > 0: while the burr centre stays within r h of where
+  // they were last computed (h the depth of eq. 7.2 there) and the material
+  // eroded since is under r m0, a step reuses them, taken about the new centre
+  // (m1 - m0 d for a move d) and less the material eroded since (each eroded
+  // voxel counted whole); otherwise it computes them afresh. Neglecting the
+  // material the sphere sweeps over moves h by at most about r h, so the
+  // elastic force by at most about 1.5 r (eq. 7.3); drilling, where the burr
+  // moves a few micrometres per step, computes its moments a few times less
+  // often.
+  double moment_reuse_over_h = 0.0;
 
   // Names the first field with a bad value and the rule it breaks.
   Status Validate() const;

@@ -12,6 +12,7 @@
 
 #include "burrlab/base/result.h"
 #include "burrlab/sim/model.h"
+#include "burrlab/sim/moments.h"
 #include "burrlab/sim/octree.h"
 #include "burrlab/sim/seh.h"
 #include "burrlab/sim/volume.h"
@@ -50,6 +51,9 @@ struct StepCounters {
   std::int64_t clamped = 0;
   std::int64_t non_finite = 0;
   double removed_mm3 = 0.0;  // total material removed
+  // Steps that computed the moments afresh (all of them unless
+  // Model::moment_reuse_over_h > 0).
+  std::int64_t moment_evaluations = 0;
 };
 
 class State {
@@ -80,6 +84,18 @@ class State {
   // motor_power_limit: filtered removal rate the burr would reach without the
   // limit (mm^3/s), the motor's load.
   double unlimited_removal_mm3_per_s_ = 0.0;
+  // Model::moment_reuse_over_h: the moments last computed, about the centre
+  // they were computed at, less the material eroded since; reused by a step
+  // whose centre is within reuse_reach_mm_ of that centre (none while < 0)
+  // while the material eroded since is under the budget (r m0 when computed).
+  Moments reuse_moments_;
+  glm::dvec3 reuse_centre_mm_{0.0};
+  double reuse_reach_mm_ = -1.0;
+  double reuse_budget_mm3_ = 0.0;
+  // The material the sphere sweeps over per millimetre moved, along the last
+  // move between two computations (mm^3/mm): what that move added to m0
+  // beyond the erosion's account.
+  glm::dvec3 reuse_sweep_mm2_{0.0};
 };
 
 // Advances the simulation by model.dt_s. `output` must not be null.

@@ -41,6 +41,8 @@ struct SyntheticMeasurementOptions {
   // The octree's accuracy scale as a fraction of R (unset: the rig's default
   // for each force level, sim::RigEllOverR).
   std::optional<double> ell_over_r;
+  // Moment reuse between steps (sim::DescentOptions::moment_reuse_over_h).
+  double moment_reuse_over_h = sim::DescentOptions{}.moment_reuse_over_h;
   // Keep each level's time trace (trace_data.h): every 10 ms (100 Hz) until
   // this long after contact, at the rig's coarser trace period after.
   bool keep_traces = false;

@@ -388,8 +388,14 @@ Status IntervalOptions::Validate() const {
                  "in (0, 20]", drill_force_n),
            Check(voxel_mm >= 0.05 && voxel_mm <= 1.0, "voxel_mm",
                  "in [0.05, 1]", voxel_mm),
-           Check(moment_reuse_over_h >= 0.0 && moment_reuse_over_h <= 0.1,
-                 "moment_reuse_over_h", "in [0, 0.1]", moment_reuse_over_h),
+           Check(probe_moment_reuse_over_h >= 0.0 &&
+                     probe_moment_reuse_over_h <= 0.1,
+                 "probe_moment_reuse_over_h", "in [0, 0.1]",
+                 probe_moment_reuse_over_h),
+           Check(drill_moment_reuse_over_h >= 0.0 &&
+                     drill_moment_reuse_over_h <= 0.1,
+                 "drill_moment_reuse_over_h", "in [0, 0.1]",
+                 drill_moment_reuse_over_h),
        }) {
     if (!s.ok()) return s;
   }
@@ -420,7 +426,8 @@ Result<IntervalResult> PresentSimulatedInterval(const IntervalOptions& o) {
   model.radius_mm = radius;
   model.dt_s = kDtS;
   model.method = sim::MomentMethod::kOctree;  // 2-3x the mono speed at R = 2
-  model.moment_reuse_over_h = o.moment_reuse_over_h;
+  model.moment_reuse_over_h =
+      probe ? o.probe_moment_reuse_over_h : o.drill_moment_reuse_over_h;
   Result<MaterialWindow> block =
       MaterialWindow::Create(model, o.voxel_mm, o.seed);
   if (!block.ok()) return block.error();

@@ -420,21 +420,24 @@ TEST(IntervalOptions, ValidateNamesFieldValueAndRule) {
   }
 }
 
-// Moment reuse (IntervalOptions::moment_reuse_over_h, on by default) against
-// computing the moments every step. Truth: the simulator's own step with
-// reuse off, the definition the octree's accuracy tests hold (the force within
-// 2 % of the mono-resolution sums).
+// Moment reuse (IntervalOptions::probe_ and drill_moment_reuse_over_h, on by
+// default) against computing the moments every step. Truth: the simulator's
+// own step with reuse off, the definition the octree's accuracy tests hold
+// (the force within 2 % of the mono-resolution sums). Probes: every 1 ms row
+// within 1e-4 N (measured 7-9e-5 N), and about half the steps compute.
 TEST(MomentReuse, ProbesFeelTheForceOfComputingEveryStep) {
   for (std::string_view name :
        {"pvc_k70", "pettigrew_temporal_bone", "human_temporal_bone"}) {
     IntervalOptions o = Probe(Builtin(name), 5.0);
-    o.moment_reuse_over_h = 0.0;
+    o.probe_moment_reuse_over_h = 0.0;
     const IntervalResult exact = Present(o);
-    o.moment_reuse_over_h = 0.002;
+    o.probe_moment_reuse_over_h = IntervalOptions{}.probe_moment_reuse_over_h;
     const IntervalResult reused = Present(o);
     ASSERT_EQ(exact.rows.size(), reused.rows.size());
     EXPECT_EQ(exact.moment_evaluations, exact.steps);
-    EXPECT_LT(reused.moment_evaluations, exact.steps) << name;
+    EXPECT_LT(static_cast<double>(reused.moment_evaluations),
+              0.6 * static_cast<double>(exact.steps))
+        << name;
     for (std::size_t i = 0; i < exact.rows.size(); ++i) {
       ASSERT_NEAR(reused.rows[i][kForce], exact.rows[i][kForce], 1e-4)
           << name << ", row " << i;
@@ -499,7 +502,8 @@ TEST(MomentReuse, DrillCuesHaveTheDistributionsOfComputingEveryStep) {
         o.material = Builtin(name);
         o.task = Task::kDrill;
         o.seed = 1000u + static_cast<std::uint64_t>(r);
-        o.moment_reuse_over_h = reuse == 1 ? 0.002 : 0.0;
+        o.drill_moment_reuse_over_h =
+            reuse == 1 ? IntervalOptions{}.drill_moment_reuse_over_h : 0.0;
         const IntervalResult result = Present(o);
         rate[reuse].values.push_back(result.cue);
         removed[reuse].values.push_back(result.removed_mm3);

@@ -708,7 +708,8 @@ int RunBench(const Args& args, std::ostream& out, std::ostream& err) {
             static_cast<double>(r.steps));
   }
   out << "\nmoments %: the steps that computed the moments afresh; the "
-         "others reuse those of a centre at most 0.002 h away\n";
+         "others reuse those of a nearby centre (probe 0.005 h, drill 0.002 "
+         "h)\n";
   return 0;
 }
 

@@ -413,7 +413,7 @@ TEST(BenchCommand, JsonHasEveryDefaultCase) {
     EXPECT_TRUE(c.contains(c["task"] == "probe" ? "stiffness_n_per_mm"
                                                 : "penetration_mm_per_s"))
         << c;
-    // Moment reuse (stimuli::IntervalOptions::moment_reuse_over_h): some
+    // Moment reuse (stimuli::IntervalOptions::*_moment_reuse_over_h): some
     // steps compute the moments afresh, not necessarily all.
     EXPECT_GT(c["moments_computed_fraction"].get<double>(), 0.0) << c;
     EXPECT_LE(c["moments_computed_fraction"].get<double>(), 1.0) << c;

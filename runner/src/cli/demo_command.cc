@@ -68,9 +68,12 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
       (o.out_dir / kDemoPettigrewDir).string(),
       (o.out_dir / kDemoMarker).string());
   out << fmt::format(
-      "({} simulator intervals rendered: {} per stimulus, shared by every "
-      "session; re-analyse with 'burrlab analyze scores {}')\n",
-      r.rendered, o.renderings, (o.out_dir / kDemoPvcDir).string());
+      "({} simulator intervals rendered for the fit and the replications, {} "
+      "per stimulus; {}; re-analyse with 'burrlab analyze scores {}')\n",
+      r.rendered, o.renderings,
+      o.share_renderings ? "the sessions shared them"
+                         : "every session rendered its own intervals",
+      (o.out_dir / kDemoPvcDir).string());
 }
 
 int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
@@ -98,8 +101,15 @@ int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddInteger("--jobs", "parallel sessions (default: the core count)", 1,
                    256, &options.jobs);
   flags.AddInteger("--renderings",
-                   "simulator renderings per stimulus (default 8)", 1, 1000,
-                   &options.renderings);
+                   "simulator renderings per stimulus for the fit and the "
+                   "virtual replications (default 8)",
+                   1, 1000, &options.renderings);
+  flags.AddSwitch("--share-renderings",
+                  "the simulated studies' sessions draw their intervals from "
+                  "those renderings instead of rendering each afresh (faster; "
+                  "every subject then feels one of the same few intervals of "
+                  "a stimulus)",
+                  &options.share_renderings);
   flags.AddInteger("--runs",
                    "virtual replications for the prediction (default 200)", 1,
                    100000, &options.runs);

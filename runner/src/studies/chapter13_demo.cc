@@ -137,6 +137,7 @@ Json DemoReportJson(const DemoReport& r, const DemoOptions& o) {
   j["status"] = "done";
   j["seed"] = o.seed;
   j["renderings_per_stimulus"] = o.renderings;
+  j["sessions_share_renderings"] = o.share_renderings;
   j["intervals_rendered"] = r.rendered;
   j["population"] = {{"weber_stiffness", r.weber_stiffness},
                      {"weber_removal", r.weber_removal},
@@ -310,7 +311,7 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   }
   pvc_study.seed = options.seed;
   pvc_study.jobs = options.jobs;
-  pvc_study.renderings = &pool;
+  pvc_study.renderings = options.share_renderings ? &pool : nullptr;
   {
     ProgressBar bar(progress, options.subjects);
     pvc_study.progress = [&](int done, const std::string& label) {
@@ -336,7 +337,7 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   pettigrew_study.seed = protocols::SeedFor(
       options.seed, protocols::StreamPurpose::kSubjectSeed, 1ull << 42);
   pettigrew_study.jobs = options.jobs;
-  pettigrew_study.renderings = &pool;
+  pettigrew_study.renderings = options.share_renderings ? &pool : nullptr;
   for (int i : best) {
     pettigrew_study.labels.push_back(
         pvc_study.labels[static_cast<std::size_t>(i)]);

@@ -34,7 +34,12 @@ struct DemoOptions {
   std::filesystem::path out_dir = "burrlab-demo";
   std::uint64_t seed = 1;
   int jobs = 2;
-  int renderings = 8;                // simulator renderings per stimulus
+  int renderings = 8;  // simulator renderings per stimulus, for the fit and
+                       // the virtual replications
+  // The two simulated studies' sessions draw their intervals from those
+  // renderings instead of rendering each afresh (faster; every subject then
+  // feels one of the same few intervals of a stimulus).
+  bool share_renderings = false;
   int virtual_subjects = 400;        // per virtual study of the observer fit
   int runs = 200;                    // virtual replications for the prediction
   int subjects = 20;                 // PVC vs bone subjects (dissertation: 20)

@@ -24,10 +24,11 @@ TEST(Demo, ReproducesThePvcScoresAndPredictsPettigrew) {
   TempDir dir;
   const std::filesystem::path out = dir.path() / "demo";
 #ifdef __SANITIZE_ADDRESS__
-  // The sanitizer build checks the plumbing on a small run.
-  const CliRun run =
-      RunBurrlab({"demo", "--out", out.string(), "--renderings", "1", "--runs",
-                  "3", "--virtual-subjects", "20", "--jobs", "2"});
+  // The sanitizer build checks the plumbing on a small run whose sessions
+  // share the renderings (afresh, its 1536 intervals would take minutes).
+  const CliRun run = RunBurrlab({"demo", "--out", out.string(), "--renderings",
+                                 "1", "--runs", "3", "--virtual-subjects", "20",
+                                 "--jobs", "2", "--share-renderings"});
 #else
   const CliRun run = RunBurrlab({"demo", "--out", out.string(), "--jobs", "2"});
 #endif
@@ -41,6 +42,13 @@ TEST(Demo, ReproducesThePvcScoresAndPredictsPettigrew) {
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
   ASSERT_TRUE(j.is_object());
   EXPECT_EQ(j["status"], "done");
+#ifdef __SANITIZE_ADDRESS__
+  EXPECT_EQ(j["sessions_share_renderings"], true);
+#else
+  // make demo's sessions render every interval afresh.
+  EXPECT_EQ(j["sessions_share_renderings"], false);
+  EXPECT_THAT(run.out, HasSubstr("every session rendered its own intervals"));
+#endif
   ASSERT_EQ(j["rows"].size(), 4u);
   ASSERT_EQ(j["best_subjects"].size(), 12u);
   for (const auto& row : j["rows"]) {

@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -80,6 +81,14 @@ bool WaitForText(const fs::path& log, const std::string& text) {
   return false;
 }
 
+// Trials stored in a running session's journal, read without its lock (a
+// reader holding the lock would refuse the run it watches); -1 when there is
+// no journal yet.
+int RunningTrials(const fs::path& out) {
+  auto progress = rs::ReadSessionProgress(out, "01");
+  return progress.ok() ? progress->trials : -1;
+}
+
 int StoredTrials(const fs::path& out) {
   auto journal = rs::Journal::Open(out, "01");
   if (!journal.ok()) return -1;
@@ -136,32 +145,56 @@ TEST(SessionCrash, TwentyKillsAndResumesGiveTheUninterruptedResults) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t1)
           .count();
 
-  // Kill at uniform random delays in (0, resume + full/10] while trials
-  // remain, then in (0, resume] while the finished session is replayed and
-  // exported; each restart resumes. A restart adds a trial only after its
-  // start-up and the replay of the stored trials, which `resume` (start-up,
-  // replay of all 40, export) bounds: with delays of full/10 alone, a build
-  // whose start-up is long beside its trials (ASan on a fast machine: 0.16 s
-  // against 2.2 s for all 40) killed nearly every restart before it stored
-  // one more trial. Go on until 20 kills landed and at least 2 of them cut an
-  // export short (a temporary export file was left behind).
+  // Where each restart is killed is chosen from the journal's progress, not
+  // from wall-clock guesses: a guess cannot know how a build's start-up and
+  // replay compare with its trials (ASan on a 2-core machine: most of a
+  // restart is start-up and replay, and delays drawn from the session's length
+  // killed nearly every restart before it stored one more trial). Each restart
+  // is killed either during its start-up and replay (a uniform delay within
+  // `resume`, one restart in four) or once it has stored 1-5 more trials, a
+  // uniform fraction of a trial later, so the kills fall while a trial runs or
+  // commits. Once all 40 are stored, restarts replay and export, and are
+  // killed at uniform delays within `resume`. Go on until 20 kills landed and
+  // at least 2 of them cut an export short (a temporary file was left behind).
   const fs::path out = dir / "killed";
   std::mt19937 rng(12345);
-  std::uniform_real_distribution<double> delay(0.0, resume_s + full_s / 10.0);
-  std::uniform_real_distribution<double> delay_at_end(0.0, resume_s);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<int> more_trials(1, 5);
+  const double trial_s = full_s / 40.0;
   int kills = 0;
   int kills_in_export = 0;
   std::set<int> trials_at_kill;
   bool started = false;
-  for (int attempt = 0; attempt < 600 && (kills < 20 || kills_in_export < 2);
+  for (int attempt = 0; attempt < 200 && (kills < 20 || kills_in_export < 2);
        ++attempt) {
     const int stored = started ? StoredTrials(out) : -1;
+    const bool at_start = stored == 40 || unit(rng) < 0.25;
+    const int target = std::min(40, std::max(stored, 0) + more_trials(rng));
+    const double wait_s = (at_start ? resume_s : trial_s) * unit(rng);
     const pid_t pid = Start(args(out, stored >= 0), log);
-    std::this_thread::sleep_for(std::chrono::duration<double>(
-        stored == 40 ? delay_at_end(rng) : delay(rng)));
-    ::kill(pid, SIGKILL);
-    const int code = Wait(pid);
     started = true;
+    // Polls until `target` trials are stored (60 s at most); false when the
+    // run ended first, with its exit code in `code`.
+    int code = 0;
+    auto reach_target = [&] {
+      const auto poll_end =
+          std::chrono::steady_clock::now() + std::chrono::seconds(60);
+      while (RunningTrials(out) < target) {
+        int status = 0;
+        if (waitpid(pid, &status, WNOHANG) == pid) {
+          code = WIFSIGNALED(status) ? -WTERMSIG(status) : WEXITSTATUS(status);
+          return false;
+        }
+        if (std::chrono::steady_clock::now() > poll_end) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+      return true;
+    };
+    if (at_start || reach_target()) {
+      std::this_thread::sleep_for(std::chrono::duration<double>(wait_s));
+      ::kill(pid, SIGKILL);
+      code = Wait(pid);
+    }
     if (code == -SIGKILL) {
       ++kills;
       trials_at_kill.insert(StoredTrials(out));

@@ -34,7 +34,9 @@ struct BlockView {
 };
 
 // Visitor: BlockAction OnBlock(const BlockView&); void OnVoxel(int i, int j,
-// int k, std::uint8_t occupancy, const glm::dvec3& offset_vox, double d_vox).
+// int k, std::uint8_t occupancy, const glm::dvec3& offset_vox, double
+// d2_vox2), with d2_vox2 the squared distance of the voxel centre (a visitor
+// takes the square root only where it needs the distance itself).
 // Blocks with zero mass or with dmin >= outer_vox are skipped before the
 // visitor sees them; so are voxels.
 template <typename Visitor>
@@ -51,6 +53,7 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
   const std::array<int, 3> n = {volume.nx(), volume.ny(), volume.nz()};
   // Start where a block spans the sphere's box, so at most 2 blocks per axis
   // are needed.
+  const double outer2_vox2 = outer_vox * outer_vox;
   int start = 1;
   while (start < levels && (1 << start) < 2.0 * outer_vox + 1.0) ++start;
   std::array<int, 3> lo_b{}, hi_b{};
@@ -88,7 +91,7 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
       dmin2 += near * near;
       dmax2 += far * far;
     }
-    if (dmin2 >= outer_vox * outer_vox) continue;
+    if (dmin2 >= outer2_vox2) continue;
     const BlockView view{item.level, item.bx, item.by, item.bz,
                          &node,      dmin2,   dmax2};
     const BlockAction action = visitor.OnBlock(view);
@@ -103,10 +106,10 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
         if (occupancy == 0) continue;
         const glm::dvec3 offset(i + 0.5 - centre_vox.x, j + 0.5 - centre_vox.y,
                                 k + 0.5 - centre_vox.z);
-        const double d = std::sqrt(offset.x * offset.x + offset.y * offset.y +
-                                   offset.z * offset.z);
-        if (d >= outer_vox) continue;
-        visitor.OnVoxel(i, j, k, occupancy, offset, d);
+        const double d2 =
+            offset.x * offset.x + offset.y * offset.y + offset.z * offset.z;
+        if (d2 >= outer2_vox2) continue;
+        visitor.OnVoxel(i, j, k, occupancy, offset, d2);
       }
       continue;
     }

@@ -135,8 +135,9 @@ struct ErosionVisitor {
     return internal::BlockAction::kAccept;
   }
   void OnVoxel(int i, int j, int k, std::uint8_t occupancy, const glm::dvec3&,
-               double d_vox) {
-    if (d_vox >= radius_vox) return;
+               double d2_vox2) {
+    if (d2_vox2 >= radius_vox * radius_vox) return;
+    const double d_vox = std::sqrt(d2_vox2);
     const std::size_t index = volume->Index(i, j, k);
     const double expected = Expected(index, occupancy, d_vox);
     double whole = std::floor(expected);
@@ -171,7 +172,8 @@ struct SurfaceFrictionVisitor {
                                                : internal::BlockAction::kRefine;
   }
   void OnVoxel(int, int, int, std::uint8_t occupancy,
-               const glm::dvec3& offset_vox, double d_vox) {
+               const glm::dvec3& offset_vox, double d2_vox2) {
+    const double d_vox = std::sqrt(d2_vox2);
     if (d_vox <= radius_vox - eta_vox || d_vox <= 0.0) return;
     const double area =
         LensArea(d_vox, radius_vox, eta_vox) * voxel_mm * voxel_mm;  // eq. 6.19

@@ -1,9 +1,9 @@
 // The README's tours work exactly as written: every ```sh block of README.md
 // runs, in order, with bash (-e -u -o pipefail) in one scratch folder that
-// holds a link to the source tree's protocols/ and has this build's
-// `burrlab` first on PATH. Blocks fenced otherwise (make, output) are not
-// run. Not in the sanitizer build: the commands are the optimised build's
-// (their code runs under the sanitizers in the other tests).
+// holds a link to the source tree's protocols/ (TMPDIR points there too) and
+// has this build's `burrlab` first on PATH. Blocks fenced otherwise (make,
+// output) are not run. Not in the sanitizer build: the commands are the
+// optimised build's (their code runs under the sanitizers in the other tests).
 //
 // Two slow runs of the tours are checked here rather than run again by their
 // own tests: `sim materials` (the order check and its figures) and the bone
@@ -71,9 +71,9 @@ TEST(ReadmeCommands, EveryShellBlockRunsAsWritten) {
     std::ofstream(script) << blocks[i];
     const fs::path log = dir.path() / ("block" + std::to_string(i) + ".log");
     const std::string command =
-        "cd '" + dir.path().string() + "' && PATH='" + bin.string() +
-        "':\"$PATH\" bash -euo pipefail '" + script.string() + "' > '" +
-        log.string() + "' 2>&1";
+        "cd '" + dir.path().string() + "' && TMPDIR='" + dir.path().string() +
+        "' PATH='" + bin.string() + "':\"$PATH\" bash -euo pipefail '" +
+        script.string() + "' > '" + log.string() + "' 2>&1";
     const int status = std::system(command.c_str());
     ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
         << "README block " << i + 1 << " failed:\n"
@@ -81,6 +81,12 @@ TEST(ReadmeCommands, EveryShellBlockRunsAsWritten) {
         << ReadFile(log);
     logs += ReadFile(log);
   }
+
+  // The first block sets up the tours' scratch folder (under TMPDIR, here the
+  // test's own folder) with its link to the examples.
+  EXPECT_TRUE(fs::is_symlink(dir.path() / "burrlab-tours" / "protocols"))
+      << "the README's tours no longer start in a scratch folder";
+  EXPECT_THAT(blocks[0], HasSubstr("build/release/runner"));
 
   // `burrlab sim materials --plots materials`: the order of §8.7 and three
   // figures.

@@ -1,7 +1,10 @@
-// `burrlab study` on the dissertation's same-different example
-// (protocols/examples/same_different_pvc_vs_bone.toml, §13.5.1): every
+// `burrlab study` on the dissertation's examples: the same-different design
+// (protocols/examples/same_different_pvc_vs_bone.toml, §13.5.1), whose every
 // simulated subject's exports exist, validate against the JSON Schemas and
-// read back as balanced same-different blocks.
+// read back as balanced same-different blocks; and the reference design
+// (protocols/examples/reference_pettigrew.toml, §13.5.2) run as the
+// dissertation ran it, 5 subjects of 10 trials, end to end through
+// `analyze scores`.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -140,6 +143,65 @@ TEST(StudyExample, TwentySimulatedSubjectsExportValidBalancedBlocks) {
   }
   // PVC and bone differ a lot (c_e ratio 4.6): subjects score above chance.
   EXPECT_GT(static_cast<double>(correct) / answered, 0.6);
+}
+
+TEST(ReferenceExample, FiveSubjectsMatchTheRealPettigrewAgainstPvc) {
+  const fs::path out =
+      fs::path(BURRLAB_BINARY_DIR) / "test_tmp" / "reference_study";
+  fs::remove_all(out);
+  const std::string protocol = std::string(BURRLAB_SOURCE_DIR) +
+                               "/protocols/examples/reference_pettigrew.toml";
+  // What is asserted here is the design and its exports, not the spread of
+  // the renderings: 4 renderings of each material serve every interval.
+  std::ostringstream o, e;
+  ASSERT_EQ(burrlab::runner::RunCli(
+                {"study", protocol, "--simulated-subjects", "5", "--out",
+                 out.string(), "--seed", "1", "--renderings", "4"},
+                o, e),
+            0)
+      << e.str();
+  int correct = 0;
+  for (int s = 1; s <= 5; ++s) {
+    const std::string label = "0" + std::to_string(s);
+    const auto table =
+        ParseTsv(ReadFile(out / ("sub-" + label) / "beh" /
+                          ("sub-" + label + "_task-association_beh.tsv")));
+    ASSERT_EQ(table.size(), 11u) << label;  // header + 10 trials
+    std::map<std::string, std::size_t> column;
+    for (std::size_t i = 0; i < table[0].size(); ++i) column[table[0][i]] = i;
+    std::map<std::string, int> orders;
+    for (std::size_t r = 1; r < table.size(); ++r) {
+      const auto& row = table[r];
+      // §13.5.2: the real Pettigrew first, then simulated Pettigrew and PVC
+      // in random order; the right answer is where the simulated Pettigrew
+      // was.
+      const std::string& materials = row[column["interval_materials"]];
+      ++orders[materials];
+      ASSERT_TRUE(materials == "real+pettigrew+pvc" ||
+                  materials == "real+pvc+pettigrew")
+          << materials;
+      EXPECT_EQ(row[column["correct_answer"]],
+                materials == "real+pettigrew+pvc" ? "2" : "3");
+      const std::string& response = row[column["response"]];
+      EXPECT_TRUE(response == "2" || response == "3") << response;
+      correct += row[column["correct"]] == "1";
+    }
+    // Both orders, 5 trials each.
+    EXPECT_EQ(orders, (std::map<std::string, int>{{"real+pettigrew+pvc", 5},
+                                                  {"real+pvc+pettigrew", 5}}))
+        << label;
+  }
+  // A simulated subject feels the real sample through its simulation, so it
+  // matches at least as well as the dissertation's trained subjects (9.4 of
+  // 10): PVC and Pettigrew are far apart.
+  EXPECT_GE(correct, 47);
+  std::ostringstream so, se;
+  ASSERT_EQ(
+      burrlab::runner::RunCli({"analyze", "scores", out.string()}, so, se), 0)
+      << se.str();
+  EXPECT_THAT(so.str(),
+              ::testing::HasSubstr("block association (two_interval, drill): 5 "
+                                   "subjects, 10 trials each"));
 }
 
 }  // namespace

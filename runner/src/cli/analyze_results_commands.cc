@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "burrlab/analysis/group_stats.h"
@@ -386,12 +387,58 @@ Json HistogramJson(const analysis::Histogram& h) {
           {"outside", h.outside}};
 }
 
+Json KinematicsJson(const analysis::KinematicsSummary& k,
+                    const std::pair<std::string, std::string>& plots) {
+  Json j = {{"subject", k.subject}};
+  if (!k.block.empty()) j["block"] = k.block;
+  j.update({{"task", k.task},
+            {"intervals", k.intervals},
+            {"samples", k.samples},
+            {"duration_s", k.duration_s},
+            {"force_measure", k.force_measure},
+            {"mean_force_n", k.mean_force_n},
+            {"sd_force_n", k.sd_force_n},
+            {"max_force_n", k.max_force_n},
+            {"contact_fraction", k.contact_fraction},
+            {"speed_measure", k.speed_measure},
+            {"mean_speed_mm_s", k.mean_speed_mm_s},
+            {"removed_mm3", Optional(k.removed_mm3)},
+            {"removal_rate_mm3_per_s", Optional(k.removal_rate_mm3_per_s)},
+            {"force_histogram_n", HistogramJson(k.force)},
+            {"speed_histogram_mm_s", HistogramJson(k.speed)},
+            {"plots", plots.first.empty() ? Json(nullptr)
+                                          : Json{plots.first, plots.second}}});
+  return j;
+}
+
+// Writes the force and speed histograms of `k` as STEM_force.png and
+// STEM_speed.png; the two paths, or an error naming the file.
+Result<std::pair<std::string, std::string>> WriteKinematicsPlots(
+    const analysis::KinematicsSummary& k, const std::string& stem) {
+  std::pair<std::string, std::string> paths = {stem + "_force.png",
+                                               stem + "_speed.png"};
+  if (Status s =
+          analysis::WritePlotPng(analysis::ForceHistogramPlot(k), paths.first);
+      !s.ok()) {
+    return s.error();
+  }
+  if (Status s =
+          analysis::WritePlotPng(analysis::SpeedHistogramPlot(k), paths.second);
+      !s.ok()) {
+    return s.error();
+  }
+  return paths;
+}
+
 int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
-      "Kinematics of a study's recorded intervals (dissertation ch. 12): per "
-      "subject and block, histograms of the felt force and of the burr "
-      "speed |dz/dt| over common ranges, the mean force and the material "
-      "removal rate (removed volume per traced second).",
+      "Kinematics of a study's recorded intervals (dissertation ch. 12, Fig. "
+      "12.4-12.6): per subject and block, and per subject over all its "
+      "blocks, histograms of the felt force |F| and of the burr speed "
+      "|dp/dt| over common ranges, the mean force and the material removal "
+      "rate (removed volume per traced second). Station traces give 3-D "
+      "position and force; simulated intervals move the burr along z only "
+      "and record the vertical force_n.",
       "burrlab analyze kinematics"};
   std::string dir, plots;
   analysis::KinematicsOptions options;
@@ -403,39 +450,39 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddSwitch("--json", "print the results as JSON", &json);
   flags
       .AddText("--plots",
-               "write force and speed histograms per subject and block (PNG) "
-               "here",
+               "write force and speed histograms per subject and block, and "
+               "per subject over all its blocks (PNG), here",
                &plots)
       ->type_name("DIR");
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
   if (!files.ok()) return Fail(err, files.error().message);
-  Result<std::vector<analysis::KinematicsSummary>> summaries =
+  Result<analysis::KinematicsReport> report =
       analysis::SummarizeKinematics(*files, options);
-  if (!summaries.ok()) {
-    return Fail(err, "analyze kinematics: " + summaries.error().message);
+  if (!report.ok()) {
+    return Fail(err, "analyze kinematics: " + report.error().message);
   }
-  std::vector<std::pair<std::string, std::string>> plot_paths(
-      summaries->size());
+  using PlotPaths = std::vector<std::pair<std::string, std::string>>;
+  PlotPaths block_plots(report->blocks.size()),
+      subject_plots(report->subjects.size());
   if (flags.Given("--plots")) {
     if (Status s = MakePlotDir(plots); !s.ok())
       return Fail(err, s.error().message);
-    for (std::size_t i = 0; i < summaries->size(); ++i) {
-      const analysis::KinematicsSummary& k = (*summaries)[i];
-      const std::string stem =
-          (fs::path(plots) / fmt::format("sub-{}_{}", k.subject, k.block))
-              .string();
-      plot_paths[i] = {stem + "_force.png", stem + "_speed.png"};
-      if (Status s = analysis::WritePlotPng(analysis::ForceHistogramPlot(k),
-                                            plot_paths[i].first);
-          !s.ok()) {
-        return Fail(err, s.error().message);
-      }
-      if (Status s = analysis::WritePlotPng(analysis::SpeedHistogramPlot(k),
-                                            plot_paths[i].second);
-          !s.ok()) {
-        return Fail(err, s.error().message);
+    for (auto [summaries, paths] :
+         {std::pair{&report->blocks, &block_plots},
+          std::pair{&report->subjects, &subject_plots}}) {
+      for (std::size_t i = 0; i < summaries->size(); ++i) {
+        const analysis::KinematicsSummary& k = (*summaries)[i];
+        const std::string stem =
+            (fs::path(plots) /
+             (k.block.empty() ? fmt::format("sub-{}", k.subject)
+                              : fmt::format("sub-{}_{}", k.subject, k.block)))
+                .string();
+        Result<std::pair<std::string, std::string>> written =
+            WriteKinematicsPlots(k, stem);
+        if (!written.ok()) return Fail(err, written.error().message);
+        (*paths)[i] = *written;
       }
     }
   }
@@ -443,43 +490,49 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
     Json j;
     j["results"] = dir;
     j["kinematics"] = Json::array();
-    for (std::size_t i = 0; i < summaries->size(); ++i) {
-      const analysis::KinematicsSummary& k = (*summaries)[i];
+    for (std::size_t i = 0; i < report->blocks.size(); ++i) {
       j["kinematics"].push_back(
-          {{"subject", k.subject},
-           {"block", k.block},
-           {"task", k.task},
-           {"intervals", k.intervals},
-           {"samples", k.samples},
-           {"duration_s", k.duration_s},
-           {"mean_force_n", k.mean_force_n},
-           {"sd_force_n", k.sd_force_n},
-           {"max_force_n", k.max_force_n},
-           {"contact_fraction", k.contact_fraction},
-           {"mean_speed_mm_s", k.mean_speed_mm_s},
-           {"removed_mm3", Optional(k.removed_mm3)},
-           {"removal_rate_mm3_per_s", Optional(k.removal_rate_mm3_per_s)},
-           {"force_histogram_n", HistogramJson(k.force)},
-           {"speed_histogram_mm_s", HistogramJson(k.speed)},
-           {"plots", plot_paths[i].first.empty()
-                         ? Json(nullptr)
-                         : Json{plot_paths[i].first, plot_paths[i].second}}});
+          KinematicsJson(report->blocks[i], block_plots[i]));
+    }
+    j["subjects"] = Json::array();
+    for (std::size_t i = 0; i < report->subjects.size(); ++i) {
+      j["subjects"].push_back(
+          KinematicsJson(report->subjects[i], subject_plots[i]));
     }
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
   }
-  out << fmt::format("{:<12} {:<10} {:>5} {:>8} {:>12} {:>10} {:>12} {:>16}\n",
+  out << fmt::format("{:<12} {:<10} {:>11} {:>8} {:>12} {:>10} {:>12} {:>16}\n",
                      "subject", "block", "task", "time s", "mean force N",
                      "contact %", "speed mm/s", "removal mm3/s");
-  for (const analysis::KinematicsSummary& k : *summaries) {
-    out << fmt::format(
-        "{:<12} {:<10} {:>5} {:>8.1f} {:>12.3f} {:>10.1f} {:>12.3f} {:>16}\n",
-        "sub-" + k.subject, k.block, k.task, k.duration_s, k.mean_force_n,
-        100.0 * k.contact_fraction, k.mean_speed_mm_s,
-        k.removal_rate_mm3_per_s
-            ? fmt::format("{:.4g}", *k.removal_rate_mm3_per_s)
-            : std::string("n/a"));
+  for (const auto* summaries : {&report->blocks, &report->subjects}) {
+    for (const analysis::KinematicsSummary& k : *summaries) {
+      out << fmt::format(
+          "{:<12} {:<10} {:>11} {:>8.1f} {:>12.3f} {:>10.1f} {:>12.3f} "
+          "{:>16}\n",
+          "sub-" + k.subject, k.block.empty() ? "(all)" : k.block, k.task,
+          k.duration_s, k.mean_force_n, 100.0 * k.contact_fraction,
+          k.mean_speed_mm_s,
+          k.removal_rate_mm3_per_s
+              ? fmt::format("{:.4g}", *k.removal_rate_mm3_per_s)
+              : std::string("n/a"));
+    }
   }
+  std::string force_measures, speed_measures;
+  for (const analysis::KinematicsSummary& k : report->subjects) {
+    if (force_measures.find(k.force_measure) == std::string::npos) {
+      force_measures += (force_measures.empty() ? "" : "; ") + k.force_measure;
+    }
+    if (speed_measures.find(k.speed_measure) == std::string::npos) {
+      speed_measures += (speed_measures.empty() ? "" : "; ") + k.speed_measure;
+    }
+  }
+  out << fmt::format(
+      "(all): the subject's blocks together. force: {}. speed: {}, between "
+      "consecutive samples of one interval. contact: samples with force above "
+      "0.01 N. removal: removed_mm3 per traced second (n/a: the traces have "
+      "no removed_mm3).\n",
+      force_measures, speed_measures);
   if (flags.Given("--plots")) out << "plots in " << plots << '\n';
   return 0;
 }

@@ -320,6 +320,95 @@ Result<KinematicsReport> SummarizeKinematics(std::span<const BehFile> files,
   return out;
 }
 
+std::span<const char* const> ComparedKinematicsMeasures() {
+  static constexpr const char* kMeasures[] = {
+      "mean_force_n",     "sd_force_n",      "max_force_n",
+      "contact_fraction", "mean_speed_mm_s", "removal_rate_mm3_per_s"};
+  return kMeasures;
+}
+
+namespace {
+
+// The value of `measure` (a ComparedKinematicsMeasures name) in `k`.
+std::optional<double> MeasureOf(const KinematicsSummary& k,
+                                std::string_view measure) {
+  if (measure == "mean_force_n") return k.mean_force_n;
+  if (measure == "sd_force_n") return k.sd_force_n;
+  if (measure == "max_force_n") return k.max_force_n;
+  if (measure == "contact_fraction") return k.contact_fraction;
+  if (measure == "mean_speed_mm_s") return k.mean_speed_mm_s;
+  return k.removal_rate_mm3_per_s;
+}
+
+// Every measure of the summaries of one block (all from `summaries` whose
+// block is `block`) compared between the groups.
+void CompareBlock(const std::vector<KinematicsSummary>& summaries,
+                  const std::string& block, const KinematicsGroupComparison& g,
+                  const ParticipantGroups& groups,
+                  std::vector<KinematicsComparison>* out) {
+  for (const char* measure : ComparedKinematicsMeasures()) {
+    KinematicsComparison c;
+    c.block = block;
+    c.measure = measure;
+    for (const KinematicsSummary& k : summaries) {
+      if (k.block != block) continue;
+      const auto it = groups.group_of.find(k.subject);
+      if (it == groups.group_of.end()) continue;  // n/a: left out
+      const std::optional<double> v = MeasureOf(k, measure);
+      if (!v) continue;
+      c.values[it->second == g.groups[0] ? 0 : 1].push_back(*v);
+    }
+    if (c.values[0].empty() && c.values[1].empty()) continue;
+    if (Result<WelchTTestResult> t = WelchTTest(c.values[0], c.values[1]);
+        t.ok()) {
+      c.welch = *t;
+    } else {
+      c.welch_note = t.error().message;
+    }
+    if (Result<MannWhitneyResult> u = MannWhitneyTest(c.values[0], c.values[1]);
+        u.ok()) {
+      c.mann_whitney = *u;
+    } else {
+      c.mann_whitney_note = u.error().message;
+    }
+    out->push_back(std::move(c));
+  }
+}
+
+}  // namespace
+
+Result<KinematicsGroupComparison> CompareKinematicsGroups(
+    const KinematicsReport& report, const ParticipantGroups& groups) {
+  KinematicsGroupComparison out;
+  out.column = groups.column;
+  out.groups = {groups.groups.at(0), groups.groups.at(1)};
+  for (const KinematicsSummary& k : report.subjects) {
+    const auto it = groups.group_of.find(k.subject);
+    if (it != groups.group_of.end()) {
+      out.subjects[it->second == out.groups[0] ? 0 : 1].push_back(k.subject);
+    } else if (std::find(groups.left_out.begin(), groups.left_out.end(),
+                         k.subject) != groups.left_out.end()) {
+      out.left_out.push_back(k.subject);
+    } else {
+      return Error{fmt::format(
+          "sub-{} has traces but no row in the participants file; add it "
+          "(n/a in the {} column leaves it out)",
+          k.subject, groups.column)};
+    }
+  }
+  std::vector<std::string> blocks;
+  for (const KinematicsSummary& k : report.blocks) {
+    if (std::find(blocks.begin(), blocks.end(), k.block) == blocks.end()) {
+      blocks.push_back(k.block);
+    }
+  }
+  for (const std::string& block : blocks) {
+    CompareBlock(report.blocks, block, out, groups, &out.comparisons);
+  }
+  CompareBlock(report.subjects, "", out, groups, &out.comparisons);
+  return out;
+}
+
 LinePlot ForceHistogramPlot(const KinematicsSummary& s) {
   return HistogramPlot(
       s.force, fmt::format("{}: force, mean {:.3g} N", Who(s), s.mean_force_n),

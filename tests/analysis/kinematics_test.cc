@@ -248,5 +248,77 @@ TEST_F(KinematicsTest, TracesWithoutPositionOrForceAreAnError) {
             "position_z_mm, force_x_n, force_y_n, force_z_n");
 }
 
+// Experts' and trainees' mean forces compared per block and over all
+// blocks. Truth: R's t.test(x, y) and wilcox.test(x, y) on the same values
+// (the first case of fixtures/r/two_sample_tests.csv, printed by
+// make_two_group_fixtures.R).
+TEST(KinematicsGroups, ComparesEachMeasureBetweenTheGroups) {
+  const std::vector<double> expert = {0.71, 1.28, 0.93, 1.05},
+                            trainee = {0.82, 1.1, 0.97, 0.88, 1.02};
+  ParticipantGroups groups;
+  groups.column = "group";
+  groups.groups = {"expert", "trainee"};
+  KinematicsReport report;
+  for (int i = 0; i < 10; ++i) {
+    KinematicsSummary k;
+    k.subject = (i < 9 ? "0" : "") + std::to_string(i + 1);
+    // Experts are subjects 01, 03, 05, 07; trainees 02, 04, 06, 08, 09;
+    // subject 10's group is n/a.
+    if (i == 9) {
+      groups.left_out.push_back(k.subject);
+    } else {
+      const bool is_expert = i % 2 == 0 && i < 8;
+      groups.group_of[k.subject] = is_expert ? "expert" : "trainee";
+      k.mean_force_n =
+          is_expert ? expert[static_cast<std::size_t>(i / 2)]
+                    : trainee[i < 8 ? static_cast<std::size_t>(i / 2) : 4u];
+    }
+    k.mean_speed_mm_s = 10.0 + i;
+    k.block = "drill";
+    report.blocks.push_back(k);
+    k.block = "";
+    report.subjects.push_back(k);
+  }
+  Result<KinematicsGroupComparison> c = CompareKinematicsGroups(report, groups);
+  ASSERT_TRUE(c.ok()) << c.error().message;
+  EXPECT_EQ(c->groups, (std::array<std::string, 2>{"expert", "trainee"}));
+  EXPECT_EQ(c->subjects[0], (std::vector<std::string>{"01", "03", "05", "07"}));
+  EXPECT_EQ(c->subjects[1],
+            (std::vector<std::string>{"02", "04", "06", "08", "09"}));
+  EXPECT_EQ(c->left_out, (std::vector<std::string>{"10"}));
+  // Five measures per level (no removal rates), the block then all blocks.
+  ASSERT_EQ(c->comparisons.size(), 10u);
+  for (std::size_t level = 0; level < 2; ++level) {
+    const KinematicsComparison& force = c->comparisons[5 * level];
+    EXPECT_EQ(force.block, level == 0 ? "drill" : "");
+    EXPECT_EQ(force.measure, "mean_force_n");
+    EXPECT_EQ(force.values[0], expert);
+    EXPECT_EQ(force.values[1], trainee);
+    ASSERT_TRUE(force.welch.has_value()) << force.welch_note;
+    EXPECT_NEAR(force.welch->t, 0.26774303495989027, 1e-6);
+    EXPECT_NEAR(force.welch->df, 4.0445604740238084, 1e-6);
+    EXPECT_NEAR(force.welch->p_two_sided, 0.8019976021210693, 1e-6);
+    ASSERT_TRUE(force.mann_whitney.has_value());
+    EXPECT_EQ(force.mann_whitney->w, 11.0);
+    EXPECT_NEAR(force.mann_whitney->p_two_sided, 0.90476190476190466, 1e-6);
+    EXPECT_TRUE(force.mann_whitney->exact);
+    // Every subject's SD is 0: no t, the reason kept.
+    const KinematicsComparison& sd = c->comparisons[5 * level + 1];
+    EXPECT_EQ(sd.measure, "sd_force_n");
+    EXPECT_FALSE(sd.welch.has_value());
+    EXPECT_EQ(sd.welch_note,
+              "both groups are constant (0 and 0): the t statistic is "
+              "undefined");
+    EXPECT_EQ(sd.mann_whitney_note,
+              "all 9 values are equal (0): the rank-sum test is undefined");
+    EXPECT_EQ(c->comparisons[5 * level + 4].measure, "mean_speed_mm_s");
+  }
+
+  groups.left_out.clear();
+  EXPECT_EQ(CompareKinematicsGroups(report, groups).error().message,
+            "sub-10 has traces but no row in the participants file; add it "
+            "(n/a in the group column leaves it out)");
+}
+
 }  // namespace
 }  // namespace burrlab::analysis

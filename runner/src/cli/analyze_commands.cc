@@ -428,7 +428,8 @@ constexpr Command kAnalyzeCommands[] = {
      "adjustment, constant-stimuli fits",
      RunThresholdsCommand},
     {"kinematics",
-     "force and speed histograms, mean force and removal rate of the traces",
+     "force and speed histograms, mean force and removal rate of the traces; "
+     "two groups compared",
      RunKinematicsCommand},
     {"power",
      "probability of a significant result from simulated studies of a "

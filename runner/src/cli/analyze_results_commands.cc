@@ -17,6 +17,7 @@
 
 #include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/kinematics.h"
+#include "burrlab/analysis/participant_groups.h"
 #include "burrlab/analysis/scores.h"
 #include "burrlab/analysis/thresholds.h"
 #include "burrlab/protocols/protocol_file.h"
@@ -430,6 +431,112 @@ Result<std::pair<std::string, std::string>> WriteKinematicsPlots(
   return paths;
 }
 
+constexpr const char* kWelchText =
+    "Welch's two-sample t-test (variances not assumed equal; R t.test(x, "
+    "y)): t = (mean x - mean y) / sqrt(var x / n x + var y / n y), df by "
+    "Welch-Satterthwaite, two-sided p";
+constexpr const char* kMannWhitneyText =
+    "Mann-Whitney U test (Wilcoxon rank-sum; R wilcox.test(x, y)): W = U of "
+    "x, the rank sum of x minus n x (n x + 1) / 2; two-sided p, exact when "
+    "both groups have fewer than 50 subjects and no values tie, else the "
+    "normal approximation with continuity correction";
+
+Json ComparisonJson(const analysis::KinematicsGroupComparison& c,
+                    const std::string& path) {
+  Json j;
+  j["file"] = path;
+  j["column"] = c.column;
+  j["x"] = c.groups[0];
+  j["y"] = c.groups[1];
+  j["subjects"] = {{c.groups[0], c.subjects[0]}, {c.groups[1], c.subjects[1]}};
+  j["left_out"] = c.left_out;
+  j["welch_test"] = kWelchText;
+  j["mann_whitney_test"] = kMannWhitneyText;
+  j["comparisons"] = Json::array();
+  for (const analysis::KinematicsComparison& m : c.comparisons) {
+    Json r;
+    r["block"] = m.block.empty() ? Json(nullptr) : Json(m.block);
+    r["measure"] = m.measure;
+    r["values"] = {{c.groups[0], m.values[0]}, {c.groups[1], m.values[1]}};
+    r["welch"] = m.welch ? Json{{"mean_x", m.welch->mean_x},
+                                {"mean_y", m.welch->mean_y},
+                                {"t", m.welch->t},
+                                {"df", m.welch->df},
+                                {"p_two_sided", m.welch->p_two_sided}}
+                         : Json(nullptr);
+    r["welch_note"] = m.welch_note;
+    r["mann_whitney"] = m.mann_whitney
+                            ? Json{{"w", m.mann_whitney->w},
+                                   {"p_two_sided", m.mann_whitney->p_two_sided},
+                                   {"exact", m.mann_whitney->exact},
+                                   {"method", m.mann_whitney->method}}
+                            : Json(nullptr);
+    r["mann_whitney_note"] = m.mann_whitney_note;
+    j["comparisons"].push_back(r);
+  }
+  return j;
+}
+
+void PrintComparison(std::ostream& out,
+                     const analysis::KinematicsGroupComparison& c,
+                     const std::string& path) {
+  const auto members = [](const std::vector<std::string>& labels) {
+    std::string text;
+    for (const std::string& l : labels) {
+      text += (text.empty() ? "sub-" : ", sub-") + l;
+    }
+    return text.empty() ? std::string("none") : text;
+  };
+  out << fmt::format(
+      "\ngroups ({}, column {}): x = {} ({}), y = {} ({}){}\n", path, c.column,
+      c.groups[0], members(c.subjects[0]), c.groups[1], members(c.subjects[1]),
+      c.left_out.empty()
+          ? std::string()
+          : fmt::format("; left out (n/a): {}", members(c.left_out)));
+  out << fmt::format(
+      "{:<10} {:<22} {:>6} {:>6} {:>10} {:>10} {:>8} {:>7} "
+      "{:>9} {:>7} {:>9}\n",
+      "block", "measure", "n x", "n y", "mean x", "mean y", "t", "df", "p (t)",
+      "W", "p (W)");
+  std::vector<std::string> notes;
+  for (const analysis::KinematicsComparison& m : c.comparisons) {
+    const std::string block = m.block.empty() ? "(all)" : m.block;
+    const auto mean = [](const std::vector<double>& v) {
+      if (v.empty()) return std::string("n/a");
+      double sum = 0.0;
+      for (double x : v) sum += x;
+      return fmt::format("{:.4g}", sum / static_cast<double>(v.size()));
+    };
+    std::string t = "n/a", df = "n/a", pt = "n/a", w = "n/a", pw = "n/a";
+    if (m.welch) {
+      t = fmt::format("{:.3f}", m.welch->t);
+      df = fmt::format("{:.2f}", m.welch->df);
+      pt = P(m.welch->p_two_sided);
+    } else {
+      notes.push_back(
+          fmt::format("{} {}: no t: {}", block, m.measure, m.welch_note));
+    }
+    if (m.mann_whitney) {
+      w = fmt::format("{:g}", m.mann_whitney->w);
+      pw = (m.mann_whitney->exact ? "" : "~") + P(m.mann_whitney->p_two_sided);
+    } else {
+      notes.push_back(fmt::format("{} {}: no W: {}", block, m.measure,
+                                  m.mann_whitney_note));
+    }
+    out << fmt::format(
+        "{:<10} {:<22} {:>6} {:>6} {:>10} {:>10} {:>8} {:>7} {:>9} {:>7} "
+        "{:>9}\n",
+        block, m.measure, m.values[0].size(), m.values[1].size(),
+        mean(m.values[0]), mean(m.values[1]), t, df, pt, w, pw);
+  }
+  out << fmt::format(
+      "Each subject's summary is one value; n: subjects per group. t, df, p "
+      "(t): {}. W, p (W): {}; ~ marks the approximation. n/a: not tested "
+      "(see below). (all): the subjects' summaries over all blocks.\n",
+      kWelchText, kMannWhitneyText);
+  for (const std::string& note : notes) out << "note: " << note << '\n';
+}
+
 int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Kinematics of a study's recorded intervals (dissertation ch. 12, Fig. "
@@ -438,7 +545,9 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
       "|dp/dt| over common ranges, the mean force and the material removal "
       "rate (removed volume per traced second). Station traces give 3-D "
       "position and force; simulated intervals move the burr along z only "
-      "and record the vertical force_n.",
+      "and record the vertical force_n. With --groups, each per-subject "
+      "measure is compared between two groups (e.g. experts and trainees, "
+      "as §12.3) by Welch's t-test and the Mann-Whitney U test.",
       "burrlab analyze kinematics"};
   std::string dir, plots;
   analysis::KinematicsOptions options;
@@ -454,14 +563,55 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
                "per subject over all its blocks (PNG), here",
                &plots)
       ->type_name("DIR");
+  std::string groups_path, group_column = "group";
+  flags
+      .AddText("--groups",
+               "compare two groups of subjects (e.g. experts and trainees) "
+               "named in this participants.tsv: tab-separated, a header row "
+               "with participant_id (sub-<label>) and the group column; n/a "
+               "leaves a subject out",
+               &groups_path)
+      ->type_name("FILE");
+  flags
+      .AddText("--group-column",
+               "the --groups file's column naming each subject's group "
+               "(default group)",
+               &group_column)
+      ->type_name("NAME");
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--group-column") && !flags.Given("--groups")) {
+    return Fail(err, "--group-column goes with --groups FILE");
+  }
+  if (group_column.empty()) {
+    return Fail(err, "--group-column must name a column, got ''");
+  }
+  std::optional<analysis::ParticipantGroups> groups;
+  if (flags.Given("--groups")) {
+    Result<analysis::ParticipantGroups> g =
+        analysis::ReadParticipantGroups(groups_path, group_column);
+    if (!g.ok()) {  // may be multi-line: the line and a caret
+      err << "burrlab: --groups: " << g.error().message << '\n';
+      return 1;
+    }
+    groups = std::move(*g);
+  }
   Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
   if (!files.ok()) return Fail(err, files.error().message);
   Result<analysis::KinematicsReport> report =
       analysis::SummarizeKinematics(*files, options);
   if (!report.ok()) {
     return Fail(err, "analyze kinematics: " + report.error().message);
+  }
+  std::optional<analysis::KinematicsGroupComparison> comparison;
+  if (groups) {
+    Result<analysis::KinematicsGroupComparison> c =
+        analysis::CompareKinematicsGroups(*report, *groups);
+    if (!c.ok()) {
+      return Fail(
+          err, fmt::format("--groups {}: {}", groups_path, c.error().message));
+    }
+    comparison = std::move(*c);
   }
   using PlotPaths = std::vector<std::pair<std::string, std::string>>;
   PlotPaths block_plots(report->blocks.size()),
@@ -499,6 +649,8 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
       j["subjects"].push_back(
           KinematicsJson(report->subjects[i], subject_plots[i]));
     }
+    j["group_comparison"] =
+        comparison ? ComparisonJson(*comparison, groups_path) : Json(nullptr);
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
   }
@@ -533,6 +685,7 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
       "0.01 N. removal: removed_mm3 per traced second (n/a: the traces have "
       "no removed_mm3).\n",
       force_measures, speed_measures);
+  if (comparison) PrintComparison(out, *comparison, groups_path);
   if (flags.Given("--plots")) out << "plots in " << plots << '\n';
   return 0;
 }

@@ -26,7 +26,8 @@ int RunScoresCommand(const Args& args, std::ostream& out, std::ostream& err);
 // Thresholds per subject and block by each method's estimator.
 int RunThresholdsCommand(const Args& args, std::ostream& out,
                          std::ostream& err);
-// Force and speed histograms, mean force and removal rate.
+// Force and speed histograms, mean force and removal rate; two groups
+// compared.
 int RunKinematicsCommand(const Args& args, std::ostream& out,
                          std::ostream& err);
 // Probability of a significant result from simulated studies.

@@ -10,11 +10,14 @@
 #ifndef BURRLAB_ANALYSIS_KINEMATICS_H_
 #define BURRLAB_ANALYSIS_KINEMATICS_H_
 
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "burrlab/analysis/group_stats.h"
+#include "burrlab/analysis/participant_groups.h"
 #include "burrlab/analysis/plot.h"
 #include "burrlab/base/result.h"
 #include "burrlab/results_schema/bids_read.h"
@@ -81,6 +84,40 @@ struct KinematicsReport {
 Result<KinematicsReport> SummarizeKinematics(
     std::span<const results_schema::BehFile> files,
     const KinematicsOptions& options);
+
+// One per-subject measure of one block (or of the subjects' summaries over
+// all blocks) compared between two groups: Welch's t-test and the
+// Mann-Whitney U test, each absent with the reason in its note when the
+// groups are too small or constant.
+struct KinematicsComparison {
+  std::string block;    // empty: the subjects' summaries over all blocks
+  std::string measure;  // a KinematicsSummary field, e.g. "mean_force_n"
+  std::array<std::vector<double>, 2> values;  // per group, in subject order
+  std::optional<WelchTTestResult> welch;
+  std::string welch_note;
+  std::optional<MannWhitneyResult> mann_whitney;
+  std::string mann_whitney_note;
+};
+
+struct KinematicsGroupComparison {
+  std::string column;                 // the participants file's group column
+  std::array<std::string, 2> groups;  // x and y of the tests
+  std::array<std::vector<std::string>, 2> subjects;  // with traces, per group
+  std::vector<std::string> left_out;  // subjects with traces whose group is n/a
+  std::vector<KinematicsComparison> comparisons;
+};
+
+// The measures compared, in order: mean_force_n, sd_force_n, max_force_n,
+// contact_fraction, mean_speed_mm_s and removal_rate_mm3_per_s (subjects
+// without removed_mm3 left out of that one). Intervals, samples and traced
+// time are set by the protocol and are not compared.
+std::span<const char* const> ComparedKinematicsMeasures();
+
+// Compares the groups of `groups` per block (in the report's order) and over
+// all blocks. An error names a subject with traces but no row in the
+// participants file.
+Result<KinematicsGroupComparison> CompareKinematicsGroups(
+    const KinematicsReport& report, const ParticipantGroups& groups);
 
 // The force and speed histograms of one summary as two plots.
 LinePlot ForceHistogramPlot(const KinematicsSummary& summary);

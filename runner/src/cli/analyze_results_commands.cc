@@ -1,4 +1,4 @@
-// `burrlab analyze scores|thresholds|kinematics DIR`: read the study's BIDS
+// `burrlab analyze scores|rt|thresholds|kinematics DIR`: read the study's BIDS
 // exports (results_schema/bids_read.h), analyse them (analysis/) and print a
 // table or JSON, with PNG figures on request.
 #include "cli/analyze_results_commands.h"
@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -18,6 +19,7 @@
 #include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/kinematics.h"
 #include "burrlab/analysis/participant_groups.h"
+#include "burrlab/analysis/response_times.h"
 #include "burrlab/analysis/scores.h"
 #include "burrlab/analysis/thresholds.h"
 #include "burrlab/protocols/protocol_file.h"
@@ -118,6 +120,33 @@ Json RatesJson(const analysis::SameDifferentRates& r) {
           {"note", r.note}};
 }
 
+constexpr const char* kResponseTimeText =
+    "response_time in s from the response prompt; n: trials with a time; "
+    "missing: trials without one (n/a, e.g. answers typed into a pipe), "
+    "skipped; median, q1, q3: median and quartiles of the n times by R's "
+    "quantile type 7 (its default); iqr = q3 - q1; condition: the trial_type, "
+    "or the stimulus level in constant-stimuli blocks; all: every trial";
+
+Json ResponseTimesJson(const std::vector<analysis::ResponseTimeSummary>& rt) {
+  Json j = {{"definition", kResponseTimeText}, {"conditions", Json::array()}};
+  for (const analysis::ResponseTimeSummary& s : rt) {
+    j["conditions"].push_back({{"condition", s.condition},
+                               {"n", s.n},
+                               {"missing", s.missing},
+                               {"median_s", Optional(s.median_s)},
+                               {"q1_s", Optional(s.q1_s)},
+                               {"q3_s", Optional(s.q3_s)},
+                               {"iqr_s", Optional(s.iqr_s)}});
+  }
+  return j;
+}
+
+// "0.842 [0.610, 1.200]" (median [Q1, Q3]), or "n/a" without times.
+std::string MedianQuartilesText(const analysis::ResponseTimeSummary& s) {
+  if (!s.median_s) return "n/a";
+  return fmt::format("{:.3f} [{:.3f}, {:.3f}]", *s.median_s, *s.q1_s, *s.q3_s);
+}
+
 Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
   Json j;
   j["block"] = b.block;
@@ -165,6 +194,7 @@ Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
                       : Json(nullptr);
   j["pooled_rates"] =
       b.pooled_rates ? RatesJson(*b.pooled_rates) : Json(nullptr);
+  j["response_times"] = ResponseTimesJson(b.response_times);
   j["no_test_reason"] = b.no_test_reason;
   j["warnings"] = b.warnings;
   j["histogram"] = plot.empty() ? Json(nullptr) : Json(plot);
@@ -220,6 +250,17 @@ void PrintScores(std::ostream& out, const analysis::BlockScores& b,
                        s.trials,
                        s.rates ? "  " + DPrimeText(*s.rates) : std::string());
   }
+  if (!b.response_times.empty()) {
+    out << "  response time, s: median [Q1, Q3] (R quantile type 7), IQR = "
+           "Q3 - Q1, n timed trials, n/a trials without a time (skipped)\n";
+    for (const analysis::ResponseTimeSummary& r : b.response_times) {
+      out << fmt::format(
+          "    {:<12} {:<24} IQR {:<7} n {:<5} n/a {}\n", r.condition,
+          MedianQuartilesText(r),
+          r.iqr_s ? fmt::format("{:.3f}", *r.iqr_s) : std::string("n/a"), r.n,
+          r.missing);
+    }
+  }
   for (const std::string& w : b.warnings) out << "  warning    " << w << '\n';
   if (!plot.empty()) out << "  histogram  " << plot << '\n';
 }
@@ -232,7 +273,9 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
       "and two-sided), an exact binomial test of the pooled answers, and for "
       "same-different blocks hit and false-alarm rates with d' "
       "(differencing and independent-observation models; rates of 0 or 1 "
-      "moved to 1/(2N), marked *).",
+      "moved to 1/(2N), marked *), and response times per condition "
+      "(median and quartiles, R quantile type 7; trials without a time are "
+      "skipped and counted).",
       "burrlab analyze scores"};
   std::string dir, plots;
   bool json = false;
@@ -279,6 +322,153 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
   for (std::size_t i = 0; i < blocks->size(); ++i) {
     if (i > 0) out << '\n';
     PrintScores(out, (*blocks)[i], plot_paths[i]);
+  }
+  return 0;
+}
+
+// Writes each {path, text} to a new file; an error names the file, and no
+// file is written when one of them exists already.
+Status WriteNewFiles(
+    const std::vector<std::pair<std::string, std::string>>& files) {
+  for (const auto& [path, text] : files) {
+    std::error_code ec;
+    if (fs::exists(path, ec)) {
+      return Error{
+          fmt::format("{} already exists; choose another --tsv or "
+                      "remove it",
+                      path)};
+    }
+  }
+  for (const auto& [path, text] : files) {
+    std::ofstream file(path, std::ios::binary);
+    file << text;
+    file.close();
+    if (!file) return Error{fmt::format("cannot write {}", path)};
+  }
+  return {};
+}
+
+int RunResponseTimes(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Response times per subject, block and condition of a study's results "
+      "(the response_time column of the _beh.tsv files): the median, the "
+      "quartiles Q1 and Q3 (R's quantile type 7, its default) and IQR = Q3 - "
+      "Q1 of the trials with a time, and how many trials had none (n/a, e.g. "
+      "answers typed into a pipe: skipped and counted). A condition is the "
+      "trial_type, or the stimulus level in constant-stimuli blocks; 'all' is "
+      "every trial of the block.",
+      "burrlab analyze rt"};
+  std::string dir, tsv;
+  bool json = false;
+  FlagSet flags(&app);
+  app.add_option("DIR", dir, "results folder")->required();
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  flags
+      .AddText("--tsv",
+               "also write the table as tab-separated values (n/a for none) "
+               "to FILE.tsv, its columns described in FILE.json beside it; "
+               "existing files are not overwritten",
+               &tsv)
+      ->type_name("FILE.tsv");
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--tsv") && !tsv.ends_with(".tsv")) {
+    return Fail(err, fmt::format("--tsv {}: the file name must end in .tsv "
+                                 "(its column descriptions go to the .json "
+                                 "beside it)",
+                                 tsv));
+  }
+  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
+  if (!files.ok()) return Fail(err, files.error().message);
+  const std::vector<analysis::SubjectBlockResponseTimes> rt =
+      analysis::ResponseTimesBySubject(*files);
+  const auto value = [](const std::optional<double>& v) {
+    return v ? fmt::format("{}", *v) : std::string("n/a");
+  };
+  if (flags.Given("--tsv")) {
+    std::string text =
+        "participant_id\tblock\tmethod\tcondition\tn\tmissing\tmedian_s\t"
+        "q1_s\tq3_s\tiqr_s\n";
+    for (const analysis::SubjectBlockResponseTimes& b : rt) {
+      for (const analysis::ResponseTimeSummary& r : b.summaries) {
+        text += fmt::format("sub-{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n",
+                            b.subject, b.block, b.method, r.condition, r.n,
+                            r.missing, value(r.median_s), value(r.q1_s),
+                            value(r.q3_s), value(r.iqr_s));
+      }
+    }
+    Json sidecar;
+    sidecar["participant_id"] = {{"Description", "the subject, sub-<label>"}};
+    sidecar["block"] = {{"Description", "block name from the protocol"}};
+    sidecar["method"] = {{"Description", "the block's psychophysical method"}};
+    sidecar["condition"] = {
+        {"Description",
+         "the trials summarised: all (every trial of the block), a "
+         "trial_type, or 'level X' (constant-stimuli blocks, stim_level X)"}};
+    sidecar["n"] = {{"Description", "trials with a response time"}};
+    sidecar["missing"] = {
+        {"Description",
+         "trials without a response time (n/a in the _beh.tsv, e.g. answers "
+         "typed into a pipe), left out of the quartiles"}};
+    const auto quartile = [](const char* what) {
+      return Json{{"Description",
+                   fmt::format("{} of the n response times, R quantile type 7 "
+                               "(its default); n/a when n = 0",
+                               what)},
+                  {"Units", "s"}};
+    };
+    sidecar["median_s"] = quartile("median");
+    sidecar["q1_s"] = quartile("first quartile");
+    sidecar["q3_s"] = quartile("third quartile");
+    sidecar["iqr_s"] = {{"Description", "inter-quartile range, q3_s - q1_s"},
+                        {"Units", "s"}};
+    const std::string json_path = tsv.substr(0, tsv.size() - 4) + ".json";
+    if (Status s =
+            WriteNewFiles({{tsv, text}, {json_path, sidecar.dump(2) + "\n"}});
+        !s.ok()) {
+      return Fail(err, s.error().message);
+    }
+  }
+  if (json) {
+    Json j;
+    j["results"] = dir;
+    j["definition"] = kResponseTimeText;
+    j["tsv"] = tsv.empty() ? Json(nullptr) : Json(tsv);
+    j["response_times"] = Json::array();
+    for (const analysis::SubjectBlockResponseTimes& b : rt) {
+      Json one = ResponseTimesJson(b.summaries);
+      j["response_times"].push_back({{"subject", b.subject},
+                                     {"block", b.block},
+                                     {"method", b.method},
+                                     {"conditions", one["conditions"]}});
+    }
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  out << fmt::format(
+      "{:<12} {:<12} {:<12} {:>5} {:>5} {:>9} {:>8} {:>8} "
+      "{:>8}\n",
+      "subject", "block", "condition", "n", "n/a", "median s", "Q1 s", "Q3 s",
+      "IQR s");
+  const auto fixed = [](const std::optional<double>& v) {
+    return v ? fmt::format("{:.3f}", *v) : std::string("n/a");
+  };
+  for (const analysis::SubjectBlockResponseTimes& b : rt) {
+    for (const analysis::ResponseTimeSummary& r : b.summaries) {
+      out << fmt::format(
+          "{:<12} {:<12} {:<12} {:>5} {:>5} {:>9} {:>8} {:>8} {:>8}\n",
+          "sub-" + b.subject, b.block, r.condition, r.n, r.missing,
+          fixed(r.median_s), fixed(r.q1_s), fixed(r.q3_s), fixed(r.iqr_s));
+    }
+  }
+  out << "n: trials with a response time; n/a: trials without one (e.g. "
+         "answers typed into a pipe), skipped; median, Q1, Q3: median and "
+         "quartiles of the n times, R quantile type 7; IQR = Q3 - Q1; "
+         "condition: the trial_type, or the stimulus level in "
+         "constant-stimuli blocks; all: every trial of the block.\n";
+  if (!tsv.empty()) {
+    out << fmt::format("wrote {} (columns described in {})\n", tsv,
+                       tsv.substr(0, tsv.size() - 4) + ".json");
   }
   return 0;
 }
@@ -1054,6 +1244,10 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
 
 int RunScoresCommand(const Args& args, std::ostream& out, std::ostream& err) {
   return RunScores(args, out, err);
+}
+int RunResponseTimesCommand(const Args& args, std::ostream& out,
+                            std::ostream& err) {
+  return RunResponseTimes(args, out, err);
 }
 int RunThresholdsCommand(const Args& args, std::ostream& out,
                          std::ostream& err) {

@@ -1,8 +1,9 @@
-// `burrlab analyze scores|thresholds|kinematics DIR` on the results of
+// `burrlab analyze scores|rt|thresholds|kinematics DIR` on the results of
 // real simulated studies: the staircase thresholds equal the engine's own
-// estimates, the scores JSON carries the tests and the histogram, kinematics
-// compares the groups of a participants.tsv, and a folder without results is
-// one error line and exit 1.
+// estimates, the scores JSON carries the tests and the histogram, response
+// times skip and count the trials without one, kinematics compares the
+// groups of a participants.tsv, and a folder without results is one error
+// line and exit 1.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -276,6 +277,115 @@ TEST_F(AnalyzeResults, KinematicsComparesTheGroupsOfAParticipantsFile) {
   EXPECT_EQ(empty.err, "burrlab: --group-column must name a column, got ''\n");
 }
 
+// Response times: a subject who typed answers into a pipe has no times;
+// those trials are skipped and counted by `analyze rt` and `analyze scores`.
+// Truth: the median of the times in the _beh.tsv, computed here.
+TEST_F(AnalyzeResults, ResponseTimesSkipAndCountTrialsWithoutOne) {
+  const std::string results = Study("two_interval_2afc.toml", 2, "rt");
+  // sub-02's first three answers untimed, as a pipe's are.
+  const fs::path beh =
+      fs::path(results) / "sub-02" / "beh" / "sub-02_task-probe2afc_beh.tsv";
+  std::ifstream in(beh);
+  std::string header, line, edited;
+  std::getline(in, header);
+  edited = header + "\n";
+  std::vector<std::string> columns;
+  {
+    std::stringstream cells(header);
+    for (std::string c; std::getline(cells, c, '\t');) columns.push_back(c);
+  }
+  const std::size_t rt_at =
+      std::find(columns.begin(), columns.end(), "response_time") -
+      columns.begin();
+  ASSERT_LT(rt_at, columns.size());
+  std::vector<double> times;
+  for (int row = 0; std::getline(in, line); ++row) {
+    std::vector<std::string> cells;
+    std::stringstream split(line);
+    for (std::string c; std::getline(split, c, '\t');) cells.push_back(c);
+    if (row < 3) {
+      cells[rt_at] = "n/a";
+    } else {
+      times.push_back(std::stod(cells[rt_at]));
+    }
+    std::string joined;
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      joined += (k ? "\t" : "") + cells[k];
+    }
+    edited += joined + "\n";
+  }
+  in.close();
+  std::ofstream(beh, std::ios::trunc) << edited;
+  ASSERT_EQ(times.size(), 9u);
+  std::sort(times.begin(), times.end());
+
+  const CliRun run = RunBurrlab({"analyze", "rt", results, "--json"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const Json j = Json::parse(run.out);
+  ASSERT_EQ(j["response_times"].size(), 2u);
+  const Json& two = j["response_times"][1];
+  EXPECT_EQ(two["subject"], "02");
+  EXPECT_EQ(two["block"], "probe2afc");
+  const Json& all = two["conditions"][0];
+  EXPECT_EQ(all["condition"], "all");
+  EXPECT_EQ(all["n"], 9);
+  EXPECT_EQ(all["missing"], 3);
+  EXPECT_NEAR(all["median_s"].get<double>(), times[4], 1e-12);
+  EXPECT_EQ(j["response_times"][0]["conditions"][0]["missing"], 0);
+  EXPECT_EQ(two["conditions"].size(), 3u);  // all, AB, BA
+  EXPECT_EQ(two["conditions"][1]["condition"], "AB");
+
+  const CliRun scores = RunBurrlab({"analyze", "scores", results, "--json"});
+  ASSERT_EQ(scores.code, 0) << scores.err;
+  const Json s = Json::parse(scores.out)["blocks"][0]["response_times"];
+  EXPECT_EQ(s["conditions"][0]["n"], 21);
+  EXPECT_EQ(s["conditions"][0]["missing"], 3);
+  EXPECT_NE(s["definition"].get<std::string>().find("R's quantile type 7"),
+            std::string::npos);
+  const CliRun scores_text = RunBurrlab({"analyze", "scores", results});
+  EXPECT_NE(scores_text.out.find("  response time, s: median [Q1, Q3] (R "
+                                 "quantile type 7), IQR = Q3 - Q1, n timed "
+                                 "trials, n/a trials without a time "
+                                 "(skipped)\n    all "),
+            std::string::npos)
+      << scores_text.out;
+
+  // --tsv: the table and its column descriptions; never overwritten.
+  const std::string tsv = (dir_ / "rt.tsv").string();
+  const CliRun text = RunBurrlab({"analyze", "rt", results, "--tsv", tsv});
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("n/a: trials without one (e.g. answers typed into "
+                          "a pipe), skipped"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("wrote " + tsv + " (columns described in " +
+                          (dir_ / "rt.json").string() + ")"),
+            std::string::npos);
+  std::ifstream written(tsv);
+  std::getline(written, line);
+  EXPECT_EQ(line,
+            "participant_id\tblock\tmethod\tcondition\tn\tmissing\t"
+            "median_s\tq1_s\tq3_s\tiqr_s");
+  std::getline(written, line);
+  EXPECT_TRUE(line.starts_with("sub-01\tprobe2afc\ttwo_interval\tall\t12\t0\t"))
+      << line;
+  const Json sidecar = Json::parse(std::ifstream(dir_ / "rt.json"));
+  EXPECT_EQ(sidecar["median_s"]["Units"], "s");
+  EXPECT_TRUE(sidecar.contains("missing"));
+  const CliRun again = RunBurrlab({"analyze", "rt", results, "--tsv", tsv});
+  EXPECT_EQ(again.code, 1);
+  EXPECT_EQ(again.err, "burrlab: " + tsv +
+                           " already exists; choose another --tsv or remove "
+                           "it\n");
+  const CliRun bad_name =
+      RunBurrlab({"analyze", "rt", results, "--tsv", tsv + ".txt"});
+  EXPECT_EQ(bad_name.code, 1);
+  EXPECT_EQ(bad_name.err, "burrlab: --tsv " + tsv +
+                              ".txt: the file name must end in .tsv (its "
+                              "column descriptions go to the .json beside "
+                              "it)\n");
+}
+
 // A subject whose run stopped before its export (here: its exports
 // removed) is named on every analysis, never left out silently. Truth: the
 // journal's own trial count.
@@ -306,7 +416,8 @@ TEST_F(AnalyzeResults, SubjectsWithTrialsMissingFromTheExportsAreNamed) {
       "`burrlab run PROTOCOL --subject 02 --out " +
       results +
       " --resume` exports them (and finishes the session if it can)\n";
-  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
     const CliRun run = RunBurrlab({"analyze", command, results});
     EXPECT_EQ(run.code, 0) << command << run.err;
     EXPECT_EQ(run.err, warning) << command;
@@ -378,7 +489,8 @@ interval_s = 0.5
       std::to_string(saved) +
       " trials are analysed, and `burrlab run PROTOCOL --subject 02 --out " +
       results + " --resume` finishes it\n";
-  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
     const CliRun run = RunBurrlab({"analyze", command, results, "--json"});
     EXPECT_EQ(run.code, 0) << command << run.err;
     EXPECT_EQ(run.err, warning) << command;
@@ -403,7 +515,8 @@ interval_s = 0.5
 }
 
 TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {
-  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
     const CliRun run = RunBurrlab({"analyze", command, dir_.string()});
     EXPECT_EQ(run.code, 1) << command;
     EXPECT_EQ(run.out, "");

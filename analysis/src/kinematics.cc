@@ -14,11 +14,14 @@ using results_schema::PhysioFile;
 
 constexpr double kContactForceN = 0.01;
 
-// The samples of one subject and block, before binning.
+// The samples of one subject and block (or of all a subject's blocks),
+// before binning.
 struct Samples {
   KinematicsSummary summary;
   std::vector<double> force_n;
   std::vector<double> speed_mm_s;
+  bool has_removed = true;  // every trace file had removed_mm3
+  double removed_mm3 = 0.0;
 };
 
 std::optional<std::size_t> ColumnOf(const PhysioFile& f,
@@ -28,66 +31,152 @@ std::optional<std::size_t> ColumnOf(const PhysioFile& f,
   return static_cast<std::size_t>(it - f.columns.begin());
 }
 
+// Where one trace file keeps the burr's position and the felt force.
+struct TraceLayout {
+  std::size_t trial = 0, interval = 0;
+  std::vector<std::size_t> position;  // x, y, z, or z alone
+  std::vector<std::size_t> force;     // x, y, z components, or force_n
+  std::optional<std::size_t> removed;
+  std::string force_measure, speed_measure;
+};
+
+// The columns of `names` when the file has every one of them.
+std::optional<std::vector<std::size_t>> AllOf(
+    const PhysioFile& f, std::initializer_list<const char*> names) {
+  std::vector<std::size_t> at;
+  for (const char* name : names) {
+    const std::optional<std::size_t> c = ColumnOf(f, name);
+    if (!c) return std::nullopt;
+    at.push_back(*c);
+  }
+  return at;
+}
+
+Result<TraceLayout> LayoutOf(const PhysioFile& f) {
+  TraceLayout layout;
+  const std::optional<std::size_t> trial = ColumnOf(f, "trial_index");
+  const std::optional<std::size_t> interval = ColumnOf(f, "interval_index");
+  // A station traces the burr in 3-D; a simulated interval moves it along z
+  // only (and then |dz/dt| is its whole speed).
+  const bool lateral = ColumnOf(f, "position_x_mm").has_value() ||
+                       ColumnOf(f, "position_y_mm").has_value();
+  std::optional<std::vector<std::size_t>> position =
+      AllOf(f, {"position_x_mm", "position_y_mm", "position_z_mm"});
+  if (position) {
+    layout.speed_measure =
+        "|dp/dt| of position_x_mm, position_y_mm, position_z_mm";
+  } else if (!lateral) {
+    position = AllOf(f, {"position_z_mm"});
+    layout.speed_measure = "|dz/dt| of position_z_mm";
+  }
+  std::optional<std::vector<std::size_t>> force =
+      AllOf(f, {"force_x_n", "force_y_n", "force_z_n"});
+  if (force) {
+    layout.force_measure = "|F| of force_x_n, force_y_n, force_z_n";
+  } else {
+    force = AllOf(f, {"force_n"});
+    layout.force_measure = "force_n";
+  }
+  if (!trial || !interval || !position || !force) {
+    return Error{fmt::format(
+        "{}: the traces need the columns trial_index, interval_index, a "
+        "position (position_x_mm, position_y_mm and position_z_mm, or "
+        "position_z_mm alone) and a force (force_x_n, force_y_n and "
+        "force_z_n, or force_n); they have {}",
+        f.data_path.string(), fmt::join(f.columns, ", "))};
+  }
+  layout.trial = *trial;
+  layout.interval = *interval;
+  layout.position = std::move(*position);
+  layout.force = std::move(*force);
+  layout.removed = ColumnOf(f, "removed_mm3");
+  return layout;
+}
+
+// Euclidean norm of the row's values at `at` (|x| for one column).
+double Norm(std::span<const double> row, const std::vector<std::size_t>& at) {
+  if (at.size() == 1) return std::abs(row[at[0]]);
+  double sum = 0.0;
+  for (std::size_t c : at) sum += row[c] * row[c];
+  return std::sqrt(sum);
+}
+
+// Adds `measure` to the list in `text` unless it is there.
+void AddMeasure(const std::string& measure, std::string* text) {
+  if (text->empty()) {
+    *text = measure;
+  } else if (text->find(measure) == std::string::npos) {
+    *text += " and " + measure;
+  }
+}
+
 Status Collect(const BehFile& file, Samples* out) {
-  double removed = 0.0;
-  bool has_removed = !file.physio.empty();
-  double force_sum = 0.0, force_sum2 = 0.0, speed_sum = 0.0;
-  long long contact = 0;
+  KinematicsSummary& k = out->summary;
   for (const PhysioFile& physio : file.physio) {
-    const std::optional<std::size_t> trial = ColumnOf(physio, "trial_index");
-    const std::optional<std::size_t> interval =
-        ColumnOf(physio, "interval_index");
-    const std::optional<std::size_t> z = ColumnOf(physio, "position_z_mm");
-    const std::optional<std::size_t> force = ColumnOf(physio, "force_n");
-    const std::optional<std::size_t> removed_column =
-        ColumnOf(physio, "removed_mm3");
-    if (!trial || !interval || !z || !force) {
-      return Error{fmt::format(
-          "{}: the traces need the columns trial_index, interval_index, "
-          "position_z_mm and force_n",
-          physio.data_path.string())};
-    }
-    has_removed = has_removed && removed_column.has_value();
-    double last_trial = -1.0, last_interval = -1.0, last_z = 0.0;
+    Result<TraceLayout> layout = LayoutOf(physio);
+    if (!layout.ok()) return layout.error();
+    const TraceLayout& at = *layout;
+    AddMeasure(at.force_measure, &k.force_measure);
+    AddMeasure(at.speed_measure, &k.speed_measure);
+    out->has_removed = out->has_removed && at.removed.has_value();
+    double last_trial = -1.0, last_interval = -1.0;
+    std::vector<double> last(at.position.size(), 0.0), step(3, 0.0);
     double interval_removed = 0.0;
     const double fs = physio.sampling_frequency_hz;
     Status s = results_schema::ForEachPhysioRow(
         physio, [&](std::span<const double> row) {
           const bool same =
-              row[*trial] == last_trial && row[*interval] == last_interval;
+              row[at.trial] == last_trial && row[at.interval] == last_interval;
           if (!same) {
-            removed += interval_removed;
+            out->removed_mm3 += interval_removed;
             interval_removed = 0.0;
-            ++out->summary.intervals;
+            ++k.intervals;
           }
-          const double f = row[*force];
+          const double f = Norm(row, at.force);
           if (std::isfinite(f)) {
             out->force_n.push_back(f);
-            force_sum += f;
-            force_sum2 += f * f;
-            out->summary.max_force_n = std::max(out->summary.max_force_n, f);
-            contact += f > kContactForceN ? 1 : 0;
+            k.max_force_n = std::max(k.max_force_n, f);
           }
-          if (same && std::isfinite(row[*z]) && std::isfinite(last_z)) {
-            const double v = std::abs(row[*z] - last_z) * fs;
-            out->speed_mm_s.push_back(v);
-            speed_sum += v;
+          if (same) {
+            // |p(i) - p(i-1)| fs: the mean speed over the sample period.
+            double sum = 0.0;
+            for (std::size_t c = 0; c < at.position.size(); ++c) {
+              const double d = row[at.position[c]] - last[c];
+              sum += d * d;
+            }
+            const double v = std::sqrt(sum) * fs;
+            if (std::isfinite(v)) out->speed_mm_s.push_back(v);
           }
-          if (removed_column && std::isfinite(row[*removed_column])) {
-            interval_removed = std::max(interval_removed, row[*removed_column]);
+          if (at.removed && std::isfinite(row[*at.removed])) {
+            interval_removed = std::max(interval_removed, row[*at.removed]);
           }
-          last_trial = row[*trial];
-          last_interval = row[*interval];
-          last_z = row[*z];
-          ++out->summary.samples;
-          out->summary.duration_s += 1.0 / fs;
+          last_trial = row[at.trial];
+          last_interval = row[at.interval];
+          for (std::size_t c = 0; c < at.position.size(); ++c) {
+            last[c] = row[at.position[c]];
+          }
+          ++k.samples;
+          k.duration_s += 1.0 / fs;
           return true;
         });
     if (!s.ok()) return s.error();
-    removed += interval_removed;
+    out->removed_mm3 += interval_removed;
   }
-  KinematicsSummary& k = out->summary;
-  const double n = static_cast<double>(out->force_n.size());
+  return {};
+}
+
+// Means, SD, contact share and removal rate from the collected samples.
+void Finish(Samples* s) {
+  KinematicsSummary& k = s->summary;
+  double force_sum = 0.0, force_sum2 = 0.0, speed_sum = 0.0;
+  long long contact = 0;
+  for (double f : s->force_n) {
+    force_sum += f;
+    force_sum2 += f * f;
+    contact += f > kContactForceN ? 1 : 0;
+  }
+  for (double v : s->speed_mm_s) speed_sum += v;
+  const double n = static_cast<double>(s->force_n.size());
   if (n > 0) {
     k.mean_force_n = force_sum / n;
     k.sd_force_n =
@@ -96,14 +185,38 @@ Status Collect(const BehFile& file, Samples* out) {
               : 0.0;
     k.contact_fraction = static_cast<double>(contact) / n;
   }
-  if (!out->speed_mm_s.empty()) {
-    k.mean_speed_mm_s = speed_sum / static_cast<double>(out->speed_mm_s.size());
+  if (!s->speed_mm_s.empty()) {
+    k.mean_speed_mm_s = speed_sum / static_cast<double>(s->speed_mm_s.size());
   }
-  if (has_removed) {
-    k.removed_mm3 = removed;
-    if (k.duration_s > 0.0) k.removal_rate_mm3_per_s = removed / k.duration_s;
+  if (s->has_removed) {
+    k.removed_mm3 = s->removed_mm3;
+    if (k.duration_s > 0.0) {
+      k.removal_rate_mm3_per_s = s->removed_mm3 / k.duration_s;
+    }
   }
-  return {};
+}
+
+// `from`'s samples added to a subject's samples over all its blocks.
+void AddToSubject(const Samples& from, Samples* into) {
+  KinematicsSummary& k = into->summary;
+  const KinematicsSummary& f = from.summary;
+  if (k.task.empty()) {
+    k.task = f.task;
+  } else if (k.task != f.task) {
+    k.task = "drill+probe";
+  }
+  k.intervals += f.intervals;
+  k.samples += f.samples;
+  k.duration_s += f.duration_s;
+  k.max_force_n = std::max(k.max_force_n, f.max_force_n);
+  AddMeasure(f.force_measure, &k.force_measure);
+  AddMeasure(f.speed_measure, &k.speed_measure);
+  into->force_n.insert(into->force_n.end(), from.force_n.begin(),
+                       from.force_n.end());
+  into->speed_mm_s.insert(into->speed_mm_s.end(), from.speed_mm_s.begin(),
+                          from.speed_mm_s.end());
+  into->has_removed = into->has_removed && from.has_removed;
+  into->removed_mm3 += from.removed_mm3;
 }
 
 Histogram Bin(const std::vector<double>& values, double high, int bins) {
@@ -146,17 +259,23 @@ LinePlot HistogramPlot(const Histogram& h, const std::string& title,
   return plot;
 }
 
+// "sub-01 probe (probe)" or "sub-01 all blocks (probe)".
+std::string Who(const KinematicsSummary& s) {
+  return fmt::format("sub-{} {} ({})", s.subject,
+                     s.block.empty() ? "all blocks" : s.block, s.task);
+}
+
 }  // namespace
 
-Result<std::vector<KinematicsSummary>> SummarizeKinematics(
-    std::span<const BehFile> files, const KinematicsOptions& options) {
+Result<KinematicsReport> SummarizeKinematics(std::span<const BehFile> files,
+                                             const KinematicsOptions& options) {
   if (options.bins < 1 || options.bins > 10000) {
     return Error{fmt::format("bins must be 1 to 10000, got {}", options.bins)};
   }
   if (!(options.force_max_n >= 0.0) || !(options.speed_max_mm_s >= 0.0)) {
     return Error{"histogram ranges must be 0 (automatic) or above"};
   }
-  std::vector<Samples> all;
+  std::vector<Samples> blocks, subjects;
   for (const BehFile& file : files) {
     if (file.physio.empty()) continue;
     Samples s;
@@ -164,45 +283,144 @@ Result<std::vector<KinematicsSummary>> SummarizeKinematics(
     s.summary.block = file.task;
     s.summary.task = file.table.trials.front().task;
     if (Status status = Collect(file, &s); !status.ok()) return status.error();
-    all.push_back(std::move(s));
+    Finish(&s);
+    // The files come sorted by subject: a new subject starts a new summary.
+    if (subjects.empty() || subjects.back().summary.subject != file.subject) {
+      subjects.emplace_back();
+      subjects.back().summary.subject = file.subject;
+    }
+    AddToSubject(s, &subjects.back());
+    blocks.push_back(std::move(s));
   }
-  if (all.empty()) {
+  if (blocks.empty()) {
     return Error{
         "no traces: the results have no _physio.tsv.gz files (intervals of "
         "real samples are not recorded)"};
   }
+  for (Samples& s : subjects) Finish(&s);
   double force_max = options.force_max_n, speed_max = options.speed_max_mm_s;
   if (force_max == 0.0 || speed_max == 0.0) {
     double f = 0.0, v = 0.0;
-    for (const Samples& s : all) {
+    for (const Samples& s : blocks) {
       for (double x : s.force_n) f = std::max(f, x);
       for (double x : s.speed_mm_s) v = std::max(v, x);
     }
     if (force_max == 0.0) force_max = f;
     if (speed_max == 0.0) speed_max = v;
   }
-  std::vector<KinematicsSummary> out;
-  for (Samples& s : all) {
-    s.summary.force = Bin(s.force_n, force_max, options.bins);
-    s.summary.speed = Bin(s.speed_mm_s, speed_max, options.bins);
-    out.push_back(std::move(s.summary));
+  KinematicsReport out;
+  for (auto [from, to] :
+       {std::pair{&blocks, &out.blocks}, std::pair{&subjects, &out.subjects}}) {
+    for (Samples& s : *from) {
+      s.summary.force = Bin(s.force_n, force_max, options.bins);
+      s.summary.speed = Bin(s.speed_mm_s, speed_max, options.bins);
+      to->push_back(std::move(s.summary));
+    }
   }
   return out;
 }
 
+std::span<const char* const> ComparedKinematicsMeasures() {
+  static constexpr const char* kMeasures[] = {
+      "mean_force_n",     "sd_force_n",      "max_force_n",
+      "contact_fraction", "mean_speed_mm_s", "removal_rate_mm3_per_s"};
+  return kMeasures;
+}
+
+namespace {
+
+// The value of `measure` (a ComparedKinematicsMeasures name) in `k`.
+std::optional<double> MeasureOf(const KinematicsSummary& k,
+                                std::string_view measure) {
+  if (measure == "mean_force_n") return k.mean_force_n;
+  if (measure == "sd_force_n") return k.sd_force_n;
+  if (measure == "max_force_n") return k.max_force_n;
+  if (measure == "contact_fraction") return k.contact_fraction;
+  if (measure == "mean_speed_mm_s") return k.mean_speed_mm_s;
+  return k.removal_rate_mm3_per_s;
+}
+
+// Every measure of the summaries of one block (all from `summaries` whose
+// block is `block`) compared between the groups.
+void CompareBlock(const std::vector<KinematicsSummary>& summaries,
+                  const std::string& block, const KinematicsGroupComparison& g,
+                  const ParticipantGroups& groups,
+                  std::vector<KinematicsComparison>* out) {
+  for (const char* measure : ComparedKinematicsMeasures()) {
+    KinematicsComparison c;
+    c.block = block;
+    c.measure = measure;
+    for (const KinematicsSummary& k : summaries) {
+      if (k.block != block) continue;
+      const auto it = groups.group_of.find(k.subject);
+      if (it == groups.group_of.end()) continue;  // n/a: left out
+      const std::optional<double> v = MeasureOf(k, measure);
+      if (!v) continue;
+      c.values[it->second == g.groups[0] ? 0 : 1].push_back(*v);
+    }
+    if (c.values[0].empty() && c.values[1].empty()) continue;
+    if (Result<WelchTTestResult> t = WelchTTest(c.values[0], c.values[1]);
+        t.ok()) {
+      c.welch = *t;
+    } else {
+      c.welch_note = t.error().message;
+    }
+    if (Result<MannWhitneyResult> u = MannWhitneyTest(c.values[0], c.values[1]);
+        u.ok()) {
+      c.mann_whitney = *u;
+    } else {
+      c.mann_whitney_note = u.error().message;
+    }
+    out->push_back(std::move(c));
+  }
+}
+
+}  // namespace
+
+Result<KinematicsGroupComparison> CompareKinematicsGroups(
+    const KinematicsReport& report, const ParticipantGroups& groups) {
+  KinematicsGroupComparison out;
+  out.column = groups.column;
+  out.groups = {groups.groups.at(0), groups.groups.at(1)};
+  for (const KinematicsSummary& k : report.subjects) {
+    const auto it = groups.group_of.find(k.subject);
+    if (it != groups.group_of.end()) {
+      out.subjects[it->second == out.groups[0] ? 0 : 1].push_back(k.subject);
+    } else if (std::find(groups.left_out.begin(), groups.left_out.end(),
+                         k.subject) != groups.left_out.end()) {
+      out.left_out.push_back(k.subject);
+    } else {
+      return Error{fmt::format(
+          "sub-{} has traces but no row in the participants file; add it "
+          "(n/a in the {} column leaves it out)",
+          k.subject, groups.column)};
+    }
+  }
+  std::vector<std::string> blocks;
+  for (const KinematicsSummary& k : report.blocks) {
+    if (std::find(blocks.begin(), blocks.end(), k.block) == blocks.end()) {
+      blocks.push_back(k.block);
+    }
+  }
+  for (const std::string& block : blocks) {
+    CompareBlock(report.blocks, block, out, groups, &out.comparisons);
+  }
+  CompareBlock(report.subjects, "", out, groups, &out.comparisons);
+  return out;
+}
+
 LinePlot ForceHistogramPlot(const KinematicsSummary& s) {
-  return HistogramPlot(s.force,
-                       fmt::format("sub-{} {} ({}): force, mean {:.3g} N",
-                                   s.subject, s.block, s.task, s.mean_force_n),
-                       "felt force (N)", 0);
+  return HistogramPlot(
+      s.force, fmt::format("{}: force, mean {:.3g} N", Who(s), s.mean_force_n),
+      fmt::format("felt force, {} (N)", s.force_measure), 0);
 }
 
 LinePlot SpeedHistogramPlot(const KinematicsSummary& s) {
-  return HistogramPlot(
-      s.speed,
-      fmt::format("sub-{} {} ({}): burr speed, mean {:.3g} mm/s", s.subject,
-                  s.block, s.task, s.mean_speed_mm_s),
-      "burr speed |dz/dt| (mm/s)", 1);
+  return HistogramPlot(s.speed,
+                       fmt::format("{}: burr speed, mean {:.3g} mm/s", Who(s),
+                                   s.mean_speed_mm_s),
+                       fmt::format("burr speed, {} (mm/s)", s.speed_measure),
+                       1);
 }
 
 }  // namespace burrlab::analysis

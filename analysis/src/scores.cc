@@ -118,7 +118,9 @@ Result<std::vector<BlockScores>> ScoreBlocks(std::span<const BehFile> files) {
     int pooled_correct = 0, pooled_trials = 0;
     int hits = 0, different = 0, false_alarms = 0, same = 0;
     std::vector<double> scores, proportions;
+    std::vector<const TrialRecord*> block_trials;
     for (const auto& [subject, list] : trials[name]) {
+      block_trials.insert(block_trials.end(), list.begin(), list.end());
       SubjectScore s;
       s.subject = subject;
       int h = 0, nd = 0, fa = 0, ns = 0;
@@ -191,6 +193,7 @@ Result<std::vector<BlockScores>> ScoreBlocks(std::span<const BehFile> files) {
     if (same_different) {
       b.pooled_rates = RatesFromCounts(hits, different, false_alarms, same);
     }
+    b.response_times = SummarizeResponseTimes(block_trials);
     out.push_back(std::move(b));
   }
   return out;

@@ -1,5 +1,7 @@
 // Group statistics against R 4.2's t.test and binom.test
-// (fixtures/r/make_r_fixtures.R), to 1e-6.
+// (fixtures/r/make_r_fixtures.R) and the two-group comparison against R's
+// t.test(x, y) and wilcox.test(x, y) (fixtures/r/make_two_group_fixtures.R),
+// to 1e-6.
 #include "burrlab/analysis/group_stats.h"
 
 #include <gtest/gtest.h>
@@ -78,6 +80,80 @@ TEST(ExactBinomialTest, MatchesRBinomTest) {
   }
   std::cout << "t.test and binom.test: worst |burrlab - R| " << worst_absolute
             << "\n";
+}
+
+std::vector<double> Values(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  for (std::string v; std::getline(in, v, ';');) values.push_back(std::stod(v));
+  return values;
+}
+
+// Welch's t (t, df, p) and the Mann-Whitney test (W, p) of every fixture
+// case: unequal group sizes, ties across and within groups (normal
+// approximation with continuity and tie correction), small groups without
+// ties (exact), 55 and 60 values (normal), 49 and 12 (exact).
+TEST(TwoGroupTests, MatchRWelchTTestAndWilcoxTest) {
+  const auto rows = ReadCsv(FixtureDir("r") / "two_sample_tests.csv");
+  ASSERT_EQ(rows.size(), 10u);
+  int exact = 0, approximate = 0, tied = 0;
+  for (const auto& row : rows) {
+    const std::vector<double> x = Values(row.at("x")), y = Values(row.at("y"));
+    SCOPED_TRACE(row.at("x") + " vs " + row.at("y"));
+    Result<WelchTTestResult> welch = WelchTTest(x, y);
+    ASSERT_TRUE(welch.ok()) << welch.error().message;
+    EXPECT_EQ(welch->n_x, static_cast<int>(x.size()));
+    EXPECT_EQ(welch->n_y, static_cast<int>(y.size()));
+    ExpectClose(welch->t, row.at("welch_t"), "Welch t");
+    ExpectClose(welch->df, row.at("welch_df"), "Welch df");
+    ExpectClose(welch->p_two_sided, row.at("welch_p"), "Welch p");
+    Result<MannWhitneyResult> mw = MannWhitneyTest(x, y);
+    ASSERT_TRUE(mw.ok()) << mw.error().message;
+    ExpectClose(mw->w, row.at("w"), "W");
+    ExpectClose(mw->p_two_sided, row.at("mw_p"), "Mann-Whitney p");
+    EXPECT_EQ(mw->exact, row.at("mw_exact") == "1");
+    EXPECT_EQ(mw->method, mw->exact ? "exact"
+                          : mw->ties
+                              ? "normal approximation with continuity "
+                                "correction (ties: no exact p)"
+                              : "normal approximation with continuity "
+                                "correction (50 or more values in a group)");
+    (mw->exact ? exact : approximate) += 1;
+    tied += mw->ties ? 1 : 0;
+  }
+  EXPECT_EQ(exact, 5);
+  EXPECT_EQ(approximate, 5);
+  EXPECT_EQ(tied, 4);
+  std::cout << "t.test(x, y) and wilcox.test(x, y): worst |burrlab - R| "
+            << worst_absolute << "\n";
+}
+
+TEST(TwoGroupTests, RejectBadInputNamingIt) {
+  const std::vector<double> one = {1.0}, two = {1.0, 2.0},
+                            nan = {1.0, std::nan("")}, same = {3.0, 3.0};
+  EXPECT_EQ(WelchTTest(one, two).error().message,
+            "Welch's t-test needs at least 2 values in each group, got 1 and "
+            "2");
+  EXPECT_EQ(WelchTTest(two, nan).error().message,
+            "y value 2 is not a finite number: nan");
+  EXPECT_EQ(WelchTTest(same, same).error().message,
+            "both groups are constant (3 and 3): the t statistic is "
+            "undefined");
+  EXPECT_EQ(MannWhitneyTest(std::vector<double>{}, two).error().message,
+            "the Mann-Whitney test needs at least 1 value in each group, got "
+            "0 and 2");
+  EXPECT_EQ(MannWhitneyTest(nan, two).error().message,
+            "x value 2 is not a finite number: nan");
+  EXPECT_EQ(MannWhitneyTest(same, same).error().message,
+            "all 4 values are equal (3): the rank-sum test is undefined");
+  // One value against one: W is 0 or 1, each with probability 1/2, so the
+  // two-sided p is 1 (R: wilcox.test(1, 2)$p.value).
+  Result<MannWhitneyResult> single =
+      MannWhitneyTest(one, std::vector<double>{2.0});
+  ASSERT_TRUE(single.ok());
+  EXPECT_EQ(single->w, 0.0);
+  EXPECT_TRUE(single->exact);
+  EXPECT_EQ(single->p_two_sided, 1.0);
 }
 
 TEST(MeanAndSem, IsSampleSdOverRootN) {

@@ -421,14 +421,19 @@ constexpr Command kAnalyzeCommands[] = {
      RunDPrime},
     {"scores",
      "scores per block of a study's results: mean +- SEM, t and binomial "
-     "tests against chance, same-different d', histograms",
+     "tests against chance, same-different d', response times, histograms",
      RunScoresCommand},
+    {"rt",
+     "response times per subject, block and condition: median, quartiles, "
+     "missing times counted",
+     RunResponseTimesCommand},
     {"thresholds",
      "thresholds per subject and block: staircase reversals, QUEST, limits, "
      "adjustment, constant-stimuli fits",
      RunThresholdsCommand},
     {"kinematics",
-     "force and speed histograms, mean force and removal rate of the traces",
+     "force and speed histograms, mean force and removal rate of the traces; "
+     "two groups compared",
      RunKinematicsCommand},
     {"power",
      "probability of a significant result from simulated studies of a "

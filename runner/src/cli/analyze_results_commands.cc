@@ -1,4 +1,4 @@
-// `burrlab analyze scores|thresholds|kinematics DIR`: read the study's BIDS
+// `burrlab analyze scores|rt|thresholds|kinematics DIR`: read the study's BIDS
 // exports (results_schema/bids_read.h), analyse them (analysis/) and print a
 // table or JSON, with PNG figures on request.
 #include "cli/analyze_results_commands.h"
@@ -9,13 +9,17 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/kinematics.h"
+#include "burrlab/analysis/participant_groups.h"
+#include "burrlab/analysis/response_times.h"
 #include "burrlab/analysis/scores.h"
 #include "burrlab/analysis/thresholds.h"
 #include "burrlab/protocols/protocol_file.h"
@@ -116,6 +120,33 @@ Json RatesJson(const analysis::SameDifferentRates& r) {
           {"note", r.note}};
 }
 
+constexpr const char* kResponseTimeText =
+    "response_time in s from the response prompt; n: trials with a time; "
+    "missing: trials without one (n/a, e.g. answers typed into a pipe), "
+    "skipped; median, q1, q3: median and quartiles of the n times by R's "
+    "quantile type 7 (its default); iqr = q3 - q1; condition: the trial_type, "
+    "or the stimulus level in constant-stimuli blocks; all: every trial";
+
+Json ResponseTimesJson(const std::vector<analysis::ResponseTimeSummary>& rt) {
+  Json j = {{"definition", kResponseTimeText}, {"conditions", Json::array()}};
+  for (const analysis::ResponseTimeSummary& s : rt) {
+    j["conditions"].push_back({{"condition", s.condition},
+                               {"n", s.n},
+                               {"missing", s.missing},
+                               {"median_s", Optional(s.median_s)},
+                               {"q1_s", Optional(s.q1_s)},
+                               {"q3_s", Optional(s.q3_s)},
+                               {"iqr_s", Optional(s.iqr_s)}});
+  }
+  return j;
+}
+
+// "0.842 [0.610, 1.200]" (median [Q1, Q3]), or "n/a" without times.
+std::string MedianQuartilesText(const analysis::ResponseTimeSummary& s) {
+  if (!s.median_s) return "n/a";
+  return fmt::format("{:.3f} [{:.3f}, {:.3f}]", *s.median_s, *s.q1_s, *s.q3_s);
+}
+
 Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
   Json j;
   j["block"] = b.block;
@@ -163,6 +194,7 @@ Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
                       : Json(nullptr);
   j["pooled_rates"] =
       b.pooled_rates ? RatesJson(*b.pooled_rates) : Json(nullptr);
+  j["response_times"] = ResponseTimesJson(b.response_times);
   j["no_test_reason"] = b.no_test_reason;
   j["warnings"] = b.warnings;
   j["histogram"] = plot.empty() ? Json(nullptr) : Json(plot);
@@ -218,6 +250,17 @@ void PrintScores(std::ostream& out, const analysis::BlockScores& b,
                        s.trials,
                        s.rates ? "  " + DPrimeText(*s.rates) : std::string());
   }
+  if (!b.response_times.empty()) {
+    out << "  response time, s: median [Q1, Q3] (R quantile type 7), IQR = "
+           "Q3 - Q1, n timed trials, n/a trials without a time (skipped)\n";
+    for (const analysis::ResponseTimeSummary& r : b.response_times) {
+      out << fmt::format(
+          "    {:<12} {:<24} IQR {:<7} n {:<5} n/a {}\n", r.condition,
+          MedianQuartilesText(r),
+          r.iqr_s ? fmt::format("{:.3f}", *r.iqr_s) : std::string("n/a"), r.n,
+          r.missing);
+    }
+  }
   for (const std::string& w : b.warnings) out << "  warning    " << w << '\n';
   if (!plot.empty()) out << "  histogram  " << plot << '\n';
 }
@@ -230,7 +273,9 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
       "and two-sided), an exact binomial test of the pooled answers, and for "
       "same-different blocks hit and false-alarm rates with d' "
       "(differencing and independent-observation models; rates of 0 or 1 "
-      "moved to 1/(2N), marked *).",
+      "moved to 1/(2N), marked *), and response times per condition "
+      "(median and quartiles, R quantile type 7; trials without a time are "
+      "skipped and counted).",
       "burrlab analyze scores"};
   std::string dir, plots;
   bool json = false;
@@ -277,6 +322,153 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
   for (std::size_t i = 0; i < blocks->size(); ++i) {
     if (i > 0) out << '\n';
     PrintScores(out, (*blocks)[i], plot_paths[i]);
+  }
+  return 0;
+}
+
+// Writes each {path, text} to a new file; an error names the file, and no
+// file is written when one of them exists already.
+Status WriteNewFiles(
+    const std::vector<std::pair<std::string, std::string>>& files) {
+  for (const auto& [path, text] : files) {
+    std::error_code ec;
+    if (fs::exists(path, ec)) {
+      return Error{
+          fmt::format("{} already exists; choose another --tsv or "
+                      "remove it",
+                      path)};
+    }
+  }
+  for (const auto& [path, text] : files) {
+    std::ofstream file(path, std::ios::binary);
+    file << text;
+    file.close();
+    if (!file) return Error{fmt::format("cannot write {}", path)};
+  }
+  return {};
+}
+
+int RunResponseTimes(const Args& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "Response times per subject, block and condition of a study's results "
+      "(the response_time column of the _beh.tsv files): the median, the "
+      "quartiles Q1 and Q3 (R's quantile type 7, its default) and IQR = Q3 - "
+      "Q1 of the trials with a time, and how many trials had none (n/a, e.g. "
+      "answers typed into a pipe: skipped and counted). A condition is the "
+      "trial_type, or the stimulus level in constant-stimuli blocks; 'all' is "
+      "every trial of the block.",
+      "burrlab analyze rt"};
+  std::string dir, tsv;
+  bool json = false;
+  FlagSet flags(&app);
+  app.add_option("DIR", dir, "results folder")->required();
+  flags.AddSwitch("--json", "print the results as JSON", &json);
+  flags
+      .AddText("--tsv",
+               "also write the table as tab-separated values (n/a for none) "
+               "to FILE.tsv, its columns described in FILE.json beside it; "
+               "existing files are not overwritten",
+               &tsv)
+      ->type_name("FILE.tsv");
+  if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
+  if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--tsv") && !tsv.ends_with(".tsv")) {
+    return Fail(err, fmt::format("--tsv {}: the file name must end in .tsv "
+                                 "(its column descriptions go to the .json "
+                                 "beside it)",
+                                 tsv));
+  }
+  Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
+  if (!files.ok()) return Fail(err, files.error().message);
+  const std::vector<analysis::SubjectBlockResponseTimes> rt =
+      analysis::ResponseTimesBySubject(*files);
+  const auto value = [](const std::optional<double>& v) {
+    return v ? fmt::format("{}", *v) : std::string("n/a");
+  };
+  if (flags.Given("--tsv")) {
+    std::string text =
+        "participant_id\tblock\tmethod\tcondition\tn\tmissing\tmedian_s\t"
+        "q1_s\tq3_s\tiqr_s\n";
+    for (const analysis::SubjectBlockResponseTimes& b : rt) {
+      for (const analysis::ResponseTimeSummary& r : b.summaries) {
+        text += fmt::format("sub-{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n",
+                            b.subject, b.block, b.method, r.condition, r.n,
+                            r.missing, value(r.median_s), value(r.q1_s),
+                            value(r.q3_s), value(r.iqr_s));
+      }
+    }
+    Json sidecar;
+    sidecar["participant_id"] = {{"Description", "the subject, sub-<label>"}};
+    sidecar["block"] = {{"Description", "block name from the protocol"}};
+    sidecar["method"] = {{"Description", "the block's psychophysical method"}};
+    sidecar["condition"] = {
+        {"Description",
+         "the trials summarised: all (every trial of the block), a "
+         "trial_type, or 'level X' (constant-stimuli blocks, stim_level X)"}};
+    sidecar["n"] = {{"Description", "trials with a response time"}};
+    sidecar["missing"] = {
+        {"Description",
+         "trials without a response time (n/a in the _beh.tsv, e.g. answers "
+         "typed into a pipe), left out of the quartiles"}};
+    const auto quartile = [](const char* what) {
+      return Json{{"Description",
+                   fmt::format("{} of the n response times, R quantile type 7 "
+                               "(its default); n/a when n = 0",
+                               what)},
+                  {"Units", "s"}};
+    };
+    sidecar["median_s"] = quartile("median");
+    sidecar["q1_s"] = quartile("first quartile");
+    sidecar["q3_s"] = quartile("third quartile");
+    sidecar["iqr_s"] = {{"Description", "inter-quartile range, q3_s - q1_s"},
+                        {"Units", "s"}};
+    const std::string json_path = tsv.substr(0, tsv.size() - 4) + ".json";
+    if (Status s =
+            WriteNewFiles({{tsv, text}, {json_path, sidecar.dump(2) + "\n"}});
+        !s.ok()) {
+      return Fail(err, s.error().message);
+    }
+  }
+  if (json) {
+    Json j;
+    j["results"] = dir;
+    j["definition"] = kResponseTimeText;
+    j["tsv"] = tsv.empty() ? Json(nullptr) : Json(tsv);
+    j["response_times"] = Json::array();
+    for (const analysis::SubjectBlockResponseTimes& b : rt) {
+      Json one = ResponseTimesJson(b.summaries);
+      j["response_times"].push_back({{"subject", b.subject},
+                                     {"block", b.block},
+                                     {"method", b.method},
+                                     {"conditions", one["conditions"]}});
+    }
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return 0;
+  }
+  out << fmt::format(
+      "{:<12} {:<12} {:<12} {:>5} {:>5} {:>9} {:>8} {:>8} "
+      "{:>8}\n",
+      "subject", "block", "condition", "n", "n/a", "median s", "Q1 s", "Q3 s",
+      "IQR s");
+  const auto fixed = [](const std::optional<double>& v) {
+    return v ? fmt::format("{:.3f}", *v) : std::string("n/a");
+  };
+  for (const analysis::SubjectBlockResponseTimes& b : rt) {
+    for (const analysis::ResponseTimeSummary& r : b.summaries) {
+      out << fmt::format(
+          "{:<12} {:<12} {:<12} {:>5} {:>5} {:>9} {:>8} {:>8} {:>8}\n",
+          "sub-" + b.subject, b.block, r.condition, r.n, r.missing,
+          fixed(r.median_s), fixed(r.q1_s), fixed(r.q3_s), fixed(r.iqr_s));
+    }
+  }
+  out << "n: trials with a response time; n/a: trials without one (e.g. "
+         "answers typed into a pipe), skipped; median, Q1, Q3: median and "
+         "quartiles of the n times, R quantile type 7; IQR = Q3 - Q1; "
+         "condition: the trial_type, or the stimulus level in "
+         "constant-stimuli blocks; all: every trial of the block.\n";
+  if (!tsv.empty()) {
+    out << fmt::format("wrote {} (columns described in {})\n", tsv,
+                       tsv.substr(0, tsv.size() - 4) + ".json");
   }
   return 0;
 }
@@ -386,12 +578,166 @@ Json HistogramJson(const analysis::Histogram& h) {
           {"outside", h.outside}};
 }
 
+Json KinematicsJson(const analysis::KinematicsSummary& k,
+                    const std::pair<std::string, std::string>& plots) {
+  Json j = {{"subject", k.subject}};
+  if (!k.block.empty()) j["block"] = k.block;
+  j.update({{"task", k.task},
+            {"intervals", k.intervals},
+            {"samples", k.samples},
+            {"duration_s", k.duration_s},
+            {"force_measure", k.force_measure},
+            {"mean_force_n", k.mean_force_n},
+            {"sd_force_n", k.sd_force_n},
+            {"max_force_n", k.max_force_n},
+            {"contact_fraction", k.contact_fraction},
+            {"speed_measure", k.speed_measure},
+            {"mean_speed_mm_s", k.mean_speed_mm_s},
+            {"removed_mm3", Optional(k.removed_mm3)},
+            {"removal_rate_mm3_per_s", Optional(k.removal_rate_mm3_per_s)},
+            {"force_histogram_n", HistogramJson(k.force)},
+            {"speed_histogram_mm_s", HistogramJson(k.speed)},
+            {"plots", plots.first.empty() ? Json(nullptr)
+                                          : Json{plots.first, plots.second}}});
+  return j;
+}
+
+// Writes the force and speed histograms of `k` as STEM_force.png and
+// STEM_speed.png; the two paths, or an error naming the file.
+Result<std::pair<std::string, std::string>> WriteKinematicsPlots(
+    const analysis::KinematicsSummary& k, const std::string& stem) {
+  std::pair<std::string, std::string> paths = {stem + "_force.png",
+                                               stem + "_speed.png"};
+  if (Status s =
+          analysis::WritePlotPng(analysis::ForceHistogramPlot(k), paths.first);
+      !s.ok()) {
+    return s.error();
+  }
+  if (Status s =
+          analysis::WritePlotPng(analysis::SpeedHistogramPlot(k), paths.second);
+      !s.ok()) {
+    return s.error();
+  }
+  return paths;
+}
+
+constexpr const char* kWelchText =
+    "Welch's two-sample t-test (variances not assumed equal; R t.test(x, "
+    "y)): t = (mean x - mean y) / sqrt(var x / n x + var y / n y), df by "
+    "Welch-Satterthwaite, two-sided p";
+constexpr const char* kMannWhitneyText =
+    "Mann-Whitney U test (Wilcoxon rank-sum; R wilcox.test(x, y)): W = U of "
+    "x, the rank sum of x minus n x (n x + 1) / 2; two-sided p, exact when "
+    "both groups have fewer than 50 subjects and no values tie, else the "
+    "normal approximation with continuity correction";
+
+Json ComparisonJson(const analysis::KinematicsGroupComparison& c,
+                    const std::string& path) {
+  Json j;
+  j["file"] = path;
+  j["column"] = c.column;
+  j["x"] = c.groups[0];
+  j["y"] = c.groups[1];
+  j["subjects"] = {{c.groups[0], c.subjects[0]}, {c.groups[1], c.subjects[1]}};
+  j["left_out"] = c.left_out;
+  j["welch_test"] = kWelchText;
+  j["mann_whitney_test"] = kMannWhitneyText;
+  j["comparisons"] = Json::array();
+  for (const analysis::KinematicsComparison& m : c.comparisons) {
+    Json r;
+    r["block"] = m.block.empty() ? Json(nullptr) : Json(m.block);
+    r["measure"] = m.measure;
+    r["values"] = {{c.groups[0], m.values[0]}, {c.groups[1], m.values[1]}};
+    r["welch"] = m.welch ? Json{{"mean_x", m.welch->mean_x},
+                                {"mean_y", m.welch->mean_y},
+                                {"t", m.welch->t},
+                                {"df", m.welch->df},
+                                {"p_two_sided", m.welch->p_two_sided}}
+                         : Json(nullptr);
+    r["welch_note"] = m.welch_note;
+    r["mann_whitney"] = m.mann_whitney
+                            ? Json{{"w", m.mann_whitney->w},
+                                   {"p_two_sided", m.mann_whitney->p_two_sided},
+                                   {"exact", m.mann_whitney->exact},
+                                   {"method", m.mann_whitney->method}}
+                            : Json(nullptr);
+    r["mann_whitney_note"] = m.mann_whitney_note;
+    j["comparisons"].push_back(r);
+  }
+  return j;
+}
+
+void PrintComparison(std::ostream& out,
+                     const analysis::KinematicsGroupComparison& c,
+                     const std::string& path) {
+  const auto members = [](const std::vector<std::string>& labels) {
+    std::string text;
+    for (const std::string& l : labels) {
+      text += (text.empty() ? "sub-" : ", sub-") + l;
+    }
+    return text.empty() ? std::string("none") : text;
+  };
+  out << fmt::format(
+      "\ngroups ({}, column {}): x = {} ({}), y = {} ({}){}\n", path, c.column,
+      c.groups[0], members(c.subjects[0]), c.groups[1], members(c.subjects[1]),
+      c.left_out.empty()
+          ? std::string()
+          : fmt::format("; left out (n/a): {}", members(c.left_out)));
+  out << fmt::format(
+      "{:<10} {:<22} {:>6} {:>6} {:>10} {:>10} {:>8} {:>7} "
+      "{:>9} {:>7} {:>9}\n",
+      "block", "measure", "n x", "n y", "mean x", "mean y", "t", "df", "p (t)",
+      "W", "p (W)");
+  std::vector<std::string> notes;
+  for (const analysis::KinematicsComparison& m : c.comparisons) {
+    const std::string block = m.block.empty() ? "(all)" : m.block;
+    const auto mean = [](const std::vector<double>& v) {
+      if (v.empty()) return std::string("n/a");
+      double sum = 0.0;
+      for (double x : v) sum += x;
+      return fmt::format("{:.4g}", sum / static_cast<double>(v.size()));
+    };
+    std::string t = "n/a", df = "n/a", pt = "n/a", w = "n/a", pw = "n/a";
+    if (m.welch) {
+      t = fmt::format("{:.3f}", m.welch->t);
+      df = fmt::format("{:.2f}", m.welch->df);
+      pt = P(m.welch->p_two_sided);
+    } else {
+      notes.push_back(
+          fmt::format("{} {}: no t: {}", block, m.measure, m.welch_note));
+    }
+    if (m.mann_whitney) {
+      w = fmt::format("{:g}", m.mann_whitney->w);
+      pw = (m.mann_whitney->exact ? "" : "~") + P(m.mann_whitney->p_two_sided);
+    } else {
+      notes.push_back(fmt::format("{} {}: no W: {}", block, m.measure,
+                                  m.mann_whitney_note));
+    }
+    out << fmt::format(
+        "{:<10} {:<22} {:>6} {:>6} {:>10} {:>10} {:>8} {:>7} {:>9} {:>7} "
+        "{:>9}\n",
+        block, m.measure, m.values[0].size(), m.values[1].size(),
+        mean(m.values[0]), mean(m.values[1]), t, df, pt, w, pw);
+  }
+  out << fmt::format(
+      "Each subject's summary is one value; n: subjects per group. t, df, p "
+      "(t): {}. W, p (W): {}; ~ marks the approximation. n/a: not tested "
+      "(see below). (all): the subjects' summaries over all blocks.\n",
+      kWelchText, kMannWhitneyText);
+  for (const std::string& note : notes) out << "note: " << note << '\n';
+}
+
 int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
-      "Kinematics of a study's recorded intervals (dissertation ch. 12): per "
-      "subject and block, histograms of the felt force and of the burr "
-      "speed |dz/dt| over common ranges, the mean force and the material "
-      "removal rate (removed volume per traced second).",
+      "Kinematics of a study's recorded intervals (dissertation ch. 12, Fig. "
+      "12.4-12.6): per subject and block, and per subject over all its "
+      "blocks, histograms of the felt force |F| and of the burr speed "
+      "|dp/dt| over common ranges, the mean force and the material removal "
+      "rate (removed volume per traced second). Station traces give 3-D "
+      "position and force; simulated intervals move the burr along z only "
+      "and record the vertical force_n. With --groups, each per-subject "
+      "measure is compared between two groups (e.g. experts and trainees, "
+      "as §12.3) by Welch's t-test and the Mann-Whitney U test.",
       "burrlab analyze kinematics"};
   std::string dir, plots;
   analysis::KinematicsOptions options;
@@ -403,39 +749,80 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddSwitch("--json", "print the results as JSON", &json);
   flags
       .AddText("--plots",
-               "write force and speed histograms per subject and block (PNG) "
-               "here",
+               "write force and speed histograms per subject and block, and "
+               "per subject over all its blocks (PNG), here",
                &plots)
       ->type_name("DIR");
+  std::string groups_path, group_column = "group";
+  flags
+      .AddText("--groups",
+               "compare two groups of subjects (e.g. experts and trainees) "
+               "named in this participants.tsv: tab-separated, a header row "
+               "with participant_id (sub-<label>) and the group column; n/a "
+               "leaves a subject out",
+               &groups_path)
+      ->type_name("FILE");
+  flags
+      .AddText("--group-column",
+               "the --groups file's column naming each subject's group "
+               "(default group)",
+               &group_column)
+      ->type_name("NAME");
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  if (flags.Given("--group-column") && !flags.Given("--groups")) {
+    return Fail(err, "--group-column goes with --groups FILE");
+  }
+  if (group_column.empty()) {
+    return Fail(err, "--group-column must name a column, got ''");
+  }
+  std::optional<analysis::ParticipantGroups> groups;
+  if (flags.Given("--groups")) {
+    Result<analysis::ParticipantGroups> g =
+        analysis::ReadParticipantGroups(groups_path, group_column);
+    if (!g.ok()) {  // may be multi-line: the line and a caret
+      err << "burrlab: --groups: " << g.error().message << '\n';
+      return 1;
+    }
+    groups = std::move(*g);
+  }
   Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
   if (!files.ok()) return Fail(err, files.error().message);
-  Result<std::vector<analysis::KinematicsSummary>> summaries =
+  Result<analysis::KinematicsReport> report =
       analysis::SummarizeKinematics(*files, options);
-  if (!summaries.ok()) {
-    return Fail(err, "analyze kinematics: " + summaries.error().message);
+  if (!report.ok()) {
+    return Fail(err, "analyze kinematics: " + report.error().message);
   }
-  std::vector<std::pair<std::string, std::string>> plot_paths(
-      summaries->size());
+  std::optional<analysis::KinematicsGroupComparison> comparison;
+  if (groups) {
+    Result<analysis::KinematicsGroupComparison> c =
+        analysis::CompareKinematicsGroups(*report, *groups);
+    if (!c.ok()) {
+      return Fail(
+          err, fmt::format("--groups {}: {}", groups_path, c.error().message));
+    }
+    comparison = std::move(*c);
+  }
+  using PlotPaths = std::vector<std::pair<std::string, std::string>>;
+  PlotPaths block_plots(report->blocks.size()),
+      subject_plots(report->subjects.size());
   if (flags.Given("--plots")) {
     if (Status s = MakePlotDir(plots); !s.ok())
       return Fail(err, s.error().message);
-    for (std::size_t i = 0; i < summaries->size(); ++i) {
-      const analysis::KinematicsSummary& k = (*summaries)[i];
-      const std::string stem =
-          (fs::path(plots) / fmt::format("sub-{}_{}", k.subject, k.block))
-              .string();
-      plot_paths[i] = {stem + "_force.png", stem + "_speed.png"};
-      if (Status s = analysis::WritePlotPng(analysis::ForceHistogramPlot(k),
-                                            plot_paths[i].first);
-          !s.ok()) {
-        return Fail(err, s.error().message);
-      }
-      if (Status s = analysis::WritePlotPng(analysis::SpeedHistogramPlot(k),
-                                            plot_paths[i].second);
-          !s.ok()) {
-        return Fail(err, s.error().message);
+    for (auto [summaries, paths] :
+         {std::pair{&report->blocks, &block_plots},
+          std::pair{&report->subjects, &subject_plots}}) {
+      for (std::size_t i = 0; i < summaries->size(); ++i) {
+        const analysis::KinematicsSummary& k = (*summaries)[i];
+        const std::string stem =
+            (fs::path(plots) /
+             (k.block.empty() ? fmt::format("sub-{}", k.subject)
+                              : fmt::format("sub-{}_{}", k.subject, k.block)))
+                .string();
+        Result<std::pair<std::string, std::string>> written =
+            WriteKinematicsPlots(k, stem);
+        if (!written.ok()) return Fail(err, written.error().message);
+        (*paths)[i] = *written;
       }
     }
   }
@@ -443,43 +830,52 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
     Json j;
     j["results"] = dir;
     j["kinematics"] = Json::array();
-    for (std::size_t i = 0; i < summaries->size(); ++i) {
-      const analysis::KinematicsSummary& k = (*summaries)[i];
+    for (std::size_t i = 0; i < report->blocks.size(); ++i) {
       j["kinematics"].push_back(
-          {{"subject", k.subject},
-           {"block", k.block},
-           {"task", k.task},
-           {"intervals", k.intervals},
-           {"samples", k.samples},
-           {"duration_s", k.duration_s},
-           {"mean_force_n", k.mean_force_n},
-           {"sd_force_n", k.sd_force_n},
-           {"max_force_n", k.max_force_n},
-           {"contact_fraction", k.contact_fraction},
-           {"mean_speed_mm_s", k.mean_speed_mm_s},
-           {"removed_mm3", Optional(k.removed_mm3)},
-           {"removal_rate_mm3_per_s", Optional(k.removal_rate_mm3_per_s)},
-           {"force_histogram_n", HistogramJson(k.force)},
-           {"speed_histogram_mm_s", HistogramJson(k.speed)},
-           {"plots", plot_paths[i].first.empty()
-                         ? Json(nullptr)
-                         : Json{plot_paths[i].first, plot_paths[i].second}}});
+          KinematicsJson(report->blocks[i], block_plots[i]));
     }
+    j["subjects"] = Json::array();
+    for (std::size_t i = 0; i < report->subjects.size(); ++i) {
+      j["subjects"].push_back(
+          KinematicsJson(report->subjects[i], subject_plots[i]));
+    }
+    j["group_comparison"] =
+        comparison ? ComparisonJson(*comparison, groups_path) : Json(nullptr);
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
   }
-  out << fmt::format("{:<12} {:<10} {:>5} {:>8} {:>12} {:>10} {:>12} {:>16}\n",
+  out << fmt::format("{:<12} {:<10} {:>11} {:>8} {:>12} {:>10} {:>12} {:>16}\n",
                      "subject", "block", "task", "time s", "mean force N",
                      "contact %", "speed mm/s", "removal mm3/s");
-  for (const analysis::KinematicsSummary& k : *summaries) {
-    out << fmt::format(
-        "{:<12} {:<10} {:>5} {:>8.1f} {:>12.3f} {:>10.1f} {:>12.3f} {:>16}\n",
-        "sub-" + k.subject, k.block, k.task, k.duration_s, k.mean_force_n,
-        100.0 * k.contact_fraction, k.mean_speed_mm_s,
-        k.removal_rate_mm3_per_s
-            ? fmt::format("{:.4g}", *k.removal_rate_mm3_per_s)
-            : std::string("n/a"));
+  for (const auto* summaries : {&report->blocks, &report->subjects}) {
+    for (const analysis::KinematicsSummary& k : *summaries) {
+      out << fmt::format(
+          "{:<12} {:<10} {:>11} {:>8.1f} {:>12.3f} {:>10.1f} {:>12.3f} "
+          "{:>16}\n",
+          "sub-" + k.subject, k.block.empty() ? "(all)" : k.block, k.task,
+          k.duration_s, k.mean_force_n, 100.0 * k.contact_fraction,
+          k.mean_speed_mm_s,
+          k.removal_rate_mm3_per_s
+              ? fmt::format("{:.4g}", *k.removal_rate_mm3_per_s)
+              : std::string("n/a"));
+    }
   }
+  std::string force_measures, speed_measures;
+  for (const analysis::KinematicsSummary& k : report->subjects) {
+    if (force_measures.find(k.force_measure) == std::string::npos) {
+      force_measures += (force_measures.empty() ? "" : "; ") + k.force_measure;
+    }
+    if (speed_measures.find(k.speed_measure) == std::string::npos) {
+      speed_measures += (speed_measures.empty() ? "" : "; ") + k.speed_measure;
+    }
+  }
+  out << fmt::format(
+      "(all): the subject's blocks together. force: {}. speed: {}, between "
+      "consecutive samples of one interval. contact: samples with force above "
+      "0.01 N. removal: removed_mm3 per traced second (n/a: the traces have "
+      "no removed_mm3).\n",
+      force_measures, speed_measures);
+  if (comparison) PrintComparison(out, *comparison, groups_path);
   if (flags.Given("--plots")) out << "plots in " << plots << '\n';
   return 0;
 }
@@ -848,6 +1244,10 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
 
 int RunScoresCommand(const Args& args, std::ostream& out, std::ostream& err) {
   return RunScores(args, out, err);
+}
+int RunResponseTimesCommand(const Args& args, std::ostream& out,
+                            std::ostream& err) {
+  return RunResponseTimes(args, out, err);
 }
 int RunThresholdsCommand(const Args& args, std::ostream& out,
                          std::ostream& err) {

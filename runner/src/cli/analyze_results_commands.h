@@ -1,4 +1,4 @@
-// `burrlab analyze scores|thresholds|kinematics DIR`: analyses of the
+// `burrlab analyze scores|rt|thresholds|kinematics DIR`: analyses of the
 // results a study wrote (its BIDS exports), and `burrlab analyze power`.
 // Exit codes: analysis/README.md.
 #ifndef BURRLAB_RUNNER_CLI_ANALYZE_RESULTS_COMMANDS_H_
@@ -21,12 +21,16 @@ namespace burrlab::runner {
 std::string IncompleteSessionWarning(
     const results_schema::IncompleteSession& session, const std::string& dir);
 
-// Scores, significance and same-different d' per block.
+// Scores, significance and same-different d' per block, with response times.
 int RunScoresCommand(const Args& args, std::ostream& out, std::ostream& err);
+// Response times per subject, block and condition.
+int RunResponseTimesCommand(const Args& args, std::ostream& out,
+                            std::ostream& err);
 // Thresholds per subject and block by each method's estimator.
 int RunThresholdsCommand(const Args& args, std::ostream& out,
                          std::ostream& err);
-// Force and speed histograms, mean force and removal rate.
+// Force and speed histograms, mean force and removal rate; two groups
+// compared.
 int RunKinematicsCommand(const Args& args, std::ostream& out,
                          std::ostream& err);
 // Probability of a significant result from simulated studies.

@@ -1,10 +1,14 @@
-// `burrlab analyze scores|thresholds|kinematics DIR` on the results of real
-// simulated studies: the staircase thresholds equal the engine's own
-// estimates, the scores JSON carries the tests and the histogram, and a
-// folder without results is one error line and exit 1.
+// `burrlab analyze scores|rt|thresholds|kinematics DIR` on the results of
+// real simulated studies: the staircase thresholds equal the engine's own
+// estimates, the scores JSON carries the tests and the histogram, response
+// times skip and count the trials without one, kinematics compares the
+// groups of a participants.tsv, and a folder without results is one error
+// line and exit 1.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -13,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/results_schema/bids_export.h"
 #include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/journal.h"
 #include "run_cli.h"
@@ -109,6 +114,278 @@ TEST_F(AnalyzeResults, ScoresJsonHasTheTestsAndTheHistogram) {
               1e-12);  // probing removes nothing
 }
 
+// Kinematics with --groups on a station's traces (3-D position and force
+// components), written through the journal and the export: subject k moves
+// the burr on a straight line at 13 k mm/s (steps of 0.01 k (3, 4, 12) mm at
+// 100 Hz) under a constant force (0.6, 0.8, 2.4) N. Truth computed by hand:
+// mean speeds 13, 26, 39, 52 and 65 mm/s, |F| = 2.6 N; experts {13, 39}
+// against trainees {26, 52} (sub-05's group is n/a) give Welch's t =
+// -13 / sqrt(338 / 2 + 338 / 2) = -1/sqrt(2) with df = 2, whose two-sided p
+// is 1 - |t| / sqrt(t^2 + 2) = 1 - 1/sqrt(5) (Student's t with 2 df), and
+// W = 1 (the experts' ranks 1 and 3, minus 3), whose exact p is
+// 2 P(W <= 1) = 2 x 2/6 (W of 2 against 2 is 0, 1, 2, 2, 3, 4).
+TEST_F(AnalyzeResults, KinematicsComparesTheGroupsOfAParticipantsFile) {
+  const std::string results = (dir_ / "station").string();
+  for (int k = 1; k <= 5; ++k) {
+    results_schema::SessionInfo info;
+    info.study = "groups";
+    info.protocol_path = "p.toml";
+    info.protocol_sha256 = std::string(64, 'a');
+    info.subject_label = "0" + std::to_string(k);
+    info.master_seed = 1;
+    info.burrlab_version = "0";
+    info.started_utc = "2024-01-01T00:00:00Z";
+    auto journal = results_schema::Journal::Create(results, info);
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    results_schema::TrialRecord t;
+    t.block = "press";
+    t.method = "two_interval";
+    t.task = "probe";
+    t.interval_materials = {"a"};
+    t.response = "1";
+    t.correct_answer = "1";
+    t.correct = true;
+    results_schema::TraceSamples trace;
+    trace.sampling_frequency_hz = 100.0;
+    trace.columns = {"position_x_mm", "position_y_mm", "position_z_mm",
+                     "force_x_n",     "force_y_n",     "force_z_n"};
+    for (int r = 0; r < 21; ++r) {
+      const double s = 0.01 * k * r;
+      trace.rows.push_back({3.0 * s, 4.0 * s, 12.0 * s, 0.6, 0.8, 2.4});
+    }
+    ASSERT_TRUE(journal->Append(t, {trace}).ok());
+    ASSERT_TRUE(journal->MarkComplete().ok());
+    ASSERT_TRUE(results_schema::ExportBids(results, info.subject_label).ok());
+  }
+  const fs::path participants = dir_ / "participants.tsv";
+  std::ofstream(participants) << "participant_id\tage\tskill\n"
+                                 "sub-01\t41\texpert\n"
+                                 "sub-02\t24\ttrainee\n"
+                                 "sub-03\t52\texpert\n"
+                                 "sub-04\t23\ttrainee\n"
+                                 "sub-05\t30\tn/a\n"
+                                 "sub-06\t33\ttrainee\n";
+  const CliRun run =
+      RunBurrlab({"analyze", "kinematics", results, "--json", "--groups",
+                  participants.string(), "--group-column", "skill"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_EQ(run.err, "");
+  const Json j = Json::parse(run.out);
+  ASSERT_EQ(j["subjects"].size(), 5u);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(j["subjects"][k]["speed_measure"],
+              "|dp/dt| of position_x_mm, position_y_mm, position_z_mm");
+    EXPECT_NEAR(j["subjects"][k]["mean_speed_mm_s"].get<double>(),
+                13.0 * (k + 1), 1e-9);
+    EXPECT_NEAR(j["subjects"][k]["mean_force_n"].get<double>(), 2.6, 1e-12);
+  }
+  const Json& g = j["group_comparison"];
+  EXPECT_EQ(g["column"], "skill");
+  EXPECT_EQ(g["x"], "expert");
+  EXPECT_EQ(g["y"], "trainee");
+  EXPECT_EQ(g["subjects"]["expert"], Json::parse(R"(["01", "03"])"));
+  EXPECT_EQ(g["subjects"]["trainee"], Json::parse(R"(["02", "04"])"));
+  EXPECT_EQ(g["left_out"], Json::parse(R"(["05"])"));
+  // Five measures (no removed_mm3 in a station's traces) for the block, five
+  // over all blocks.
+  ASSERT_EQ(g["comparisons"].size(), 10u);
+  for (std::size_t i : {4u, 9u}) {
+    const Json& c = g["comparisons"][i];
+    EXPECT_EQ(c["block"], i < 5 ? Json("press") : Json(nullptr));
+    EXPECT_EQ(c["measure"], "mean_speed_mm_s");
+    ASSERT_TRUE(c["welch"].is_object()) << c["welch_note"];
+    EXPECT_NEAR(c["welch"]["mean_x"].get<double>(), 26.0, 1e-9);
+    EXPECT_NEAR(c["welch"]["mean_y"].get<double>(), 39.0, 1e-9);
+    EXPECT_NEAR(c["welch"]["t"].get<double>(), -1.0 / std::sqrt(2.0), 1e-9);
+    EXPECT_NEAR(c["welch"]["df"].get<double>(), 2.0, 1e-9);
+    EXPECT_NEAR(c["welch"]["p_two_sided"].get<double>(),
+                1.0 - 1.0 / std::sqrt(5.0), 1e-9);
+    EXPECT_EQ(c["mann_whitney"]["w"], 1.0);
+    EXPECT_NEAR(c["mann_whitney"]["p_two_sided"].get<double>(), 2.0 / 3.0,
+                1e-12);
+    EXPECT_EQ(c["mann_whitney"]["method"], "exact");
+  }
+  // Every subject pressed with the same force: no test, and why.
+  EXPECT_EQ(g["comparisons"][2]["measure"], "max_force_n");
+  EXPECT_TRUE(g["comparisons"][2]["welch"].is_null());
+  EXPECT_EQ(g["comparisons"][2]["mann_whitney_note"],
+            "all 4 values are equal (2.6): the rank-sum test is undefined");
+
+  // The table explains its columns.
+  const CliRun text =
+      RunBurrlab({"analyze", "kinematics", results, "--groups",
+                  participants.string(), "--group-column", "skill"});
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("x = expert (sub-01, sub-03), y = trainee (sub-02, "
+                          "sub-04); left out (n/a): sub-05\n"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("press      mean_speed_mm_s             2      2 "
+                          "        26         39   -0.707    2.00     0.553 "
+                          "      1     0.667\n"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("t, df, p (t): Welch's two-sample t-test"),
+            std::string::npos);
+  EXPECT_NE(text.out.find("~ marks the approximation"), std::string::npos);
+  EXPECT_NE(text.out.find("note: press max_force_n: no W: all 4 values are "
+                          "equal (2.6): the rank-sum test is undefined\n"),
+            std::string::npos)
+      << text.out;
+
+  // Bad group files: one error, exit 1, nothing on stdout.
+  const auto groups_error = [&](const std::string& file_text,
+                                const std::string& column = "group") {
+    std::ofstream(participants, std::ios::trunc) << file_text;
+    const CliRun r =
+        RunBurrlab({"analyze", "kinematics", results, "--groups",
+                    participants.string(), "--group-column", column});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.out, "");
+    return r.err;
+  };
+  const std::string p = participants.string();
+  EXPECT_EQ(groups_error("participant_id\tgroup\nsub-01\texpert\nsub-02\t"
+                         "expert\n"),
+            "burrlab: --groups: " + p +
+                ": error: the group column holds 1 group (expert): a "
+                "two-group comparison needs exactly 2\n");
+  EXPECT_EQ(groups_error("participant_id\tgroup\n"
+                         "sub-01\ta\nsub-02\tb\nsub-03\ta\nsub-05\ta\n"),
+            "burrlab: --groups " + p +
+                ": sub-04 has traces but no row in the participants file; "
+                "add it (n/a in the group column leaves it out)\n");
+  EXPECT_EQ(groups_error("participant_id\tgroup\nsub-01\ta\n", "skill"),
+            "burrlab: --groups: " + p +
+                ":1:1: error: the header has no skill column (it has "
+                "participant_id, group)\nparticipant_id\tgroup\n^\n");
+  // A spreadsheet's byte-order mark and CR LF line ends read as plain text.
+  std::ofstream(participants, std::ios::trunc)
+      << "\xEF\xBB\xBFparticipant_id\tgroup\r\nsub-01\ta\r\nsub-02\tb\r\n"
+         "sub-03\ta\r\nsub-04\tb\r\nsub-05\tb\r\n";
+  const CliRun windows =
+      RunBurrlab({"analyze", "kinematics", results, "--groups", p, "--json"});
+  ASSERT_EQ(windows.code, 0) << windows.err;
+  EXPECT_EQ(Json::parse(windows.out)["group_comparison"]["y"], "b");
+  const CliRun alone =
+      RunBurrlab({"analyze", "kinematics", results, "--group-column", "x"});
+  EXPECT_EQ(alone.code, 1);
+  EXPECT_EQ(alone.err, "burrlab: --group-column goes with --groups FILE\n");
+  const CliRun empty = RunBurrlab(
+      {"analyze", "kinematics", results, "--groups", p, "--group-column", ""});
+  EXPECT_EQ(empty.code, 1);
+  EXPECT_EQ(empty.err, "burrlab: --group-column must name a column, got ''\n");
+}
+
+// Response times: a subject who typed answers into a pipe has no times;
+// those trials are skipped and counted by `analyze rt` and `analyze scores`.
+// Truth: the median of the times in the _beh.tsv, computed here.
+TEST_F(AnalyzeResults, ResponseTimesSkipAndCountTrialsWithoutOne) {
+  const std::string results = Study("two_interval_2afc.toml", 2, "rt");
+  // sub-02's first three answers untimed, as a pipe's are.
+  const fs::path beh =
+      fs::path(results) / "sub-02" / "beh" / "sub-02_task-probe2afc_beh.tsv";
+  std::ifstream in(beh);
+  std::string header, line, edited;
+  std::getline(in, header);
+  edited = header + "\n";
+  std::vector<std::string> columns;
+  {
+    std::stringstream cells(header);
+    for (std::string c; std::getline(cells, c, '\t');) columns.push_back(c);
+  }
+  const std::size_t rt_at =
+      std::find(columns.begin(), columns.end(), "response_time") -
+      columns.begin();
+  ASSERT_LT(rt_at, columns.size());
+  std::vector<double> times;
+  for (int row = 0; std::getline(in, line); ++row) {
+    std::vector<std::string> cells;
+    std::stringstream split(line);
+    for (std::string c; std::getline(split, c, '\t');) cells.push_back(c);
+    if (row < 3) {
+      cells[rt_at] = "n/a";
+    } else {
+      times.push_back(std::stod(cells[rt_at]));
+    }
+    std::string joined;
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      joined += (k ? "\t" : "") + cells[k];
+    }
+    edited += joined + "\n";
+  }
+  in.close();
+  std::ofstream(beh, std::ios::trunc) << edited;
+  ASSERT_EQ(times.size(), 9u);
+  std::sort(times.begin(), times.end());
+
+  const CliRun run = RunBurrlab({"analyze", "rt", results, "--json"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const Json j = Json::parse(run.out);
+  ASSERT_EQ(j["response_times"].size(), 2u);
+  const Json& two = j["response_times"][1];
+  EXPECT_EQ(two["subject"], "02");
+  EXPECT_EQ(two["block"], "probe2afc");
+  const Json& all = two["conditions"][0];
+  EXPECT_EQ(all["condition"], "all");
+  EXPECT_EQ(all["n"], 9);
+  EXPECT_EQ(all["missing"], 3);
+  EXPECT_NEAR(all["median_s"].get<double>(), times[4], 1e-12);
+  EXPECT_EQ(j["response_times"][0]["conditions"][0]["missing"], 0);
+  EXPECT_EQ(two["conditions"].size(), 3u);  // all, AB, BA
+  EXPECT_EQ(two["conditions"][1]["condition"], "AB");
+
+  const CliRun scores = RunBurrlab({"analyze", "scores", results, "--json"});
+  ASSERT_EQ(scores.code, 0) << scores.err;
+  const Json s = Json::parse(scores.out)["blocks"][0]["response_times"];
+  EXPECT_EQ(s["conditions"][0]["n"], 21);
+  EXPECT_EQ(s["conditions"][0]["missing"], 3);
+  EXPECT_NE(s["definition"].get<std::string>().find("R's quantile type 7"),
+            std::string::npos);
+  const CliRun scores_text = RunBurrlab({"analyze", "scores", results});
+  EXPECT_NE(scores_text.out.find("  response time, s: median [Q1, Q3] (R "
+                                 "quantile type 7), IQR = Q3 - Q1, n timed "
+                                 "trials, n/a trials without a time "
+                                 "(skipped)\n    all "),
+            std::string::npos)
+      << scores_text.out;
+
+  // --tsv: the table and its column descriptions; never overwritten.
+  const std::string tsv = (dir_ / "rt.tsv").string();
+  const CliRun text = RunBurrlab({"analyze", "rt", results, "--tsv", tsv});
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("n/a: trials without one (e.g. answers typed into "
+                          "a pipe), skipped"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("wrote " + tsv + " (columns described in " +
+                          (dir_ / "rt.json").string() + ")"),
+            std::string::npos);
+  std::ifstream written(tsv);
+  std::getline(written, line);
+  EXPECT_EQ(line,
+            "participant_id\tblock\tmethod\tcondition\tn\tmissing\t"
+            "median_s\tq1_s\tq3_s\tiqr_s");
+  std::getline(written, line);
+  EXPECT_TRUE(line.starts_with("sub-01\tprobe2afc\ttwo_interval\tall\t12\t0\t"))
+      << line;
+  const Json sidecar = Json::parse(std::ifstream(dir_ / "rt.json"));
+  EXPECT_EQ(sidecar["median_s"]["Units"], "s");
+  EXPECT_TRUE(sidecar.contains("missing"));
+  const CliRun again = RunBurrlab({"analyze", "rt", results, "--tsv", tsv});
+  EXPECT_EQ(again.code, 1);
+  EXPECT_EQ(again.err, "burrlab: " + tsv +
+                           " already exists; choose another --tsv or remove "
+                           "it\n");
+  const CliRun bad_name =
+      RunBurrlab({"analyze", "rt", results, "--tsv", tsv + ".txt"});
+  EXPECT_EQ(bad_name.code, 1);
+  EXPECT_EQ(bad_name.err, "burrlab: --tsv " + tsv +
+                              ".txt: the file name must end in .tsv (its "
+                              "column descriptions go to the .json beside "
+                              "it)\n");
+}
+
 // A subject whose run stopped before its export (here: its exports
 // removed) is named on every analysis, never left out silently. Truth: the
 // journal's own trial count.
@@ -139,7 +416,8 @@ TEST_F(AnalyzeResults, SubjectsWithTrialsMissingFromTheExportsAreNamed) {
       "`burrlab run PROTOCOL --subject 02 --out " +
       results +
       " --resume` exports them (and finishes the session if it can)\n";
-  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
     const CliRun run = RunBurrlab({"analyze", command, results});
     EXPECT_EQ(run.code, 0) << command << run.err;
     EXPECT_EQ(run.err, warning) << command;
@@ -211,7 +489,8 @@ interval_s = 0.5
       std::to_string(saved) +
       " trials are analysed, and `burrlab run PROTOCOL --subject 02 --out " +
       results + " --resume` finishes it\n";
-  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
     const CliRun run = RunBurrlab({"analyze", command, results, "--json"});
     EXPECT_EQ(run.code, 0) << command << run.err;
     EXPECT_EQ(run.err, warning) << command;
@@ -236,7 +515,8 @@ interval_s = 0.5
 }
 
 TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {
-  for (const std::string command : {"scores", "thresholds", "kinematics"}) {
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
     const CliRun run = RunBurrlab({"analyze", command, dir_.string()});
     EXPECT_EQ(run.code, 1) << command;
     EXPECT_EQ(run.out, "");

@@ -285,6 +285,26 @@ TEST_F(StationRunTest, RunsTheProtocolAndStoresLoopStatisticsPerInterval) {
              (beh / "sub-01_task-probe2afc_physio.tsv.gz").string() + "'");
   EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 160);
 
+  // `analyze kinematics` on these traces: the force is |F| of the three
+  // components, the speed 3-D. Truth computed by hand from the script: the
+  // hand moves at 12.5 mm/s, down for 0.2 s and back up; a row is the mean of
+  // 10 ticks, so of an interval's 39 steps between rows 38 are 0.125 mm
+  // (12.5 mm/s) and the one across the turn is 0.56875 - 0.55625 mm
+  // (1.25 mm/s): mean (38 x 12.5 + 1.25) / 39 mm/s.
+  const ProcessRun kinematics = Burrlab(
+      {"analyze", "kinematics", (dir_ / "out").string(), "--json"}, dir_);
+  ASSERT_EQ(kinematics.code, 0) << kinematics.err;
+  const auto k = nlohmann::json::parse(kinematics.out)["kinematics"][0];
+  EXPECT_EQ(k["force_measure"], "|F| of force_x_n, force_y_n, force_z_n");
+  EXPECT_EQ(k["speed_measure"],
+            "|dp/dt| of position_x_mm, position_y_mm, position_z_mm");
+  EXPECT_EQ(k["intervals"], 4);
+  EXPECT_EQ(k["samples"], 160);
+  EXPECT_LE(k["max_force_n"].get<double>(), 1.5 + 1e-9);
+  EXPECT_GT(k["max_force_n"].get<double>(), 0.5);
+  EXPECT_NEAR(k["mean_speed_mm_s"].get<double>(), (38 * 12.5 + 1.25) / 39, 1e-6)
+      << kinematics.out;
+
   // A screenshot of every phase: ready, two intervals, response per trial,
   // and the end.
   std::vector<std::string> shots;

@@ -1,10 +1,13 @@
 // Group statistics of dissertation §13.5: mean score +- SEM over subjects, a
 // one-sample t-test against chance, and an exact binomial test of pooled
-// correct answers, numerically as R's t.test and binom.test report them.
+// correct answers; and two groups compared (experts and trainees, as §12.3
+// compares their forces and speeds) by Welch's t-test and the Mann-Whitney U
+// test; numerically as R's t.test, binom.test and wilcox.test report them.
 #ifndef BURRLAB_ANALYSIS_GROUP_STATS_H_
 #define BURRLAB_ANALYSIS_GROUP_STATS_H_
 
 #include <span>
+#include <string>
 
 #include "burrlab/base/result.h"
 
@@ -60,6 +63,42 @@ struct BinomialTestResult {
 Result<BinomialTestResult> ExactBinomialTest(int successes, int trials,
                                              double p,
                                              double conf_level = 0.95);
+
+// Welch's two-sample t-test of mean(x) = mean(y) without assuming equal
+// variances (R: t.test(x, y), its default var.equal = FALSE), two-sided.
+struct WelchTTestResult {
+  int n_x = 0;
+  int n_y = 0;
+  double mean_x = 0.0;
+  double mean_y = 0.0;
+  double t = 0.0;   // (mean_x - mean_y) / sqrt(var_x / n_x + var_y / n_y)
+  double df = 0.0;  // Welch-Satterthwaite degrees of freedom
+  double p_two_sided = 0.0;
+};
+// At least 2 finite values in each group, not all of both groups constant.
+Result<WelchTTestResult> WelchTTest(std::span<const double> x,
+                                    std::span<const double> y);
+
+// The Mann-Whitney U test, or Wilcoxon rank-sum test, of x against y
+// (R: wilcox.test(x, y) with its defaults), two-sided.
+struct MannWhitneyResult {
+  int n_x = 0;
+  int n_y = 0;
+  // R's W: the sum of x's ranks in both groups together (ties get their
+  // mean rank) minus n_x (n_x + 1) / 2, i.e. U of x.
+  double w = 0.0;
+  double p_two_sided = 0.0;
+  bool ties = false;  // some value occurs more than once
+  // As wilcox.test decides: exact when both groups have fewer than 50 values
+  // and there are no ties (p from the exact distribution of W, counted),
+  // else the normal approximation with continuity correction and the ties'
+  // correction of the variance.
+  bool exact = false;
+  std::string method;  // "exact" or the approximation, in words
+};
+// At least 1 finite value in each group; not every value equal.
+Result<MannWhitneyResult> MannWhitneyTest(std::span<const double> x,
+                                          std::span<const double> y);
 
 }  // namespace burrlab::analysis
 

@@ -3,7 +3,8 @@
 // t-test of the proportions correct against chance, an exact binomial test of
 // the pooled answers, and for same-different blocks hit and false-alarm rates
 // with d' under the differencing and independent-observation models, per
-// subject and pooled. Reads the trials of burrlab's BIDS exports.
+// subject and pooled, and the block's response times per condition. Reads
+// the trials of burrlab's BIDS exports.
 #ifndef BURRLAB_ANALYSIS_SCORES_H_
 #define BURRLAB_ANALYSIS_SCORES_H_
 
@@ -14,6 +15,7 @@
 
 #include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/plot.h"
+#include "burrlab/analysis/response_times.h"
 #include "burrlab/base/result.h"
 #include "burrlab/results_schema/bids_read.h"
 
@@ -67,6 +69,9 @@ struct BlockScores {
   std::optional<TTestResult> t_test;
   std::optional<BinomialTestResult> binomial;  // pooled answers vs chance
   std::optional<SameDifferentRates> pooled_rates;
+  // Response times of every subject's trials in the block: "all", then per
+  // condition (SummarizeResponseTimes).
+  std::vector<ResponseTimeSummary> response_times;
   std::vector<std::string> warnings;
 };
 

@@ -86,8 +86,11 @@ std::vector<BehFile> TwoSubjects() {
       t.method = "two_interval";
       t.task = "probe";
       t.trial_type = s == 0 ? "AB" : "BA";
-      t.correct_answer = "1";
-      t.response = "1";
+      // Copies of one string (GCC 12 at -O3 warns, falsely, that assigning
+      // the literal here may overlap: -Wrestrict).
+      const std::string one = "1";
+      t.correct_answer = one;
+      t.response = one;
       t.correct = true;
       if (i < times.size()) t.response_time_s = times[i];
       files[s].table.trials.push_back(t);

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "burrlab/results_schema/dataset_layout.h"
+
 namespace burrlab::analysis {
 namespace {
 
@@ -161,6 +163,7 @@ Result<std::vector<KinematicsSummary>> SummarizeKinematics(
     if (file.physio.empty()) continue;
     Samples s;
     s.summary.subject = file.subject;
+    s.summary.session = file.session;
     s.summary.block = file.task;
     s.summary.task = file.table.trials.front().task;
     if (Status status = Collect(file, &s); !status.ok()) return status.error();
@@ -191,17 +194,20 @@ Result<std::vector<KinematicsSummary>> SummarizeKinematics(
 }
 
 LinePlot ForceHistogramPlot(const KinematicsSummary& s) {
-  return HistogramPlot(s.force,
-                       fmt::format("sub-{} {} ({}): force, mean {:.3g} N",
-                                   s.subject, s.block, s.task, s.mean_force_n),
-                       "felt force (N)", 0);
+  return HistogramPlot(
+      s.force,
+      fmt::format("{} {} ({}): force, mean {:.3g} N",
+                  results_schema::SessionName(s.subject, s.session), s.block,
+                  s.task, s.mean_force_n),
+      "felt force (N)", 0);
 }
 
 LinePlot SpeedHistogramPlot(const KinematicsSummary& s) {
   return HistogramPlot(
       s.speed,
-      fmt::format("sub-{} {} ({}): burr speed, mean {:.3g} mm/s", s.subject,
-                  s.block, s.task, s.mean_speed_mm_s),
+      fmt::format("{} {} ({}): burr speed, mean {:.3g} mm/s",
+                  results_schema::SessionName(s.subject, s.session), s.block,
+                  s.task, s.mean_speed_mm_s),
       "burr speed |dz/dt| (mm/s)", 1);
 }
 

@@ -20,6 +20,7 @@
 #include "burrlab/analysis/thresholds.h"
 #include "burrlab/protocols/protocol_file.h"
 #include "burrlab/results_schema/bids_read.h"
+#include "burrlab/results_schema/dataset_layout.h"
 #include "cli/flags.h"
 #include "cli/json_number.h"
 #include "studies/observer_fit.h"
@@ -37,6 +38,11 @@ Json Optional(const std::optional<double>& value) {
   return value.has_value() ? JsonNumber(*value) : Json(nullptr);
 }
 
+// " --session S" for a labelled session, else nothing.
+std::string SessionFlag(const std::string& session) {
+  return session.empty() ? std::string() : " --session " + session;
+}
+
 // The study's exports, or one error line. First warns on `err` of every
 // subject whose journal holds trials its exports do not, so no subject is
 // left out silently, then of every other subject whose session stopped
@@ -50,21 +56,21 @@ Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
       results_schema::FindUnexportedTrials(dir, files.ok() ? *files : none);
   for (const results_schema::UnexportedTrials& u : unexported) {
     err << fmt::format(
-        "burrlab: warning: sub-{}'s journal holds {} trials but its exports "
+        "burrlab: warning: {}'s journal holds {} trials but its exports "
         "only {}, and analyses read the exports; `burrlab run PROTOCOL "
-        "--subject {} --out {} --resume` exports them (and finishes the "
+        "--subject {}{} --out {} --resume` exports them (and finishes the "
         "session if it can)\n",
-        u.subject,
+        results_schema::SessionName(u.subject, u.session),
         u.journal_trials < 0 ? std::string("unreadable")
                              : std::to_string(u.journal_trials),
-        u.exported_trials, u.subject, dir);
+        u.exported_trials, u.subject, SessionFlag(u.session), dir);
   }
   for (const results_schema::IncompleteSession& s :
        results_schema::FindIncompleteSessions(dir)) {
     const bool warned =
         std::any_of(unexported.begin(), unexported.end(),
                     [&](const results_schema::UnexportedTrials& u) {
-                      return u.subject == s.subject;
+                      return u.subject == s.subject && u.session == s.session;
                     });
     if (!warned) err << IncompleteSessionWarning(s, dir);
   }
@@ -77,14 +83,15 @@ Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
 std::string IncompleteSessionWarning(
     const results_schema::IncompleteSession& session, const std::string& dir) {
   return fmt::format(
-      "burrlab: warning: sub-{0}'s session is incomplete: it stopped after "
+      "burrlab: warning: {4}'s session is incomplete: it stopped after "
       "{1}{2} trials; its {1} trials are analysed, and `burrlab run PROTOCOL "
-      "--subject {0} --out {3} --resume` finishes it\n",
+      "--subject {0}{5} --out {3} --resume` finishes it\n",
       session.subject, session.trials,
       session.planned_trials
           ? fmt::format(" of {} planned", *session.planned_trials)
           : std::string(),
-      dir);
+      dir, results_schema::SessionName(session.subject, session.session),
+      SessionFlag(session.session));
 }
 
 namespace {
@@ -329,21 +336,22 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
     j["results"] = dir;
     j["thresholds"] = Json::array();
     for (const analysis::ThresholdEstimate& e : *estimates) {
-      Json t = {{"subject", e.subject},
-                {"block", e.block},
-                {"method", e.method},
-                {"task", e.task},
-                {"staircase_id",
-                 e.staircase_id ? Json(*e.staircase_id) : Json(nullptr)},
-                {"estimator", e.estimator},
-                {"value", Optional(e.value)},
-                {"unit", e.stim_unit},
-                {"spread", Optional(e.spread)},
-                {"spread_unit", e.spread_unit},
-                {"n", e.n},
-                {"ci", e.fit ? Json{Optional(e.ci_low), Optional(e.ci_high)}
-                             : Json(nullptr)},
-                {"note", e.note}};
+      Json t = {{"subject", e.subject}};
+      if (!e.session.empty()) t["session"] = e.session;
+      t.update(Json{{"block", e.block},
+                    {"method", e.method},
+                    {"task", e.task},
+                    {"staircase_id",
+                     e.staircase_id ? Json(*e.staircase_id) : Json(nullptr)},
+                    {"estimator", e.estimator},
+                    {"value", Optional(e.value)},
+                    {"unit", e.stim_unit},
+                    {"spread", Optional(e.spread)},
+                    {"spread_unit", e.spread_unit},
+                    {"n", e.n},
+                    {"ci", e.fit ? Json{Optional(e.ci_low), Optional(e.ci_high)}
+                                 : Json(nullptr)},
+                    {"note", e.note}});
       if (e.fit) {
         t["fit"] = {{"alpha", e.fit->params.alpha},
                     {"beta", e.fit->params.beta},
@@ -360,7 +368,7 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
   }
   for (const analysis::ThresholdEstimate& e : *estimates) {
     const std::string who = fmt::format(
-        "sub-{} {}{}", e.subject, e.block,
+        "{} {}{}", results_schema::SessionName(e.subject, e.session), e.block,
         e.staircase_id ? fmt::format(" staircase {}", *e.staircase_id)
                        : std::string());
     std::string value = "n/a";
@@ -424,7 +432,10 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
     for (std::size_t i = 0; i < summaries->size(); ++i) {
       const analysis::KinematicsSummary& k = (*summaries)[i];
       const std::string stem =
-          (fs::path(plots) / fmt::format("sub-{}_{}", k.subject, k.block))
+          (fs::path(plots) /
+           fmt::format("{}_{}",
+                       results_schema::SessionFilePrefix(k.subject, k.session),
+                       k.block))
               .string();
       plot_paths[i] = {stem + "_force.png", stem + "_speed.png"};
       if (Status s = analysis::WritePlotPng(analysis::ForceHistogramPlot(k),
@@ -445,25 +456,27 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
     j["kinematics"] = Json::array();
     for (std::size_t i = 0; i < summaries->size(); ++i) {
       const analysis::KinematicsSummary& k = (*summaries)[i];
-      j["kinematics"].push_back(
-          {{"subject", k.subject},
-           {"block", k.block},
-           {"task", k.task},
-           {"intervals", k.intervals},
-           {"samples", k.samples},
-           {"duration_s", k.duration_s},
-           {"mean_force_n", k.mean_force_n},
-           {"sd_force_n", k.sd_force_n},
-           {"max_force_n", k.max_force_n},
-           {"contact_fraction", k.contact_fraction},
-           {"mean_speed_mm_s", k.mean_speed_mm_s},
-           {"removed_mm3", Optional(k.removed_mm3)},
-           {"removal_rate_mm3_per_s", Optional(k.removal_rate_mm3_per_s)},
-           {"force_histogram_n", HistogramJson(k.force)},
-           {"speed_histogram_mm_s", HistogramJson(k.speed)},
-           {"plots", plot_paths[i].first.empty()
-                         ? Json(nullptr)
-                         : Json{plot_paths[i].first, plot_paths[i].second}}});
+      Json row = {{"subject", k.subject}};
+      if (!k.session.empty()) row["session"] = k.session;
+      row.update(Json{
+          {"block", k.block},
+          {"task", k.task},
+          {"intervals", k.intervals},
+          {"samples", k.samples},
+          {"duration_s", k.duration_s},
+          {"mean_force_n", k.mean_force_n},
+          {"sd_force_n", k.sd_force_n},
+          {"max_force_n", k.max_force_n},
+          {"contact_fraction", k.contact_fraction},
+          {"mean_speed_mm_s", k.mean_speed_mm_s},
+          {"removed_mm3", Optional(k.removed_mm3)},
+          {"removal_rate_mm3_per_s", Optional(k.removal_rate_mm3_per_s)},
+          {"force_histogram_n", HistogramJson(k.force)},
+          {"speed_histogram_mm_s", HistogramJson(k.speed)},
+          {"plots", plot_paths[i].first.empty()
+                        ? Json(nullptr)
+                        : Json{plot_paths[i].first, plot_paths[i].second}}});
+      j["kinematics"].push_back(std::move(row));
     }
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
@@ -474,8 +487,9 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   for (const analysis::KinematicsSummary& k : *summaries) {
     out << fmt::format(
         "{:<12} {:<10} {:>5} {:>8.1f} {:>12.3f} {:>10.1f} {:>12.3f} {:>16}\n",
-        "sub-" + k.subject, k.block, k.task, k.duration_s, k.mean_force_n,
-        100.0 * k.contact_fraction, k.mean_speed_mm_s,
+        results_schema::SessionName(k.subject, k.session), k.block, k.task,
+        k.duration_s, k.mean_force_n, 100.0 * k.contact_fraction,
+        k.mean_speed_mm_s,
         k.removal_rate_mm3_per_s
             ? fmt::format("{:.4g}", *k.removal_rate_mm3_per_s)
             : std::string("n/a"));

@@ -35,8 +35,9 @@ struct KinematicsOptions {
 
 struct KinematicsSummary {
   std::string subject;
-  std::string block;  // the task label of the files
-  std::string task;   // "probe" or "drill"
+  std::string session;  // the files' session label; empty: not labelled
+  std::string block;    // the task label of the files
+  std::string task;     // "probe" or "drill"
   int intervals = 0;
   long long samples = 0;
   double duration_s = 0.0;    // traced time

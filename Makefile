@@ -14,6 +14,12 @@ PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchm
   nettle-dev libnlopt-dev libusb-1.0-0-dev \
   libglfw3-dev libimgui-dev libhidapi-dev xvfb xauth libgl1-mesa-dri umockdev libumockdev-dev
 
+# Packages wanted for a command rather than by name, as COMMAND:PACKAGE: the BIDS validator
+# test (tests/runner/bids_validator/) needs node and npm. Debian 12 has them as nodejs (Node 18)
+# and npm; a Node.js installed otherwise (e.g. NodeSource's nodejs, which brings its own npm and
+# conflicts with Debian's npm package) is used as it is.
+COMMAND_PACKAGES := node:nodejs npm:npm
+
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 # `make fuzz` only: clang and libFuzzer's runtime (libclang_rt.fuzzer-x86_64.a).
@@ -28,7 +34,8 @@ all: build
 
 deps:
 	@missing=$$(for p in $(PACKAGES); do \
-	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done; \
+	  for c in $(COMMAND_PACKAGES); do command -v $${c%%:*} >/dev/null || echo $${c#*:}; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "installing missing Debian packages:" $$missing; \
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get update -qq && \

@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+
+#include "burrlab/results_schema/dataset_layout.h"
 
 namespace burrlab::analysis {
 namespace {
@@ -261,7 +264,8 @@ LinePlot HistogramPlot(const Histogram& h, const std::string& title,
 
 // "sub-01 probe (probe)" or "sub-01 all blocks (probe)".
 std::string Who(const KinematicsSummary& s) {
-  return fmt::format("sub-{} {} ({})", s.subject,
+  return fmt::format("{} {} ({})",
+                     results_schema::SessionName(s.subject, s.session),
                      s.block.empty() ? "all blocks" : s.block, s.task);
 }
 
@@ -280,6 +284,7 @@ Result<KinematicsReport> SummarizeKinematics(std::span<const BehFile> files,
     if (file.physio.empty()) continue;
     Samples s;
     s.summary.subject = file.subject;
+    s.summary.session = file.session;
     s.summary.block = file.task;
     s.summary.task = file.table.trials.front().task;
     if (Status status = Collect(file, &s); !status.ok()) return status.error();
@@ -350,13 +355,24 @@ void CompareBlock(const std::vector<KinematicsSummary>& summaries,
     KinematicsComparison c;
     c.block = block;
     c.measure = measure;
+    // The subject is the unit: a subject with several sessions of the block
+    // contributes the mean of its sessions' values.
+    std::map<std::string, std::pair<double, int>> per_subject;
+    std::vector<std::string> order;
     for (const KinematicsSummary& k : summaries) {
       if (k.block != block) continue;
-      const auto it = groups.group_of.find(k.subject);
-      if (it == groups.group_of.end()) continue;  // n/a: left out
+      if (!groups.group_of.contains(k.subject)) continue;  // n/a: left out
       const std::optional<double> v = MeasureOf(k, measure);
       if (!v) continue;
-      c.values[it->second == g.groups[0] ? 0 : 1].push_back(*v);
+      auto [it, added] = per_subject.try_emplace(k.subject, 0.0, 0);
+      if (added) order.push_back(k.subject);
+      it->second.first += *v;
+      it->second.second += 1;
+    }
+    for (const std::string& subject : order) {
+      const auto& [sum, n] = per_subject.at(subject);
+      c.values[groups.group_of.at(subject) == g.groups[0] ? 0 : 1].push_back(
+          sum / n);
     }
     if (c.values[0].empty() && c.values[1].empty()) continue;
     if (Result<WelchTTestResult> t = WelchTTest(c.values[0], c.values[1]);

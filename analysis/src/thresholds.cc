@@ -264,6 +264,7 @@ Result<std::vector<ThresholdEstimate>> EstimateThresholds(
   }
   std::vector<ThresholdEstimate> out;
   for (const BehFile& file : files) {
+    const std::size_t first_of_file = out.size();
     // Trials per block in order, then per staircase.
     std::vector<std::string> blocks;
     std::map<std::string, std::vector<const TrialRecord*>> by_block;
@@ -292,6 +293,9 @@ Result<std::vector<ThresholdEstimate>> EstimateThresholds(
       } else if (method == "constant_stimuli") {
         out.push_back(ConstantStimuli(file.subject, trials, options));
       }
+    }
+    for (std::size_t k = first_of_file; k < out.size(); ++k) {
+      out[k].session = file.session;
     }
   }
   if (out.empty()) {

@@ -4,13 +4,9 @@
 #include "burrlab/results_schema/bids_export.h"
 
 #include <fmt/format.h>
-#include <signal.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -22,8 +18,11 @@
 #include <set>
 #include <system_error>
 
+#include "burrlab/base/file_text.h"
+#include "burrlab/results_schema/dataset_layout.h"
 #include "burrlab/results_schema/journal.h"
 #include "burrlab/results_schema/records.h"
+#include "file_writes.h"
 #include "journal_db.h"
 #include "text.h"
 
@@ -32,97 +31,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using OrderedJson = nlohmann::ordered_json;
-
-std::atomic<unsigned> g_temp_counter{0};
-
-fs::path TempPathFor(const fs::path& path) {
-  return fs::path(fmt::format("{}.tmp-{}-{}", path.string(), ::getpid(),
-                              g_temp_counter.fetch_add(1)));
-}
-
-// The process id in a temporary export name "<file>.tmp-<pid>-<n>", or 0.
-pid_t TempFileOwner(std::string_view name) {
-  const std::size_t mark = name.rfind(".tmp-");
-  if (mark == std::string_view::npos || mark == 0) return 0;
-  std::string_view rest = name.substr(mark + 5);
-  const std::size_t dash = rest.find('-');
-  if (dash == std::string_view::npos || dash == 0 || dash + 1 == rest.size()) {
-    return 0;
-  }
-  const auto all_digits = [](std::string_view text) {
-    return std::all_of(text.begin(), text.end(), [](char c) {
-      return std::isdigit(static_cast<unsigned char>(c)) != 0;
-    });
-  };
-  const std::string_view pid = rest.substr(0, dash);
-  if (!all_digits(pid) || !all_digits(rest.substr(dash + 1)) ||
-      pid.size() > 9) {
-    return 0;
-  }
-  return static_cast<pid_t>(std::stol(std::string(pid)));
-}
-
-// Removes the temporary files an export killed before its rename left in
-// `folder`: those of processes that no longer exist (a live process's are
-// its export in progress).
-void RemoveStaleTempFiles(const fs::path& folder) {
-  std::error_code ec;
-  fs::directory_iterator it(folder, ec);
-  if (ec) return;
-  for (; it != fs::directory_iterator(); it.increment(ec)) {
-    if (ec) return;
-    const pid_t owner = TempFileOwner(it->path().filename().string());
-    if (owner <= 0 || owner == ::getpid()) continue;
-    if (::kill(owner, 0) == 0 || errno != ESRCH) continue;
-    std::error_code ignored;
-    fs::remove(it->path(), ignored);
-  }
-}
-
-Error WriteError(const fs::path& path, int err) {
-  return Error{
-      fmt::format("cannot write {}: {}", path.string(), std::strerror(err))};
-}
-
-Status WriteWholeFile(const fs::path& path, std::string_view bytes) {
-  std::FILE* file = std::fopen(path.c_str(), "wbx");
-  if (file == nullptr) return WriteError(path, errno);
-  const bool wrote =
-      std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
-  const int write_errno = errno;
-  if (std::fclose(file) != 0 || !wrote) {
-    const int err = wrote ? errno : write_errno;
-    std::remove(path.c_str());
-    return WriteError(path, err);
-  }
-  return {};
-}
-
-// Writes `bytes` to `path`, replacing an older export atomically.
-Status ReplaceFile(const fs::path& path, std::string_view bytes) {
-  const fs::path temp = TempPathFor(path);
-  if (Status s = WriteWholeFile(temp, bytes); !s) return s;
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    std::remove(temp.c_str());
-    return WriteError(path, err);
-  }
-  return {};
-}
-
-// Writes `bytes` to `path` unless something is there already (kept as is).
-Status WriteIfAbsent(const fs::path& path, std::string_view bytes) {
-  std::error_code ec;
-  if (fs::symlink_status(path, ec).type() != fs::file_type::not_found)
-    return {};
-  const fs::path temp = TempPathFor(path);
-  if (Status s = WriteWholeFile(temp, bytes); !s) return s;
-  const int rc = ::link(temp.c_str(), path.c_str());
-  const int err = errno;
-  std::remove(temp.c_str());
-  if (rc != 0 && err != EEXIST) return WriteError(path, err);
-  return {};
-}
 
 std::string OrNa(std::string_view text) {
   return text.empty() ? std::string(kNa) : std::string(text);
@@ -316,14 +224,15 @@ std::string BehSidecar(const std::string& block,
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
-// Describes the columns of sub-<id>_scans.tsv.
-std::string ScansSidecar() {
+// Describes the columns of sub-<id>[_ses-<session>]_scans.tsv.
+std::string ScansSidecar(bool labelled_session) {
   OrderedJson j;
   j["filename"] = Column("A data file of the subject, relative to its folder");
   j["session_status"] = Column(
       "Whether the session that produced the file ran to its end; a file of "
       "an incomplete session holds the trials saved before it stopped (on an "
-      "error, a stop or a kill), and `burrlab run PROTOCOL --subject <id> "
+      "error, a stop or a kill), and `burrlab run PROTOCOL --subject <id> " +
+      std::string(labelled_session ? "--session <session> " : "") +
       "--out DIR --resume` finishes it (n/a: the journal predates this "
       "record)");
   j["session_status"]["Levels"]["complete"] = "the session ran to its end";
@@ -426,15 +335,73 @@ struct ReadTransaction {
   ~ReadTransaction() { db::RollbackIfOpen(db); }
 };
 
-Status Export(const fs::path& dir, std::string_view label) {
+// Largest dataset_description.json read back to add authors (bytes).
+constexpr std::uintmax_t kMaxDescriptionBytes = 1 << 20;
+
+// Writes DIR/dataset_description.json when absent; when present, adds the
+// `authors` its Authors list lacks (in order, after its own) and keeps the
+// rest of the file as it is.
+Status WriteDatasetDescription(const fs::path& dir,
+                               const OrderedJson& description,
+                               const std::vector<std::string>& authors) {
+  const fs::path path = dir / "dataset_description.json";
+  std::error_code ec;
+  if (fs::symlink_status(path, ec).type() == fs::file_type::not_found) {
+    return WriteIfAbsent(
+        path, description.dump(2, ' ', false,
+                               nlohmann::json::error_handler_t::replace) +
+                  "\n");
+  }
+  if (authors.empty()) return {};
+  Result<std::string> text = ReadTextFile(path.string(), kMaxDescriptionBytes);
+  if (!text) return text.error();
+  OrderedJson kept = OrderedJson::parse(*text, nullptr, false);
+  const auto refuse = [&](std::string_view why) {
+    return Error{fmt::format(
+        "cannot add the authors to {}: {}; fix or remove the file and export "
+        "again",
+        path.string(), why)};
+  };
+  if (kept.is_discarded() || !kept.is_object()) {
+    return refuse("it is not a JSON object");
+  }
+  if (kept.contains("Authors") && !kept["Authors"].is_array()) {
+    return refuse("its Authors is not a list");
+  }
+  OrderedJson& listed = kept["Authors"];
+  if (listed.is_null()) listed = OrderedJson::array();
+  bool added = false;
+  for (const std::string& author : authors) {
+    if (std::find(listed.begin(), listed.end(), OrderedJson(author)) ==
+        listed.end()) {
+      listed.push_back(author);
+      added = true;
+    }
+  }
+  if (!added) return {};
+  return ReplaceFile(
+      path, kept.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+                "\n");
+}
+
+Status Export(const fs::path& dir, std::string_view label,
+              const BidsExportOptions& options) {
   if (Status s = ValidateSubjectLabel(label); !s) return s;
-  const fs::path journal_path = JournalPath(dir, label);
+  const std::string& session_label = options.session;
+  if (!session_label.empty()) {
+    if (Status s = ValidateSessionLabel(session_label); !s) return s;
+  }
+  for (const std::string& author : options.authors) {
+    if (Status s = ValidateAuthor(author); !s) return s;
+  }
+  const fs::path journal_path = JournalPath(dir, label, session_label);
   std::error_code ec;
   if (fs::symlink_status(journal_path, ec).type() == fs::file_type::not_found) {
     return Error{
-        fmt::format("no journal for sub-{} in {} ({} does not exist); "
+        fmt::format("no journal for {} in {} ({} does not exist); "
                     "nothing to export",
-                    label, dir.string(), journal_path.string())};
+                    SessionName(label, session_label), dir.string(),
+                    journal_path.string())};
   }
   auto opened = db::OpenDb(journal_path, /*create=*/false);
   if (!opened) return opened.error();
@@ -491,13 +458,10 @@ Status Export(const fs::path& dir, std::string_view label) {
   description["Name"] = session->study;
   description["BIDSVersion"] = kBidsVersion;
   description["DatasetType"] = "raw";
+  if (!options.authors.empty()) description["Authors"] = options.authors;
   description["GeneratedBy"] = OrderedJson::array(
       {{{"Name", "burrlab"}, {"Version", session->burrlab_version}}});
-  if (Status s = WriteIfAbsent(
-          dir / "dataset_description.json",
-          description.dump(2, ' ', false,
-                           nlohmann::json::error_handler_t::replace) +
-              "\n");
+  if (Status s = WriteDatasetDescription(dir, description, options.authors);
       !s) {
     return s;
   }
@@ -505,8 +469,10 @@ Status Export(const fs::path& dir, std::string_view label) {
     return s;
   }
 
-  const std::string subject = fmt::format("sub-{}", label);
-  const fs::path beh_dir = dir / subject / "beh";
+  // Every file name of the session starts with `prefix`.
+  const std::string prefix = SessionFilePrefix(label, session_label);
+  const fs::path session_dir = SessionFolder(dir, label, session_label);
+  const fs::path beh_dir = session_dir / "beh";
   RemoveStaleTempFiles(beh_dir);
   fs::create_directories(beh_dir, ec);
   if (ec) {
@@ -517,7 +483,7 @@ Status Export(const fs::path& dir, std::string_view label) {
   for (const std::string& block : blocks) {
     const std::vector<const TrialRecord*>& list = block_trials[block];
     const std::string stem =
-        fmt::format("{}_task-{}", subject, task_labels.at(block));
+        fmt::format("{}_task-{}", prefix, task_labels.at(block));
 
     std::string tsv = Joined(BehColumns(), "\t") + "\n";
     for (const TrialRecord* t : list) {
@@ -573,9 +539,8 @@ Status Export(const fs::path& dir, std::string_view label) {
       scanned.push_back("beh/" + physio_stem + ".tsv.gz");
     }
   }
-  // The subject's scans.tsv marks every file with the state of its session.
-  const fs::path subject_dir = dir / subject;
-  RemoveStaleTempFiles(subject_dir);
+  // The session's scans.tsv marks every file with the state of the session.
+  RemoveStaleTempFiles(session_dir);
   std::string scans = Joined(ScansColumns(), "\t") + "\n";
   for (const std::string& file : scanned) {
     scans += fmt::format(
@@ -585,11 +550,12 @@ Status Export(const fs::path& dir, std::string_view label) {
             : std::string(*progress->complete ? "complete" : "incomplete"),
         progress->trials, OrNa(progress->planned_trials));
   }
-  if (Status s = ReplaceFile(subject_dir / (subject + "_scans.tsv"), scans);
+  if (Status s = ReplaceFile(session_dir / (prefix + "_scans.tsv"), scans);
       !s) {
     return s;
   }
-  return ReplaceFile(subject_dir / (subject + "_scans.json"), ScansSidecar());
+  return ReplaceFile(session_dir / (prefix + "_scans.json"),
+                     ScansSidecar(!session_label.empty()));
 }
 
 }  // namespace
@@ -635,12 +601,44 @@ std::string TaskLabel(std::string_view block_name) {
   return label.empty() ? std::string("block") : label;
 }
 
+Status ValidateAuthor(std::string_view author) {
+  if (author.find_first_not_of(' ') == std::string_view::npos) {
+    return Error{"an author's name is empty; give one name per --author"};
+  }
+  if (!IsValidUtf8(author)) {
+    return Error{fmt::format("author {} is not valid UTF-8", Quoted(author))};
+  }
+  for (std::size_t i = 0; i < author.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(author[i]);
+    if (byte < 0x20 || byte == 0x7f) {
+      return Error{fmt::format(
+          "author {} has {} at position {}; a name is one line of text",
+          Quoted(author), DescribeChar(author[i]), i + 1)};
+    }
+  }
+  const auto commas = std::count(author.begin(), author.end(), ',');
+  if (commas > 1) {
+    return Error{fmt::format(
+        "author {} has {} commas; give one name per --author (\"Surname, "
+        "Given names\" at most: BIDS validators read more commas as several "
+        "authors in one entry)",
+        Quoted(author), commas)};
+  }
+  return {};
+}
+
 Status ExportBids(const fs::path& dir, std::string_view subject_label) {
+  return ExportBids(dir, subject_label, BidsExportOptions{});
+}
+
+Status ExportBids(const fs::path& dir, std::string_view subject_label,
+                  const BidsExportOptions& options) {
   try {
-    return Export(dir, subject_label);
+    return Export(dir, subject_label, options);
   } catch (const std::exception& e) {
-    return Error{fmt::format("cannot export sub-{}: internal error: {}",
-                             subject_label, e.what())};
+    return Error{fmt::format("cannot export {}: internal error: {}",
+                             SessionName(subject_label, options.session),
+                             e.what())};
   }
 }
 

@@ -20,6 +20,7 @@
 
 #include "burrlab/base/file_text.h"
 #include "burrlab/results_schema/bids_export.h"
+#include "burrlab/results_schema/dataset_layout.h"
 #include "burrlab/results_schema/journal.h"
 #include "journal_db.h"
 #include "text.h"
@@ -68,9 +69,10 @@ std::optional<Int> ParseInt(std::string_view text) {
   return value;
 }
 
-// "sub-<label>_task-<task>[_recording-<k>]_<suffix>" -> (label, task, k).
+// "sub-<label>[_ses-<session>]_task-<task>[_recording-<k>]_<suffix>" ->
+// (label, session, task, k).
 struct BidsName {
-  std::string subject, task, recording;
+  std::string subject, session, task, recording;
 };
 std::optional<BidsName> ParseBidsName(std::string_view name,
                                       std::string_view suffix) {
@@ -81,6 +83,12 @@ std::optional<BidsName> ParseBidsName(std::string_view name,
   if (task == std::string_view::npos || task == 0) return std::nullopt;
   BidsName out;
   out.subject = std::string(name.substr(0, task));
+  if (const std::size_t ses = out.subject.find("_ses-");
+      ses != std::string::npos) {
+    out.session = out.subject.substr(ses + 5);
+    out.subject.resize(ses);
+    if (!ValidateSessionLabel(out.session)) return std::nullopt;
+  }
   std::string_view rest = name.substr(task + 6);
   const std::size_t recording = rest.find("_recording-");
   if (recording != std::string_view::npos) {
@@ -445,41 +453,39 @@ Status ForEachPhysioRow(
 
 namespace {
 
-// The labels (without "sub-") of DIR/sub-*/ that hold a journal, sorted.
-std::vector<std::string> SubjectsWithJournals(const fs::path& dir) {
-  std::vector<std::string> labels;
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec);
-       !ec && it != fs::directory_iterator(); it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (!name.starts_with("sub-")) continue;
-    std::error_code exists_ec;
-    if (fs::is_regular_file(JournalPath(dir, name.substr(4)), exists_ec)) {
-      labels.push_back(name.substr(4));
+// The session folders of DIR that hold a journal, sorted by subject, then
+// session.
+std::vector<SessionFolderEntry> SessionsWithJournals(const fs::path& dir) {
+  std::vector<SessionFolderEntry> sessions;
+  for (SessionFolderEntry& entry : ListSessionFolders(dir)) {
+    std::error_code ec;
+    if (fs::is_regular_file(JournalPath(dir, entry.subject, entry.session),
+                            ec)) {
+      sessions.push_back(std::move(entry));
     }
   }
-  std::sort(labels.begin(), labels.end());
-  return labels;
+  return sessions;
 }
 
 }  // namespace
 
 std::vector<UnexportedTrials> FindUnexportedTrials(
     const fs::path& dir, const std::vector<BehFile>& files) {
-  std::map<std::string, int> exported;
+  std::map<std::pair<std::string, std::string>, int> exported;
   for (const BehFile& f : files) {
-    exported[f.subject] += static_cast<int>(f.table.trials.size());
+    exported[{f.subject, f.session}] += static_cast<int>(f.table.trials.size());
   }
   std::vector<UnexportedTrials> found;
-  for (const std::string& label : SubjectsWithJournals(dir)) {
-    const fs::path journal = JournalPath(dir, label);
+  for (const SessionFolderEntry& s : SessionsWithJournals(dir)) {
+    const fs::path journal = JournalPath(dir, s.subject, s.session);
     int trials = -1;
     if (auto db = db::OpenDb(journal, /*create=*/false)) {
       if (auto count = db::CountTrials(db->get(), journal)) trials = *count;
     }
-    const int in_exports = exported.contains(label) ? exported[label] : 0;
+    const auto it = exported.find({s.subject, s.session});
+    const int in_exports = it != exported.end() ? it->second : 0;
     if (trials < 0 || trials > in_exports) {
-      found.push_back({label, trials, in_exports});
+      found.push_back({s.subject, trials, in_exports, s.session});
     }
   }
   return found;
@@ -487,10 +493,12 @@ std::vector<UnexportedTrials> FindUnexportedTrials(
 
 std::vector<IncompleteSession> FindIncompleteSessions(const fs::path& dir) {
   std::vector<IncompleteSession> found;
-  for (const std::string& label : SubjectsWithJournals(dir)) {
-    Result<SessionProgress> progress = ReadSessionProgress(dir, label);
+  for (const SessionFolderEntry& s : SessionsWithJournals(dir)) {
+    Result<SessionProgress> progress =
+        ReadSessionProgress(dir, s.subject, s.session);
     if (!progress || progress->complete != false) continue;
-    found.push_back({label, progress->trials, progress->planned_trials});
+    found.push_back(
+        {s.subject, progress->trials, progress->planned_trials, s.session});
   }
   return found;
 }
@@ -501,18 +509,12 @@ Result<std::vector<BehFile>> ReadBidsDataset(const fs::path& dir) {
     return Error{fmt::format("cannot read {}: not a folder", dir.string())};
   }
   std::vector<BehFile> files;
-  std::vector<fs::path> subjects;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.starts_with("sub-") && e.is_directory(ec)) {
-      subjects.push_back(e.path());
-    }
-  }
+  // An unreadable folder is an error (ListSessionFolders passes over it).
+  const fs::directory_iterator listing(dir, ec);
   if (ec)
     return Error{fmt::format("cannot read {}: {}", dir.string(), ec.message())};
-  std::sort(subjects.begin(), subjects.end());
-  for (const fs::path& subject : subjects) {
-    const fs::path beh = subject / "beh";
+  for (const SessionFolderEntry& folder : ListSessionFolders(dir)) {
+    const fs::path beh = folder.folder / "beh";
     if (!fs::is_directory(beh, ec)) continue;
     std::vector<fs::path> entries;
     for (const fs::directory_entry& e : fs::directory_iterator(beh, ec)) {
@@ -524,7 +526,7 @@ Result<std::vector<BehFile>> ReadBidsDataset(const fs::path& dir) {
       const std::optional<BidsName> name =
           ParseBidsName(path.filename().string(), "_beh.tsv");
       if (!name || !name->recording.empty() ||
-          "sub-" + name->subject != subject.filename().string()) {
+          name->subject != folder.subject || name->session != folder.session) {
         continue;
       }
       Result<std::string> text = ReadTextFile(path.string(), kMaxBehBytes);
@@ -533,13 +535,17 @@ Result<std::vector<BehFile>> ReadBidsDataset(const fs::path& dir) {
       if (!table) return table.error();
       BehFile f;
       f.subject = name->subject;
+      f.session = name->session;
       f.task = name->task;
       f.path = path;
       f.table = std::move(table.value());
       for (const fs::path& other : entries) {
         const std::optional<BidsName> p =
             ParseBidsName(other.filename().string(), "_physio.json");
-        if (!p || p->subject != f.subject || p->task != f.task) continue;
+        if (!p || p->subject != f.subject || p->session != f.session ||
+            p->task != f.task) {
+          continue;
+        }
         Result<PhysioFile> physio = ReadPhysioSidecar(other);
         if (!physio) return physio.error();
         f.physio.push_back(std::move(physio.value()));

@@ -15,6 +15,7 @@
 #include <optional>
 #include <system_error>
 
+#include "burrlab/results_schema/dataset_layout.h"
 #include "burrlab/results_schema/session_lock.h"
 #include "journal_db.h"
 #include "text.h"
@@ -26,6 +27,7 @@ struct Journal::Impl {
   std::optional<SessionLock> lock;  // held while the journal is open
   db::Db db;
   fs::path dir;
+  std::string session_label;  // empty: the subject has no labelled sessions
   fs::path path;
   SessionInfo session;
 };
@@ -42,38 +44,87 @@ Error Internal(std::string_view what, const std::exception& e) {
   return Error{fmt::format("{}: internal error: {}", what, e.what())};
 }
 
+bool PathExists(const fs::path& path) {
+  std::error_code ec;
+  return fs::symlink_status(path, ec).type() != fs::file_type::not_found && !ec;
+}
+
 // The journal at `path` exists: resume it. When it holds no trial (the run
 // stopped before its first one), --resume also starts it afresh with a
 // corrected protocol or set-up.
 Error AlreadyExists(const fs::path& dir, std::string_view label,
-                    const fs::path& path) {
+                    std::string_view session_label, const fs::path& path) {
   int trials = -1;
   if (auto opened = db::OpenDb(path, /*create=*/false)) {
     if (auto count = db::CountTrials(opened->get(), path)) trials = *count;
   }
   if (trials == 0) {
     return Error{fmt::format(
-        "sub-{} already exists in {} but holds no trials (its run stopped "
+        "{} already exists in {} but holds no trials (its run stopped "
         "before the first trial); use --resume to start it again with this "
         "protocol and set-up",
-        label, dir.string())};
+        SessionName(label, session_label), dir.string())};
   }
   return Error{
-      fmt::format("sub-{} already exists in {}; use --resume to continue it",
-                  label, dir.string())};
+      fmt::format("{} already exists in {}; use --resume to continue it",
+                  SessionName(label, session_label), dir.string())};
+}
+
+// "ses-1, ses-2".
+std::string SessionList(const std::vector<std::string>& labels) {
+  std::string list;
+  for (const std::string& label : labels) {
+    list += (list.empty() ? "ses-" : ", ses-") + label;
+  }
+  return list;
 }
 
 Error NoJournal(const fs::path& dir, std::string_view label,
-                const fs::path& path) {
+                std::string_view session_label, const fs::path& path) {
+  if (session_label.empty()) {
+    const std::vector<std::string> sessions = SessionLabelsOf(dir, label);
+    if (!sessions.empty()) {
+      return Error{fmt::format(
+          "no journal for sub-{} in {}: its sessions are labelled ({}); give "
+          "--session LABEL to resume one",
+          label, dir.string(), SessionList(sessions))};
+    }
+  } else if (PathExists(JournalPath(dir, label, ""))) {
+    return Error{fmt::format(
+        "no journal for sub-{} ses-{} in {}: sub-{} was recorded without a "
+        "session label; resume it without --session",
+        label, session_label, dir.string(), label)};
+  }
   return Error{fmt::format(
-      "no journal for sub-{} in {} ({} does not exist); start the session "
+      "no journal for {} in {} ({} does not exist); start the session "
       "without --resume",
-      label, dir.string(), path.string())};
+      SessionName(label, session_label), dir.string(), path.string())};
 }
 
-bool PathExists(const fs::path& path) {
-  std::error_code ec;
-  return fs::symlink_status(path, ec).type() != fs::file_type::not_found && !ec;
+// BIDS allows one layout per subject: all of its sessions labelled
+// (sub-<label>/ses-<session>/) or a single unlabelled one (sub-<label>/).
+Status CheckSessionLayout(const fs::path& dir, std::string_view label,
+                          std::string_view session_label) {
+  const fs::path subject = SessionFolder(dir, label, "");
+  if (session_label.empty()) {
+    const std::vector<std::string> sessions = SessionLabelsOf(dir, label);
+    if (sessions.empty()) return {};
+    return Error{fmt::format(
+        "sub-{} in {} has labelled sessions ({}); give --session LABEL to "
+        "record another (a subject's sessions are all labelled or none is)",
+        label, dir.string(), SessionList(sessions))};
+  }
+  for (const fs::path& unlabelled : {subject / kJournalFile, subject / "beh"}) {
+    std::error_code ec;
+    if (fs::symlink_status(unlabelled, ec).type() != fs::file_type::not_found) {
+      return Error{fmt::format(
+          "sub-{} in {} was recorded without a session label ({} exists); a "
+          "subject's sessions are all labelled or none is, so record ses-{} "
+          "in another output folder or run sub-{} without --session",
+          label, dir.string(), unlabelled.string(), session_label, label)};
+    }
+  }
+  return {};
 }
 
 void RemoveDbFiles(const fs::path& path) {
@@ -202,7 +253,12 @@ Status LinkNoReplace(const fs::path& temp, const fs::path& target,
 }  // namespace
 
 fs::path JournalPath(const fs::path& dir, std::string_view subject_label) {
-  return dir / fmt::format("sub-{}", subject_label) / kJournalFile;
+  return JournalPath(dir, subject_label, "");
+}
+
+fs::path JournalPath(const fs::path& dir, std::string_view subject_label,
+                     std::string_view session_label) {
+  return SessionFolder(dir, subject_label, session_label) / kJournalFile;
 }
 
 Journal::Journal(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -215,19 +271,35 @@ const fs::path& Journal::path() const { return impl_->path; }
 
 Result<Journal> Journal::Create(const fs::path& dir,
                                 const SessionInfo& session) {
+  return Create(dir, session, "");
+}
+
+Result<Journal> Journal::Create(const fs::path& dir, const SessionInfo& session,
+                                std::string_view session_label) {
   try {
     if (Status s = ValidateSession(session); !s) return s.error();
+    if (!session_label.empty()) {
+      if (Status s = ValidateSessionLabel(session_label); !s) return s.error();
+    }
     const std::string& label = session.subject_label;
-    const fs::path path = JournalPath(dir, label);
+    const fs::path path = JournalPath(dir, label, session_label);
     const fs::path sub = path.parent_path();
     if (!PathExists(path)) {
+      if (Status s = CheckSessionLayout(dir, label, session_label); !s) {
+        return s.error();
+      }
       if (Status s = CheckSubjectFolder(sub); !s) return s.error();
     }
     // Taken before anything is written, so a running session is reported as
     // in use rather than as existing.
-    Result<SessionLock> lock = SessionLock::Acquire(dir, label);
+    Result<SessionLock> lock = SessionLock::Acquire(dir, label, session_label);
     if (!lock) return lock.error();
-    if (PathExists(path)) return AlreadyExists(dir, label, path);
+    if (PathExists(path)) {
+      return AlreadyExists(dir, label, session_label, path);
+    }
+    if (Status s = CheckSessionLayout(dir, label, session_label); !s) {
+      return s.error();
+    }
     if (Status s = CheckSubjectFolder(sub); !s) return s.error();
     const fs::path temp =
         sub / fmt::format("{}{}-{}", kCreatingPrefix, ::getpid(),
@@ -240,11 +312,12 @@ Result<Journal> Journal::Create(const fs::path& dir,
     bool exists = false;
     Status linked = LinkNoReplace(temp, path, &exists);
     RemoveDbFiles(temp);
-    if (exists) return AlreadyExists(dir, label, path);
+    if (exists) return AlreadyExists(dir, label, session_label, path);
     if (!linked) return linked.error();
     SyncDirectory(sub);
     SyncDirectory(sub.parent_path());
-    return OpenLocked(dir, label, std::move(lock).value());
+    if (!session_label.empty()) SyncDirectory(dir);
+    return OpenLocked(dir, label, session_label, std::move(lock).value());
   } catch (const std::exception& e) {
     return Internal("cannot create the journal", e);
   }
@@ -252,13 +325,26 @@ Result<Journal> Journal::Create(const fs::path& dir,
 
 Result<Journal> Journal::Open(const fs::path& dir,
                               std::string_view subject_label) {
+  return Open(dir, subject_label, "");
+}
+
+Result<Journal> Journal::Open(const fs::path& dir,
+                              std::string_view subject_label,
+                              std::string_view session_label) {
   try {
     if (Status s = ValidateSubjectLabel(subject_label); !s) return s.error();
-    const fs::path path = JournalPath(dir, subject_label);
-    if (!PathExists(path)) return NoJournal(dir, subject_label, path);
-    Result<SessionLock> lock = SessionLock::Acquire(dir, subject_label);
+    if (!session_label.empty()) {
+      if (Status s = ValidateSessionLabel(session_label); !s) return s.error();
+    }
+    const fs::path path = JournalPath(dir, subject_label, session_label);
+    if (!PathExists(path)) {
+      return NoJournal(dir, subject_label, session_label, path);
+    }
+    Result<SessionLock> lock =
+        SessionLock::Acquire(dir, subject_label, session_label);
     if (!lock) return lock.error();
-    return OpenLocked(dir, subject_label, std::move(lock).value());
+    return OpenLocked(dir, subject_label, session_label,
+                      std::move(lock).value());
   } catch (const std::exception& e) {
     return Internal("cannot open the journal", e);
   }
@@ -266,9 +352,12 @@ Result<Journal> Journal::Open(const fs::path& dir,
 
 Result<Journal> Journal::OpenLocked(const fs::path& dir,
                                     std::string_view subject_label,
+                                    std::string_view session_label,
                                     SessionLock lock) {
-  const fs::path path = JournalPath(dir, subject_label);
-  if (!PathExists(path)) return NoJournal(dir, subject_label, path);
+  const fs::path path = JournalPath(dir, subject_label, session_label);
+  if (!PathExists(path)) {
+    return NoJournal(dir, subject_label, session_label, path);
+  }
   RemoveCreationLeftovers(path.parent_path());
   auto db = db::OpenDb(path, /*create=*/false);
   if (!db) return db.error();
@@ -302,6 +391,7 @@ Result<Journal> Journal::OpenLocked(const fs::path& dir,
   impl->lock = std::move(lock);
   impl->db = std::move(db).value();
   impl->dir = dir;
+  impl->session_label = std::string(session_label);
   impl->path = path;
   impl->session = std::move(session).value();
   return Journal(std::move(impl));
@@ -347,9 +437,10 @@ Status Journal::CheckSameSession(const SessionInfo& given) const {
       }
     }
     if (differences.empty()) return {};
-    return Error{fmt::format("cannot resume sub-{} in {}: {}",
-                             kept.subject_label, impl_->dir.string(),
-                             fmt::join(differences, "; "))};
+    return Error{
+        fmt::format("cannot resume {} in {}: {}",
+                    SessionName(kept.subject_label, impl_->session_label),
+                    impl_->dir.string(), fmt::join(differences, "; "))};
   } catch (const std::exception& e) {
     return Internal("cannot compare sessions", e);
   }
@@ -374,10 +465,10 @@ Status Journal::Restart(const SessionInfo& session) {
     Result<int> trials = db::CountTrials(h, path);
     if (!trials) return fail(trials.error());
     if (*trials > 0) {
-      return fail(Error{fmt::format(
-          "cannot restart sub-{} in {}: it already holds {} trial{}",
-          kept.subject_label, impl_->dir.string(), *trials,
-          *trials == 1 ? "" : "s")});
+      return fail(Error{
+          fmt::format("cannot restart {} in {}: it already holds {} trial{}",
+                      SessionName(kept.subject_label, impl_->session_label),
+                      impl_->dir.string(), *trials, *trials == 1 ? "" : "s")});
     }
     if (Status s = db::WriteSession(h, path, session); !s) return fail(s);
     if (Status s = db::Exec(h, "COMMIT", what, path); !s) return fail(s);
@@ -455,7 +546,13 @@ Result<SessionProgress> Journal::Progress() const {
 
 Result<SessionProgress> ReadSessionProgress(const fs::path& dir,
                                             std::string_view subject_label) {
-  const fs::path path = JournalPath(dir, subject_label);
+  return ReadSessionProgress(dir, subject_label, "");
+}
+
+Result<SessionProgress> ReadSessionProgress(const fs::path& dir,
+                                            std::string_view subject_label,
+                                            std::string_view session_label) {
+  const fs::path path = JournalPath(dir, subject_label, session_label);
   try {
     auto db = db::OpenDb(path, /*create=*/false);
     if (!db) return db.error();

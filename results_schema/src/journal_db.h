@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "burrlab/base/result.h"
+#include "burrlab/results_schema/journal.h"  // SessionProgress
 #include "burrlab/results_schema/records.h"
 
 namespace burrlab::results_schema::db {

@@ -68,32 +68,48 @@ bool IsKnownTask(std::string_view task) {
   return task == "probe" || task == "drill";
 }
 
-Status ValidateSubjectLabel(std::string_view label) {
+namespace {
+
+// A BIDS label of `kind` ("subject", "session") written after `prefix`
+// ("sub-", "ses-") in names: 1..64 ASCII letters or digits.
+Status ValidateLabel(std::string_view kind, std::string_view prefix,
+                     std::string_view example, std::string_view label) {
   if (label.empty()) {
-    return Error{
-        "subject label is empty; use letters and digits only (BIDS "
-        "sub-<label>), e.g. 01"};
-  }
-  if (label.starts_with("sub-")) {
     return Error{fmt::format(
-        "subject label {} includes the \"sub-\" prefix; give only the label, "
+        "{} label is empty; use letters and digits only (BIDS {}<label>), "
         "e.g. {}",
-        Quoted(label), Quoted(label.substr(4)))};
+        kind, prefix, example)};
+  }
+  if (label.starts_with(prefix)) {
+    return Error{fmt::format(
+        "{} label {} includes the \"{}\" prefix; give only the label, "
+        "e.g. {}",
+        kind, Quoted(label), prefix, Quoted(label.substr(prefix.size())))};
   }
   if (label.size() > kMaxSubjectLabelLength) {
-    return Error{fmt::format(
-        "subject label {} is {} characters long; at most {} are allowed",
-        Quoted(label), label.size(), kMaxSubjectLabelLength)};
+    return Error{
+        fmt::format("{} label {} is {} characters long; at most {} are allowed",
+                    kind, Quoted(label), label.size(), kMaxSubjectLabelLength)};
   }
   for (std::size_t i = 0; i < label.size(); ++i) {
     if (!IsAsciiAlnum(label[i])) {
       return Error{fmt::format(
-          "subject label {} has {} at position {}; use letters and digits "
-          "only (BIDS sub-<label>)",
-          Quoted(label), DescribeChar(label[i]), i + 1)};
+          "{} label {} has {} at position {}; use letters and digits "
+          "only (BIDS {}<label>)",
+          kind, Quoted(label), DescribeChar(label[i]), i + 1, prefix)};
     }
   }
   return {};
+}
+
+}  // namespace
+
+Status ValidateSubjectLabel(std::string_view label) {
+  return ValidateLabel("subject", "sub-", "01", label);
+}
+
+Status ValidateSessionLabel(std::string_view label) {
+  return ValidateLabel("session", "ses-", "2", label);
 }
 
 Status ValidateSession(const SessionInfo& session) {

@@ -11,6 +11,7 @@
 #include <system_error>
 #include <utility>
 
+#include "burrlab/results_schema/dataset_layout.h"
 #include "journal_db.h"
 #include "text.h"
 
@@ -44,12 +45,24 @@ std::string ReadHolder(int fd) {
 }  // namespace
 
 fs::path SessionLockPath(const fs::path& dir, std::string_view subject_label) {
-  return dir / fmt::format("sub-{}", subject_label) / "journal.sqlite.lock";
+  return SessionLockPath(dir, subject_label, "");
+}
+
+fs::path SessionLockPath(const fs::path& dir, std::string_view subject_label,
+                         std::string_view session_label) {
+  return SessionFolder(dir, subject_label, session_label) /
+         "journal.sqlite.lock";
 }
 
 Result<SessionLock> SessionLock::Acquire(const fs::path& dir,
                                          std::string_view subject_label) {
-  const fs::path path = SessionLockPath(dir, subject_label);
+  return Acquire(dir, subject_label, "");
+}
+
+Result<SessionLock> SessionLock::Acquire(const fs::path& dir,
+                                         std::string_view subject_label,
+                                         std::string_view session_label) {
+  const fs::path path = SessionLockPath(dir, subject_label, session_label);
   std::error_code ec;
   fs::create_directories(path.parent_path(), ec);
   if (ec) {
@@ -70,10 +83,11 @@ Result<SessionLock> SessionLock::Acquire(const fs::path& dir,
     std::string message =
         err == EWOULDBLOCK
             ? fmt::format(
-                  "sub-{} in {} is in use by another burrlab ({}); wait for "
+                  "{} in {} is in use by another burrlab ({}); wait for "
                   "that run to end, or stop it, before starting another on "
                   "this session",
-                  subject_label, dir.string(), ReadHolder(fd))
+                  SessionName(subject_label, session_label), dir.string(),
+                  ReadHolder(fd))
             : fmt::format("cannot lock the session {}: {}", path.string(),
                           std::strerror(err));
     ::close(fd);

@@ -407,6 +407,135 @@ TEST(BidsExportCases, TracesOfDifferentKindsGoToSeparateRecordings) {
             (std::vector<std::string>{"0", "1", "5.002", "n/a", "0.001"}));
 }
 
+// A labelled session's files are in sub-<id>/ses-<session>/ and carry the
+// _ses-<session> entity, as BIDS requires; its scans.tsv names them relative
+// to the session's folder.
+TEST(BidsExportSessions, FilesCarryTheSessionEntity) {
+  TempDir dir;
+  WriteJournal(dir.path(), "01", 4, "1");
+  WriteJournal(dir.path(), "01", 10, "2");
+  ASSERT_TRUE(ExportBids(dir.path(), "01", {"1", {}}).ok());
+  Status s = ExportBids(dir.path(), "01", {"2", {}});
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  std::vector<std::string> files;
+  for (const auto& entry :
+       fs::recursive_directory_iterator(dir.path() / "sub-01" / "ses-2")) {
+    if (entry.is_regular_file()) {
+      files.push_back(fs::relative(entry.path(), dir.path()).string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  const std::vector<std::string> expected = {
+      "sub-01/ses-2/beh/sub-01_ses-2_task-practice_beh.json",
+      "sub-01/ses-2/beh/sub-01_ses-2_task-practice_beh.tsv",
+      "sub-01/ses-2/beh/sub-01_ses-2_task-practice_physio.json",
+      "sub-01/ses-2/beh/sub-01_ses-2_task-practice_physio.tsv.gz",
+      "sub-01/ses-2/beh/sub-01_ses-2_task-sameDifferentMain_beh.json",
+      "sub-01/ses-2/beh/sub-01_ses-2_task-sameDifferentMain_beh.tsv",
+      "sub-01/ses-2/beh/sub-01_ses-2_task-sameDifferentMain_physio.json",
+      "sub-01/ses-2/beh/sub-01_ses-2_task-sameDifferentMain_physio.tsv.gz",
+      "sub-01/ses-2/journal.sqlite",
+      "sub-01/ses-2/journal.sqlite.lock",
+      "sub-01/ses-2/sub-01_ses-2_scans.json",
+      "sub-01/ses-2/sub-01_ses-2_scans.tsv",
+  };
+  EXPECT_EQ(files, expected);
+  EXPECT_EQ(
+      ReadFile(dir.path() / "sub-01" / "ses-1" / "sub-01_ses-1_scans.tsv"),
+      "filename\tsession_status\tsession_trials\tsession_planned_trials\n"
+      "beh/sub-01_ses-1_task-practice_beh.tsv\tincomplete\t4\tn/a\n"
+      "beh/sub-01_ses-1_task-practice_physio.tsv.gz\tincomplete\t4\tn/a\n");
+  // Nothing of a session directly in the subject's folder.
+  std::vector<std::string> top;
+  for (const auto& entry : fs::directory_iterator(dir.path() / "sub-01")) {
+    top.push_back(entry.path().filename().string());
+  }
+  std::sort(top.begin(), top.end());
+  EXPECT_EQ(top, (std::vector<std::string>{"ses-1", "ses-2"}));
+  const Json scans = Json::parse(
+      ReadFile(dir.path() / "sub-01" / "ses-2" / "sub-01_ses-2_scans.json"));
+  EXPECT_NE(scans["session_status"]["Description"].get<std::string>().find(
+                "--subject <id> --session <session> --out DIR --resume"),
+            std::string::npos);
+  // The beh files hold the same rows as an unlabelled session's.
+  TempDir plain;
+  WriteJournal(plain.path(), "01", 10);
+  ASSERT_TRUE(ExportBids(plain.path(), "01").ok());
+  EXPECT_EQ(ReadFile(dir.path() / "sub-01" / "ses-2" / "beh" /
+                     "sub-01_ses-2_task-practice_beh.tsv"),
+            ReadFile(plain.path() / "sub-01" / "beh" /
+                     "sub-01_task-practice_beh.tsv"));
+  EXPECT_EQ(ExportBids(dir.path(), "01", {"3", {}}).error().message,
+            "no journal for sub-01 ses-3 in " + dir.path().string() + " (" +
+                JournalPath(dir.path(), "01", "3").string() +
+                " does not exist); nothing to export");
+  EXPECT_EQ(ExportBids(dir.path(), "01", {"a b", {}}).error().message,
+            "session label \"a b\" has byte 0x20 at position 2; use letters "
+            "and digits only (BIDS ses-<label>)");
+}
+
+TEST(BidsExportAuthors, AreWrittenThenAddedToAndNeverInvented) {
+  TempDir dir;
+  WriteJournal(dir.path(), "01", 2);
+  WriteJournal(dir.path(), "02", 2);
+  const fs::path description = dir.path() / "dataset_description.json";
+  ASSERT_TRUE(ExportBids(dir.path(), "01", {"", {"Doe, Jane", "Roe R."}}).ok());
+  EXPECT_EQ(ReadFile(description),
+            "{\n"
+            "  \"Name\": \"stiffness discrimination\",\n"
+            "  \"BIDSVersion\": \"1.9.0\",\n"
+            "  \"DatasetType\": \"raw\",\n"
+            "  \"Authors\": [\n"
+            "    \"Doe, Jane\",\n"
+            "    \"Roe R.\"\n"
+            "  ],\n"
+            "  \"GeneratedBy\": [\n"
+            "    {\n"
+            "      \"Name\": \"burrlab\",\n"
+            "      \"Version\": \"0.1.0\"\n"
+            "    }\n"
+            "  ]\n"
+            "}\n");
+  Status s = CheckJsonAgainst("dataset_description", ReadFile(description));
+  EXPECT_TRUE(s.ok()) << s.error().message;
+  // A later run's new author is added; one without authors changes nothing.
+  ASSERT_TRUE(ExportBids(dir.path(), "02", {"", {"Roe R.", "Poe P."}}).ok());
+  ASSERT_TRUE(ExportBids(dir.path(), "01").ok());
+  EXPECT_EQ(Json::parse(ReadFile(description))["Authors"],
+            Json::parse(R"(["Doe, Jane", "Roe R.", "Poe P."])"));
+  // A curated file keeps everything else.
+  std::ofstream(description) << R"({"Name": "curated", "Funding": ["x"]})";
+  ASSERT_TRUE(ExportBids(dir.path(), "01", {"", {"Doe, Jane"}}).ok());
+  EXPECT_EQ(Json::parse(ReadFile(description)),
+            Json::parse(R"({"Name": "curated", "Funding": ["x"],
+                            "Authors": ["Doe, Jane"]})"));
+  std::ofstream(description) << "not json";
+  EXPECT_EQ(ExportBids(dir.path(), "01", {"", {"Doe, Jane"}}).error().message,
+            "cannot add the authors to " + description.string() +
+                ": it is not a JSON object; fix or remove the file and export "
+                "again");
+  EXPECT_EQ(ReadFile(description), "not json");
+}
+
+TEST(BidsExportAuthors, AnAuthorIsOneNameOnOneLine) {
+  EXPECT_TRUE(ValidateAuthor("Doe, Jane").ok());
+  EXPECT_TRUE(ValidateAuthor("J\xC3\xBCrgen M\xC3\xBCller").ok());
+  EXPECT_EQ(ValidateAuthor("Doe, Jane, Roe, Richard").error().message,
+            "author \"Doe, Jane, Roe, Richard\" has 3 commas; give one name "
+            "per --author (\"Surname, Given names\" at most: BIDS validators "
+            "read more commas as several authors in one entry)");
+  EXPECT_EQ(ValidateAuthor(" ").error().message,
+            "an author's name is empty; give one name per --author");
+  EXPECT_EQ(ValidateAuthor("Doe\tJane").error().message,
+            "author \"Doe\\x09Jane\" has byte 0x09 at position 4; a name is "
+            "one line of text");
+  TempDir dir;
+  WriteJournal(dir.path(), "01", 1);
+  EXPECT_EQ(ExportBids(dir.path(), "01", {"", {"A, B, C"}}).error().message,
+            ValidateAuthor("A, B, C").error().message);
+  EXPECT_FALSE(fs::exists(dir.path() / "dataset_description.json"));
+}
+
 TEST(BidsExportCases, MissingJournalIsAnError) {
   TempDir dir;
   Status s = ExportBids(dir.path(), "09");

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "burrlab/results_schema/bids_export.h"
+#include "burrlab/results_schema/journal.h"
 #include "export_fixtures.h"
 
 namespace burrlab::results_schema {
@@ -92,6 +93,53 @@ TEST(BidsRead, SubjectsAreSortedAndOtherFilesIgnored) {
   ASSERT_EQ(files->size(), 2u);
   EXPECT_EQ((*files)[0].subject, "a1");
   EXPECT_EQ((*files)[1].subject, "b2");
+}
+
+// A subject with two sessions is read as both, in session order, beside a
+// subject without sessions; the journals are found in the session folders.
+TEST(BidsRead, ASubjectWithTwoSessionsIsReadAsBoth) {
+  TempDir dir;
+  WriteJournal(dir.path(), "01", 10, "2");
+  WriteJournal(dir.path(), "01", 4, "1");
+  WriteJournal(dir.path(), "02", 3);
+  ASSERT_TRUE(ExportBids(dir.path(), "01", {"2", {}}).ok());
+  ASSERT_TRUE(ExportBids(dir.path(), "01", {"1", {}}).ok());
+  ASSERT_TRUE(ExportBids(dir.path(), "02").ok());
+  Result<std::vector<BehFile>> files = ReadBidsDataset(dir.path());
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  std::vector<std::string> read;
+  for (const BehFile& f : *files) {
+    read.push_back(f.subject + "/" + f.session + "/" + f.task + "/" +
+                   std::to_string(f.table.trials.size()) + "/" +
+                   std::to_string(f.physio.size()));
+  }
+  EXPECT_EQ(read, (std::vector<std::string>{
+                      "01/1/practice/4/1", "01/2/practice/4/1",
+                      "01/2/sameDifferentMain/6/1", "02//practice/3/1"}));
+  EXPECT_EQ((*files)[1].path, dir.path() / "sub-01" / "ses-2" / "beh" /
+                                  "sub-01_ses-2_task-practice_beh.tsv");
+  EXPECT_TRUE(FindUnexportedTrials(dir.path(), *files).empty());
+  // Each session's journal counts against its own files: session 1 gets a
+  // trial its exports lack; every fixture session is incomplete.
+  {
+    auto journal = Journal::Open(dir.path(), "01", "1");
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    ASSERT_TRUE(journal->Append(FixtureTrial(4), {}).ok());
+  }
+  const std::vector<UnexportedTrials> unexported =
+      FindUnexportedTrials(dir.path(), *files);
+  ASSERT_EQ(unexported.size(), 1u);
+  EXPECT_EQ(unexported[0].subject, "01");
+  EXPECT_EQ(unexported[0].session, "1");
+  EXPECT_EQ(unexported[0].journal_trials, 5);
+  EXPECT_EQ(unexported[0].exported_trials, 4);
+  std::vector<std::string> incomplete;
+  for (const IncompleteSession& s : FindIncompleteSessions(dir.path())) {
+    incomplete.push_back(s.subject + "/" + s.session + "/" +
+                         std::to_string(s.trials));
+  }
+  EXPECT_EQ(incomplete,
+            (std::vector<std::string>{"01/1/5", "01/2/10", "02//3"}));
 }
 
 TEST(BidsRead, EmptyFolderSaysWhatItWants) {

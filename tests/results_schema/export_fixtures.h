@@ -79,9 +79,11 @@ inline std::vector<TraceSamples> FixtureTraces(int i) {
   return traces;
 }
 
+// A journal of `trials` fixture trials for sub-<label> (of session
+// `session` when it is not empty).
 inline void WriteJournal(const fs::path& dir, const std::string& label,
-                         int trials) {
-  auto journal = Journal::Create(dir, FixtureSession(label));
+                         int trials, const std::string& session = "") {
+  auto journal = Journal::Create(dir, FixtureSession(label), session);
   ASSERT_TRUE(journal.ok()) << journal.error().message;
   for (int i = 0; i < trials; ++i) {
     Status s = journal->Append(FixtureTrial(i), FixtureTraces(i));

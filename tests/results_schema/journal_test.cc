@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "burrlab/results_schema/records.h"
+#include "burrlab/results_schema/session_lock.h"
 #include "temp_dir.h"
 
 namespace burrlab::results_schema {
@@ -422,6 +423,104 @@ TEST(Journal, ASecondOpenOfALiveSessionIsRefusedUntilTheFirstCloses) {
   EXPECT_EQ(again.error().message, refused);
   first = Error{"closed"};
   EXPECT_TRUE(Journal::Open(dir.path(), "01").ok());
+}
+
+// A subject who comes back is recorded as another session: one journal per
+// session in sub-<label>/ses-<session>/, each resumed and locked on its own.
+TEST(JournalSessions, EachSessionHasItsOwnJournalLockAndResume) {
+  TempDir dir;
+  const fs::path ses1 = dir.path() / "sub-01" / "ses-1";
+  const fs::path ses2 = dir.path() / "sub-01" / "ses-2";
+  {
+    auto first = Journal::Create(dir.path(), MakeSession("01"), "1");
+    ASSERT_TRUE(first.ok()) << first.error().message;
+    EXPECT_EQ(first->path(), ses1 / "journal.sqlite");
+    ASSERT_TRUE(first->Append(MakeTrial(0), MakeTraces(0)).ok());
+    // The second session runs while the first is open: its own lock.
+    auto second = Journal::Create(dir.path(), MakeSession("01"), "2");
+    ASSERT_TRUE(second.ok()) << second.error().message;
+    EXPECT_EQ(second->path(), ses2 / "journal.sqlite");
+    auto busy = Journal::Open(dir.path(), "01", "1");
+    ASSERT_FALSE(busy.ok());
+    EXPECT_TRUE(busy.error().message.starts_with(
+        "sub-01 ses-1 in " + dir.path().string() +
+        " is in use by another burrlab (pid "))
+        << busy.error().message;
+  }
+  auto again = Journal::Create(dir.path(), MakeSession("01"), "1");
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(again.error().message, "sub-01 ses-1 already exists in " +
+                                       dir.path().string() +
+                                       "; use --resume to continue it");
+  EXPECT_EQ(JournalPath(dir.path(), "01", "2"), ses2 / "journal.sqlite");
+  EXPECT_EQ(SessionLockPath(dir.path(), "01", "2"),
+            ses2 / "journal.sqlite.lock");
+  EXPECT_TRUE(fs::exists(ses1 / "journal.sqlite.lock"));
+  EXPECT_FALSE(fs::exists(dir.path() / "sub-01" / "journal.sqlite"));
+  auto resumed = Journal::Open(dir.path(), "01", "1");
+  ASSERT_TRUE(resumed.ok()) << resumed.error().message;
+  EXPECT_EQ(resumed->Trials()->size(), 1u);
+  auto other = Journal::Open(dir.path(), "01", "2");
+  ASSERT_TRUE(other.ok()) << other.error().message;
+  EXPECT_EQ(other->Trials()->size(), 0u);
+  SessionInfo changed = MakeSession("01");
+  changed.master_seed = 5;
+  EXPECT_EQ(resumed->CheckSameSession(changed).error().message,
+            "cannot resume sub-01 ses-1 in " + dir.path().string() +
+                ": the seed differs from the journal's "
+                "(18446744073709551557 in the journal, 5 now)");
+  Result<SessionProgress> progress = ReadSessionProgress(dir.path(), "01", "1");
+  ASSERT_TRUE(progress.ok()) << progress.error().message;
+  EXPECT_EQ(progress->trials, 1);
+}
+
+TEST(JournalSessions, ASubjectsSessionsAreAllLabelledOrNoneIs) {
+  TempDir dir;
+  ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
+  auto labelled = Journal::Create(dir.path(), MakeSession("01"), "2");
+  ASSERT_FALSE(labelled.ok());
+  EXPECT_EQ(labelled.error().message,
+            "sub-01 in " + dir.path().string() +
+                " was recorded without a session label (" +
+                (dir.path() / "sub-01" / "journal.sqlite").string() +
+                " exists); a subject's sessions are all labelled or none is, "
+                "so record ses-2 in another output folder or run sub-01 "
+                "without --session");
+  EXPECT_FALSE(fs::exists(dir.path() / "sub-01" / "ses-2"));
+  auto resume = Journal::Open(dir.path(), "01", "2");
+  ASSERT_FALSE(resume.ok());
+  EXPECT_EQ(resume.error().message,
+            "no journal for sub-01 ses-2 in " + dir.path().string() +
+                ": sub-01 was recorded without a session label; resume it "
+                "without --session");
+
+  ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("02"), "1").ok());
+  ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("02"), "a2").ok());
+  auto unlabelled = Journal::Create(dir.path(), MakeSession("02"));
+  ASSERT_FALSE(unlabelled.ok());
+  EXPECT_EQ(unlabelled.error().message,
+            "sub-02 in " + dir.path().string() +
+                " has labelled sessions (ses-1, ses-a2); give --session LABEL "
+                "to record another (a subject's sessions are all labelled or "
+                "none is)");
+  auto open = Journal::Open(dir.path(), "02");
+  ASSERT_FALSE(open.ok());
+  EXPECT_EQ(open.error().message,
+            "no journal for sub-02 in " + dir.path().string() +
+                ": its sessions are labelled (ses-1, ses-a2); give --session "
+                "LABEL to resume one");
+  auto missing = Journal::Open(dir.path(), "02", "3");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message,
+            "no journal for sub-02 ses-3 in " + dir.path().string() + " (" +
+                JournalPath(dir.path(), "02", "3").string() +
+                " does not exist); start the session without --resume");
+  auto bad = Journal::Create(dir.path(), MakeSession("03"), "ses-1");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message,
+            "session label \"ses-1\" includes the \"ses-\" prefix; give only "
+            "the label, e.g. \"1\"");
+  EXPECT_FALSE(fs::exists(dir.path() / "sub-03"));
 }
 
 TEST(Journal, ReadsASchemaVersion1JournalAndRestartsIt) {

@@ -74,6 +74,23 @@ TEST(SubjectLabel, RejectsWithAPreciseMessage) {
                 "\" is 65 characters long; at most 64 are allowed");
 }
 
+TEST(SessionLabel, AcceptsLettersAndDigitsAndRejectsWithAPreciseMessage) {
+  EXPECT_TRUE(ValidateSessionLabel("2").ok());
+  EXPECT_TRUE(ValidateSessionLabel("day2").ok());
+  EXPECT_EQ(Message(ValidateSessionLabel("")),
+            "session label is empty; use letters and digits only (BIDS "
+            "ses-<label>), e.g. 2");
+  EXPECT_EQ(Message(ValidateSessionLabel("ses-2")),
+            "session label \"ses-2\" includes the \"ses-\" prefix; give only "
+            "the label, e.g. \"2\"");
+  EXPECT_EQ(Message(ValidateSessionLabel("day-2")),
+            "session label \"day-2\" has '-' at position 4; use letters and "
+            "digits only (BIDS ses-<label>)");
+  EXPECT_EQ(Message(ValidateSessionLabel(std::string(65, '2'))),
+            "session label \"" + std::string(65, '2') +
+                "\" is 65 characters long; at most 64 are allowed");
+}
+
 TEST(Session, ChecksTheProtocolHash) {
   EXPECT_TRUE(ValidateSession(MakeSession()).ok());
   SessionInfo s = MakeSession();

@@ -235,17 +235,24 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
     return Fail(err, "analyze fit: " + s.error().message);
   }
 
-  // A subject's _beh.tsv in a results folder (DIR/sub-<id>/beh/): warn when
-  // its session stopped before its end.
+  // A subject's _beh.tsv in a results folder (DIR/sub-<id>/beh/ or
+  // DIR/sub-<id>/ses-<session>/beh/): warn when its session stopped before
+  // its end.
   const std::filesystem::path data(data_path);
-  const std::string subject_dir = data.parent_path().parent_path().filename();
+  std::filesystem::path session_dir = data.parent_path().parent_path();
+  std::string session;
+  if (const std::string name = session_dir.filename();
+      name.starts_with("ses-")) {
+    session = name.substr(4);
+    session_dir = session_dir.parent_path();
+  }
+  const std::string subject_dir = session_dir.filename();
   if (data.parent_path().filename() == "beh" &&
       subject_dir.starts_with("sub-")) {
-    const std::filesystem::path dir =
-        data.parent_path().parent_path().parent_path();
+    const std::filesystem::path dir = session_dir.parent_path();
     for (const results_schema::IncompleteSession& s :
          results_schema::FindIncompleteSessions(dir.empty() ? "." : dir)) {
-      if ("sub-" + s.subject == subject_dir) {
+      if ("sub-" + s.subject == subject_dir && s.session == session) {
         err << IncompleteSessionWarning(s, dir.empty() ? "." : dir.string());
       }
     }

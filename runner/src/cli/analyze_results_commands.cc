@@ -24,6 +24,7 @@
 #include "burrlab/analysis/thresholds.h"
 #include "burrlab/protocols/protocol_file.h"
 #include "burrlab/results_schema/bids_read.h"
+#include "burrlab/results_schema/dataset_layout.h"
 #include "cli/flags.h"
 #include "cli/json_number.h"
 #include "studies/observer_fit.h"
@@ -41,6 +42,11 @@ Json Optional(const std::optional<double>& value) {
   return value.has_value() ? JsonNumber(*value) : Json(nullptr);
 }
 
+// " --session S" for a labelled session, else nothing.
+std::string SessionFlag(const std::string& session) {
+  return session.empty() ? std::string() : " --session " + session;
+}
+
 // The study's exports, or one error line. First warns on `err` of every
 // subject whose journal holds trials its exports do not, so no subject is
 // left out silently, then of every other subject whose session stopped
@@ -54,21 +60,21 @@ Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
       results_schema::FindUnexportedTrials(dir, files.ok() ? *files : none);
   for (const results_schema::UnexportedTrials& u : unexported) {
     err << fmt::format(
-        "burrlab: warning: sub-{}'s journal holds {} trials but its exports "
+        "burrlab: warning: {}'s journal holds {} trials but its exports "
         "only {}, and analyses read the exports; `burrlab run PROTOCOL "
-        "--subject {} --out {} --resume` exports them (and finishes the "
+        "--subject {}{} --out {} --resume` exports them (and finishes the "
         "session if it can)\n",
-        u.subject,
+        results_schema::SessionName(u.subject, u.session),
         u.journal_trials < 0 ? std::string("unreadable")
                              : std::to_string(u.journal_trials),
-        u.exported_trials, u.subject, dir);
+        u.exported_trials, u.subject, SessionFlag(u.session), dir);
   }
   for (const results_schema::IncompleteSession& s :
        results_schema::FindIncompleteSessions(dir)) {
     const bool warned =
         std::any_of(unexported.begin(), unexported.end(),
                     [&](const results_schema::UnexportedTrials& u) {
-                      return u.subject == s.subject;
+                      return u.subject == s.subject && u.session == s.session;
                     });
     if (!warned) err << IncompleteSessionWarning(s, dir);
   }
@@ -81,14 +87,15 @@ Result<std::vector<results_schema::BehFile>> ReadResults(const std::string& dir,
 std::string IncompleteSessionWarning(
     const results_schema::IncompleteSession& session, const std::string& dir) {
   return fmt::format(
-      "burrlab: warning: sub-{0}'s session is incomplete: it stopped after "
+      "burrlab: warning: {4}'s session is incomplete: it stopped after "
       "{1}{2} trials; its {1} trials are analysed, and `burrlab run PROTOCOL "
-      "--subject {0} --out {3} --resume` finishes it\n",
+      "--subject {0}{5} --out {3} --resume` finishes it\n",
       session.subject, session.trials,
       session.planned_trials
           ? fmt::format(" of {} planned", *session.planned_trials)
           : std::string(),
-      dir);
+      dir, results_schema::SessionName(session.subject, session.session),
+      SessionFlag(session.session));
 }
 
 namespace {
@@ -521,21 +528,22 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
     j["results"] = dir;
     j["thresholds"] = Json::array();
     for (const analysis::ThresholdEstimate& e : *estimates) {
-      Json t = {{"subject", e.subject},
-                {"block", e.block},
-                {"method", e.method},
-                {"task", e.task},
-                {"staircase_id",
-                 e.staircase_id ? Json(*e.staircase_id) : Json(nullptr)},
-                {"estimator", e.estimator},
-                {"value", Optional(e.value)},
-                {"unit", e.stim_unit},
-                {"spread", Optional(e.spread)},
-                {"spread_unit", e.spread_unit},
-                {"n", e.n},
-                {"ci", e.fit ? Json{Optional(e.ci_low), Optional(e.ci_high)}
-                             : Json(nullptr)},
-                {"note", e.note}};
+      Json t = {{"subject", e.subject}};
+      if (!e.session.empty()) t["session"] = e.session;
+      t.update(Json{{"block", e.block},
+                    {"method", e.method},
+                    {"task", e.task},
+                    {"staircase_id",
+                     e.staircase_id ? Json(*e.staircase_id) : Json(nullptr)},
+                    {"estimator", e.estimator},
+                    {"value", Optional(e.value)},
+                    {"unit", e.stim_unit},
+                    {"spread", Optional(e.spread)},
+                    {"spread_unit", e.spread_unit},
+                    {"n", e.n},
+                    {"ci", e.fit ? Json{Optional(e.ci_low), Optional(e.ci_high)}
+                                 : Json(nullptr)},
+                    {"note", e.note}});
       if (e.fit) {
         t["fit"] = {{"alpha", e.fit->params.alpha},
                     {"beta", e.fit->params.beta},
@@ -552,7 +560,7 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
   }
   for (const analysis::ThresholdEstimate& e : *estimates) {
     const std::string who = fmt::format(
-        "sub-{} {}{}", e.subject, e.block,
+        "{} {}{}", results_schema::SessionName(e.subject, e.session), e.block,
         e.staircase_id ? fmt::format(" staircase {}", *e.staircase_id)
                        : std::string());
     std::string value = "n/a";
@@ -581,6 +589,7 @@ Json HistogramJson(const analysis::Histogram& h) {
 Json KinematicsJson(const analysis::KinematicsSummary& k,
                     const std::pair<std::string, std::string>& plots) {
   Json j = {{"subject", k.subject}};
+  if (!k.session.empty()) j["session"] = k.session;
   if (!k.block.empty()) j["block"] = k.block;
   j.update({{"task", k.task},
             {"intervals", k.intervals},
@@ -817,7 +826,10 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
         const std::string stem =
             (fs::path(plots) /
              (k.block.empty() ? fmt::format("sub-{}", k.subject)
-                              : fmt::format("sub-{}_{}", k.subject, k.block)))
+                              : fmt::format("{}_{}",
+                                            results_schema::SessionFilePrefix(
+                                                k.subject, k.session),
+                                            k.block)))
                 .string();
         Result<std::pair<std::string, std::string>> written =
             WriteKinematicsPlots(k, stem);
@@ -852,9 +864,9 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
       out << fmt::format(
           "{:<12} {:<10} {:>11} {:>8.1f} {:>12.3f} {:>10.1f} {:>12.3f} "
           "{:>16}\n",
-          "sub-" + k.subject, k.block.empty() ? "(all)" : k.block, k.task,
-          k.duration_s, k.mean_force_n, 100.0 * k.contact_fraction,
-          k.mean_speed_mm_s,
+          results_schema::SessionName(k.subject, k.session),
+          k.block.empty() ? "(all)" : k.block, k.task, k.duration_s,
+          k.mean_force_n, 100.0 * k.contact_fraction, k.mean_speed_mm_s,
           k.removal_rate_mm3_per_s
               ? fmt::format("{:.4g}", *k.removal_rate_mm3_per_s)
               : std::string("n/a"));

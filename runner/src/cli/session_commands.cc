@@ -20,7 +20,10 @@
 #include "burrlab/protocols/observer.h"
 #include "burrlab/protocols/protocol_file.h"
 #include "burrlab/results_schema/bids_export.h"
+#include "burrlab/results_schema/dataset_layout.h"
 #include "burrlab/results_schema/journal.h"
+#include "burrlab/results_schema/participants.h"
+#include "burrlab/results_schema/records.h"
 #include "burrlab/stimuli/interval.h"
 #include "cli/flags.h"
 #include "station/station_devices.h"
@@ -28,6 +31,7 @@
 #include "station/station_script.h"
 #include "station/station_session.h"
 #include "station/window.h"
+#include "studies/participant_rows.h"
 #include "studies/progress.h"
 #include "studies/rendering_pool.h"
 #include "studies/session.h"
@@ -104,6 +108,99 @@ std::string Diagnostics(const std::string& path, const std::string& text,
   std::string out = protocols::FormatDiagnostics(path, text, all);
   if (!out.empty() && out.back() == '\n') out.pop_back();
   return out;
+}
+
+// The dataset flags of `run` and `study`: --session, --author and (run only)
+// --participant and --participants.
+struct DatasetFlags {
+  std::string session;
+  std::vector<std::string> authors;
+  std::vector<std::string> participant;  // KEY=VALUE, as given
+  std::string participants_path;
+};
+
+// Declares --session (with `session_help`) and --author on `app`.
+void AddSessionFlags(CLI::App& app, FlagSet& flags,
+                     const std::string& session_help, DatasetFlags* f) {
+  flags.AddText("--session", session_help, &f->session)->type_name("LABEL");
+  app.add_option("--author", f->authors,
+                 "an author of the dataset for dataset_description.json, one "
+                 "name each (repeatable; BIDS validators warn of fewer than "
+                 "two)")
+      ->type_name("NAME")
+      ->allow_extra_args(false);
+}
+
+// Checks --session and --author; the error, if any.
+std::optional<std::string> CheckSessionFlags(const DatasetFlags& f) {
+  if (!f.session.empty()) {
+    if (Status s = results_schema::ValidateSessionLabel(f.session); !s.ok()) {
+      return "--session: " + s.error().message;
+    }
+  }
+  for (const std::string& author : f.authors) {
+    if (Status s = results_schema::ValidateAuthor(author); !s.ok()) {
+      return "--author: " + s.error().message;
+    }
+  }
+  return std::nullopt;
+}
+
+// The subject's participants.tsv values from --participants FILE (its row)
+// and --participant KEY=VALUE (given later, so a flag's value wins).
+Result<std::vector<results_schema::ParticipantValue>> ParticipantValues(
+    const DatasetFlags& f, const std::string& subject) {
+  std::vector<results_schema::ParticipantValue> values;
+  if (!f.participants_path.empty()) {
+    Result<std::string> text = ReadTextFile(
+        f.participants_path, results_schema::kMaxParticipantsBytes);
+    if (!text.ok()) return text.error();
+    Result<std::vector<results_schema::ParticipantRow>> rows =
+        results_schema::ParseParticipantsTable(f.participants_path, *text);
+    if (!rows.ok()) return rows.error();
+    const auto row = std::find_if(rows->begin(), rows->end(),
+                                  [&](const results_schema::ParticipantRow& r) {
+                                    return r.subject == subject;
+                                  });
+    if (row == rows->end()) {
+      return Error{fmt::format(
+          "{}: error: no row for sub-{} (no participant_id is sub-{} or "
+          "{})",
+          f.participants_path, subject, subject, subject)};
+    }
+    for (const results_schema::ParticipantValue& v : row->values) {
+      if (IsObserverColumn(v.column)) {
+        return Error{fmt::format(
+            "{}: error: column {} is burrlab's: observer_* columns hold a "
+            "simulated subject's observer parameters",
+            f.participants_path, v.column)};
+      }
+    }
+    values = row->values;
+  }
+  std::vector<results_schema::ParticipantValue> given;
+  for (const std::string& text : f.participant) {
+    Result<results_schema::ParticipantValue> v =
+        results_schema::ParseParticipantPair(text);
+    if (!v.ok()) return v.error();
+    given.push_back(std::move(v.value()));
+  }
+  if (Status s = CheckDatasetOptions({}, given); !s.ok()) {
+    return Error{"--participant: " + s.error().message};
+  }
+  for (results_schema::ParticipantValue& v : given) {
+    const auto same =
+        std::find_if(values.begin(), values.end(),
+                     [&](const results_schema::ParticipantValue& w) {
+                       return w.column == v.column;
+                     });
+    if (same != values.end()) {
+      same->value = std::move(v.value);
+    } else {
+      values.push_back(std::move(v));
+    }
+  }
+  return values;
 }
 
 }  // namespace
@@ -360,7 +457,9 @@ int RunAtStation(const protocols::LoadedProtocol& loaded,
     window_options.width = station->screen_width;
     window_options.height = station->screen_height;
   }
-  window_options.title = fmt::format("burrlab - sub-{}", options.subject);
+  window_options.title = fmt::format(
+      "burrlab - {}",
+      results_schema::SessionName(options.subject, options.session));
   Result<std::unique_ptr<StationWindow>> window =
       StationWindow::Open(window_options);
   if (!window.ok()) return Fail(err, window.error().message);
@@ -389,14 +488,16 @@ int RunAtStation(const protocols::LoadedProtocol& loaded,
   const SessionSummary& s = summary.value();
   if (!s.finished) {
     out << fmt::format(
-        "sub-{}: stopped after {} trials: {}. They are saved; continue with "
+        "{}: stopped after {} trials: {}. They are saved; continue with "
         "--resume.\n",
-        options.subject, s.trials_total, s.stop_reason);
+        results_schema::SessionName(options.subject, options.session),
+        s.trials_total, s.stop_reason);
     return 1;
   }
   out << fmt::format(
-      "sub-{}: {} trials ({} resumed, {} run now){}; results in {}\n",
-      options.subject, s.trials_total, s.trials_resumed, s.trials_run,
+      "{}: {} trials ({} resumed, {} run now){}; results in {}\n",
+      results_schema::SessionName(options.subject, options.session),
+      s.trials_total, s.trials_resumed, s.trials_run,
       s.score.has_value() ? fmt::format(", {:.1f} % correct", 100.0 * *s.score)
                           : std::string(),
       options.out_dir.string());
@@ -413,7 +514,8 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "response box; without one, every interval is rendered by the "
       "simulator and answers come from the simulated observer or are typed "
       "at the prompt. Each completed trial is saved before the next starts; "
-      "--resume continues an interrupted session.",
+      "--resume continues an interrupted session. The output folder is a "
+      "BIDS dataset; its README says what each file holds.",
       "burrlab run"};
   std::string path;
   std::string subject;
@@ -424,11 +526,31 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   bool resume = false;
   double radius_mm = stimuli::kDefaultBurrRadiusMm;
   StationFlags station;
+  DatasetFlags dataset;
   app.add_option("file", path, "the protocol file")->required();
   FlagSet flags(&app);
   flags.AddText("--subject", "subject label: letters and digits (required)",
                 &subject);
   flags.AddText("--out", "output folder (required)", &out_dir);
+  AddSessionFlags(app, flags,
+                  "session label, letters and digits (e.g. 2 for the "
+                  "subject's second visit): results go to "
+                  "DIR/sub-<id>/ses-<label>/, and --resume continues that "
+                  "session",
+                  &dataset);
+  app.add_option("--participant", dataset.participant,
+                 "KEY=VALUE for the subject's row of participants.tsv, e.g. "
+                 "age=34 or group=expert (repeatable; no names or dates of "
+                 "birth)")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);
+  flags
+      .AddText("--participants",
+               "the experimenter's participants table (CSV or TSV, a "
+               "participant_id column and one row per subject): the "
+               "subject's row goes to participants.tsv",
+               &dataset.participants_path)
+      ->type_name("FILE");
   flags.AddSeed("--seed",
                 "master seed (default 1; seed-N, as the exports write it, "
                 "also works)",
@@ -474,12 +596,24 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (std::optional<std::string> e = CheckRunFlags(station, observer)) {
     return Fail(err, *e);
   }
+  if (std::optional<std::string> e = CheckSessionFlags(dataset)) {
+    return Fail(err, *e);
+  }
+  Result<std::vector<results_schema::ParticipantValue>> participant =
+      ParticipantValues(dataset, subject);
+  if (!participant.ok()) return Fail(err, participant.error().message);
+  if (Status s = results_schema::CheckParticipantsFiles(out_dir); !s.ok()) {
+    return Fail(err, s.error().message);
+  }
   Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   err << loaded->notes;
   SessionOptions options;
   options.out_dir = out_dir;
   options.subject = subject;
+  options.session = dataset.session;
+  options.authors = dataset.authors;
+  options.participant = std::move(participant.value());
   options.subject_index =
       subject_index >= 0 ? subject_index : DefaultSubjectIndex(subject);
   options.seed = seed;
@@ -507,15 +641,16 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   const SessionSummary& s = summary.value();
   if (!s.finished) {
     out << fmt::format(
-        "sub-{}: input ended after {} trials; they are saved. Continue with "
+        "{}: input ended after {} trials; they are saved. Continue with "
         "--resume.\n",
-        subject, s.trials_total);
+        results_schema::SessionName(subject, dataset.session), s.trials_total);
     return 1;
   }
   out << fmt::format(
-      "sub-{}: {} trials ({} resumed, {} run now){}; results "
+      "{}: {} trials ({} resumed, {} run now){}; results "
       "in {}\n",
-      subject, s.trials_total, s.trials_resumed, s.trials_run,
+      results_schema::SessionName(subject, dataset.session), s.trials_total,
+      s.trials_resumed, s.trials_run,
       s.score.has_value() ? fmt::format(", {:.1f} % correct", 100.0 * *s.score)
                           : std::string(),
       out_dir);
@@ -538,11 +673,16 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   double radius_mm = stimuli::kDefaultBurrRadiusMm;
   double weber_spread = 0.0;
   int renderings = 0;
+  DatasetFlags dataset;
   app.add_option("file", path, "the protocol file")->required();
   FlagSet flags(&app);
   flags.AddInteger("--simulated-subjects", "number of subjects (required)", 1,
                    10000, &n_subjects);
   flags.AddText("--out", "output folder (required)", &out_dir);
+  AddSessionFlags(app, flags,
+                  "session label of every subject, letters and digits: "
+                  "results go to DIR/sub-<id>/ses-<label>/",
+                  &dataset);
   flags.AddUnsigned("--seed", "study seed (default 1)", &seed);
   flags.AddInteger("--jobs", "parallel sessions (default: the core count)", 1,
                    256, &jobs);
@@ -573,6 +713,12 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   if (n_subjects <= 0) return Fail(err, "--simulated-subjects is required");
   if (out_dir.empty()) return Fail(err, "--out is required");
+  if (std::optional<std::string> e = CheckSessionFlags(dataset)) {
+    return Fail(err, *e);
+  }
+  if (Status s = results_schema::CheckParticipantsFiles(out_dir); !s.ok()) {
+    return Fail(err, s.error().message);
+  }
   Result<protocols::LoadedProtocol> loaded = protocols::LoadProtocol(path);
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   err << loaded->notes;
@@ -595,6 +741,8 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   SimulatedStudyOptions study;
   study.out_dir = out_dir;
   study.labels = SubjectLabels(n_subjects);
+  study.session = dataset.session;
+  study.authors = dataset.authors;
   for (int i = 0; i < n_subjects; ++i) {
     study.observers.push_back(SubjectObserver(population, i));
   }
@@ -609,14 +757,16 @@ int RunStudyCommand(const Args& args, std::ostream& out, std::ostream& err) {
   }
   ProgressBar bar(err, n_subjects);
   study.progress = [&](int done, const std::string& label) {
-    bar.Update(done, "sub-" + label);
+    bar.Update(done, results_schema::SessionName(label, study.session));
   };
   const SimulatedStudyResult result = RunSimulatedStudy(loaded.value(), study);
   const int failed = result.failed();
   for (std::size_t i = 0; i < study.labels.size(); ++i) {
     if (!result.failures[i].empty()) {
-      err << fmt::format("burrlab: sub-{}: {}\n", study.labels[i],
-                         result.failures[i]);
+      err << fmt::format(
+          "burrlab: {}: {}\n",
+          results_schema::SessionName(study.labels[i], study.session),
+          result.failures[i]);
     }
   }
   const std::vector<std::optional<double>>& scores = result.scores;

@@ -20,10 +20,14 @@
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/streams.h"
 #include "burrlab/results_schema/bids_export.h"
+#include "burrlab/results_schema/dataset_files.h"
+#include "burrlab/results_schema/dataset_layout.h"
 #include "burrlab/results_schema/journal.h"
+#include "burrlab/results_schema/participants.h"
 #include "burrlab/results_schema/records.h"
 #include "burrlab/stimuli/interval.h"
 #include "burrlab_version.h"
+#include "studies/participant_rows.h"
 
 namespace burrlab::runner {
 namespace {
@@ -575,6 +579,74 @@ int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
   return engine->finished() ? n : 0;
 }
 
+Status CheckDatasetOptions(const std::vector<std::string>& authors,
+                           const std::vector<rs::ParticipantValue>& values) {
+  for (const std::string& author : authors) {
+    if (Status s = rs::ValidateAuthor(author); !s.ok()) return s;
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const rs::ParticipantValue& v = values[i];
+    if (Status s = rs::CheckParticipantColumn(v.column); !s.ok()) return s;
+    if (Status s = rs::CheckParticipantValue(v.column, v.value); !s.ok()) {
+      return s;
+    }
+    if (IsObserverColumn(v.column)) {
+      return Error{fmt::format(
+          "column {} is burrlab's: observer_* columns hold a simulated "
+          "subject's observer parameters",
+          v.column)};
+    }
+    for (std::size_t k = 0; k < i; ++k) {
+      if (values[k].column == v.column) {
+        return Error{fmt::format(
+            "column {} is given twice ({} and {}); give each column once",
+            v.column, values[k].value, v.value)};
+      }
+    }
+  }
+  return {};
+}
+
+rs::DatasetSource DatasetSourceOf(const protocols::LoadedProtocol& loaded) {
+  rs::DatasetSource source;
+  source.study = loaded.protocol.study_name;
+  source.burrlab_version = BURRLAB_VERSION;
+  source.protocol_path = loaded.path;
+  source.protocol_text = loaded.text;
+  source.protocol_sha256 = Sha256Hex(loaded.text);
+  return source;
+}
+
+rs::ParticipantRow SessionParticipantRow(const SessionOptions& options) {
+  rs::ParticipantRow row;
+  row.subject = options.subject;
+  row.values = options.participant;
+  if (options.responder == Responder::kSimulated) {
+    for (rs::ParticipantValue& v :
+         ObserverParticipantValues(options.observer)) {
+      row.values.push_back(std::move(v));
+    }
+  }
+  return row;
+}
+
+Status ExportSession(const protocols::LoadedProtocol& loaded,
+                     const SessionOptions& options) {
+  if (Status s = rs::ExportBids(options.out_dir, options.subject,
+                                {options.session, options.authors});
+      !s.ok()) {
+    return s;
+  }
+  if (Status s =
+          rs::WriteDatasetSource(options.out_dir, DatasetSourceOf(loaded));
+      !s.ok()) {
+    return s;
+  }
+  const rs::ParticipantRow row = SessionParticipantRow(options);
+  return rs::UpdateParticipants(options.out_dir, {&row, 1},
+                                ObserverParticipantColumns());
+}
+
 Result<SessionSummary> RunSession(const protocols::LoadedProtocol& loaded,
                                   const SessionOptions& options) {
   rs::SessionInfo info;
@@ -588,6 +660,22 @@ Result<SessionSummary> RunSession(const protocols::LoadedProtocol& loaded,
   info.setup = SessionSetup(options);
   if (Status s = rs::ValidateSubjectLabel(options.subject); !s.ok()) {
     return s.error();
+  }
+  if (!options.session.empty()) {
+    if (Status s = rs::ValidateSessionLabel(options.session); !s.ok()) {
+      return s.error();
+    }
+  }
+  if (Status s = CheckDatasetOptions(options.authors, options.participant);
+      !s.ok()) {
+    return s.error();
+  }
+  // A participants table that cannot be merged is refused before the session
+  // starts, not after it.
+  if (options.export_bids) {
+    if (Status s = rs::CheckParticipantsFiles(options.out_dir); !s.ok()) {
+      return s.error();
+    }
   }
   if (options.responder == Responder::kSimulated) {
     if (Status s = options.observer.Validate(); !s.ok()) return s.error();
@@ -605,9 +693,11 @@ Result<SessionSummary> RunSession(const protocols::LoadedProtocol& loaded,
   }
   std::vector<rs::TrialRecord> records;
   auto journal = [&]() -> Result<rs::Journal> {
-    if (!options.resume) return rs::Journal::Create(options.out_dir, info);
+    if (!options.resume) {
+      return rs::Journal::Create(options.out_dir, info, options.session);
+    }
     Result<rs::Journal> opened =
-        rs::Journal::Open(options.out_dir, options.subject);
+        rs::Journal::Open(options.out_dir, options.subject, options.session);
     if (!opened.ok()) return opened;
     Result<int> stored = opened->NextTrialIndex();
     if (!stored.ok()) return stored.error();
@@ -645,7 +735,7 @@ Result<SessionSummary> RunSession(const protocols::LoadedProtocol& loaded,
   if (!summary.ok()) {
     // What the journal holds is exported even so, for analyses to find.
     if (options.export_bids && runner.StoredTrials() > 0 &&
-        rs::ExportBids(options.out_dir, options.subject).ok()) {
+        ExportSession(loaded, options).ok()) {
       return Error{summary.error().message +
                    " (the trials saved so far are exported)"};
     }
@@ -657,7 +747,7 @@ Result<SessionSummary> RunSession(const protocols::LoadedProtocol& loaded,
   // The journal (and with it the session's lock) stays open through the
   // export, so no other run writes the session meanwhile.
   if (options.export_bids) {
-    if (Status s = rs::ExportBids(options.out_dir, options.subject); !s.ok()) {
+    if (Status s = ExportSession(loaded, options); !s.ok()) {
       return Error{
           fmt::format("the journal is complete but the export "
                       "failed: {}",

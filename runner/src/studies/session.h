@@ -24,6 +24,8 @@
 #include "burrlab/protocols/observer.h"
 #include "burrlab/protocols/protocol.h"
 #include "burrlab/protocols/protocol_file.h"
+#include "burrlab/results_schema/dataset_files.h"
+#include "burrlab/results_schema/participants.h"
 #include "burrlab/results_schema/records.h"
 #include "burrlab/stimuli/interval.h"
 #include "common/loop_counters.h"
@@ -111,7 +113,17 @@ class LiveStation {
 
 struct SessionOptions {
   std::filesystem::path out_dir;
-  std::string subject;     // BIDS label, letters and digits
+  std::string subject;  // BIDS label, letters and digits
+  // BIDS session label (letters and digits), e.g. "2" for the subject's
+  // second visit: the journal and files go to DIR/sub-<subject>/ses-<session>/
+  // and --resume continues that session; empty: DIR/sub-<subject>/.
+  std::string session;
+  // The dataset's authors, one name each (dataset_description.json).
+  std::vector<std::string> authors;
+  // What the experimenter records of the subject (participants.tsv, e.g.
+  // age, group); a simulated subject's row also gets its observer's
+  // parameters (participant_rows.h).
+  std::vector<results_schema::ParticipantValue> participant;
   int subject_index = 0;   // counterbalancing row
   std::uint64_t seed = 1;  // master seed of this session
   bool resume = false;
@@ -167,6 +179,29 @@ std::vector<results_schema::SetupField> SessionSetup(
 // answers).
 int PlannedTrials(const protocols::Protocol& protocol, int subject_index,
                   std::uint64_t seed);
+
+// OK when every author can be listed (results_schema::ValidateAuthor) and
+// every value can be a participants.tsv cell of the session's row: a column
+// checked by results_schema::CheckParticipantColumn, not an observer_*
+// column (burrlab's), each column once.
+Status CheckDatasetOptions(
+    const std::vector<std::string>& authors,
+    const std::vector<results_schema::ParticipantValue>& values);
+
+// What a dataset's README and code/ say of `loaded` (dataset_files.h).
+results_schema::DatasetSource DatasetSourceOf(
+    const protocols::LoadedProtocol& loaded);
+
+// The participants.tsv row of a session: options.participant, then a
+// simulated observer's parameters.
+results_schema::ParticipantRow SessionParticipantRow(
+    const SessionOptions& options);
+
+// Writes a session's exports (results_schema::ExportBids with its session
+// and authors), the dataset's README and protocol copy, and merges its
+// subject's row into participants.tsv.
+Status ExportSession(const protocols::LoadedProtocol& loaded,
+                     const SessionOptions& options);
 
 // Runs (or resumes) one subject's session. The session's lock is held from
 // the journal's opening to the end of the export; a --resume of a journal

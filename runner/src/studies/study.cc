@@ -12,7 +12,11 @@
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/streams.h"
 #include "burrlab/results_schema/bids_export.h"
+#include "burrlab/results_schema/dataset_files.h"
+#include "burrlab/results_schema/dataset_layout.h"
 #include "burrlab/results_schema/journal.h"
+#include "burrlab/results_schema/participants.h"
+#include "studies/participant_rows.h"
 
 namespace burrlab::runner {
 
@@ -35,11 +39,13 @@ Status CheckNoSubjectExists(const SimulatedStudyOptions& options) {
   if (options.resume) return {};
   for (const std::string& label : options.labels) {
     std::error_code ec;
-    if (std::filesystem::exists(
-            results_schema::JournalPath(options.out_dir, label), ec)) {
+    if (std::filesystem::exists(results_schema::JournalPath(
+                                    options.out_dir, label, options.session),
+                                ec)) {
       return Error{fmt::format(
-          "sub-{} already exists in {}; use --resume to continue the study",
-          label, options.out_dir.string())};
+          "{} already exists in {}; use --resume to continue the study",
+          results_schema::SessionName(label, options.session),
+          options.out_dir.string())};
     }
   }
   return {};
@@ -110,6 +116,17 @@ SimulatedStudyResult RunSimulatedStudy(const protocols::LoadedProtocol& loaded,
   SimulatedStudyResult result;
   result.failures.resize(options.labels.size());
   result.scores.resize(options.labels.size());
+  // What the exports would refuse at the end is refused before any session.
+  Status dataset = CheckDatasetOptions(options.authors, {});
+  if (dataset.ok()) {
+    dataset = results_schema::CheckParticipantsFiles(options.out_dir);
+  }
+  if (!dataset.ok()) {
+    for (std::string& failure : result.failures) {
+      failure = dataset.error().message;
+    }
+    return result;
+  }
   std::mutex mutex;
   std::atomic<int> next{0};
   int done = 0;
@@ -121,6 +138,8 @@ SimulatedStudyResult RunSimulatedStudy(const protocols::LoadedProtocol& loaded,
       SessionOptions session;
       session.out_dir = options.out_dir;
       session.subject = options.labels[k];
+      session.session = options.session;
+      session.authors = options.authors;
       session.subject_index = i;
       session.seed = protocols::SeedFor(options.seed,
                                         protocols::StreamPurpose::kSubjectSeed,
@@ -133,7 +152,8 @@ SimulatedStudyResult RunSimulatedStudy(const protocols::LoadedProtocol& loaded,
       session.resume =
           options.resume &&
           std::filesystem::exists(
-              results_schema::JournalPath(options.out_dir, session.subject),
+              results_schema::JournalPath(options.out_dir, session.subject,
+                                          session.session),
               ec);
       Result<SessionSummary> summary = RunSession(loaded, session);
       std::lock_guard<std::mutex> lock(mutex);
@@ -150,12 +170,31 @@ SimulatedStudyResult RunSimulatedStudy(const protocols::LoadedProtocol& loaded,
     threads.emplace_back(worker);
   }
   for (std::thread& t : threads) t.join();
+  std::vector<results_schema::ParticipantRow> participants;
   for (std::size_t i = 0; i < options.labels.size(); ++i) {
     if (!result.failures[i].empty()) continue;
     if (Status s =
-            results_schema::ExportBids(options.out_dir, options.labels[i]);
+            results_schema::ExportBids(options.out_dir, options.labels[i],
+                                       {options.session, options.authors});
         !s.ok()) {
       result.failures[i] = "export failed: " + s.error().message;
+      continue;
+    }
+    participants.push_back(
+        {options.labels[i], ObserverParticipantValues(options.observers[i])});
+  }
+  if (participants.empty()) return result;
+  dataset = results_schema::WriteDatasetSource(options.out_dir,
+                                               DatasetSourceOf(loaded));
+  if (dataset.ok()) {
+    dataset = results_schema::UpdateParticipants(options.out_dir, participants,
+                                                 ObserverParticipantColumns());
+  }
+  if (!dataset.ok()) {
+    for (std::string& failure : result.failures) {
+      if (failure.empty()) {
+        failure = "export failed: " + dataset.error().message;
+      }
     }
   }
   return result;

@@ -24,8 +24,13 @@ struct SimulatedStudyOptions {
   // row i and the master seed SeedFor(seed, kSubjectSeed, i).
   std::vector<std::string> labels;
   std::vector<protocols::ObserverParams> observers;  // one per subject
-  std::uint64_t seed = 1;                            // the study seed
-  int jobs = 1;                                      // parallel sessions
+  // BIDS session label of every subject's session (DIR/sub-<label>/
+  // ses-<session>/); empty: none.
+  std::string session;
+  // The dataset's authors (dataset_description.json); none: left out.
+  std::vector<std::string> authors;
+  std::uint64_t seed = 1;  // the study seed
+  int jobs = 1;            // parallel sessions
   double radius_mm = stimuli::kDefaultBurrRadiusMm;
   bool resume = false;  // continue subjects whose journal exists
   RenderingPool* renderings = nullptr;  // shared renderings; null: afresh
@@ -44,8 +49,8 @@ struct SimulatedStudyResult {
 // Labels "01", "02", ... for n subjects (at least two digits).
 std::vector<std::string> SubjectLabels(int n);
 
-// Refuses (error naming the first) when a subject's journal exists and
-// `resume` is off: nothing is ever overwritten.
+// Refuses (error naming the first) when a subject's journal (of
+// options.session) exists and `resume` is off: nothing is ever overwritten.
 Status CheckNoSubjectExists(const SimulatedStudyOptions& options);
 
 // Renders every stimulus a protocol's simulated intervals use (those of the
@@ -57,7 +62,10 @@ Result<int> PrerenderProtocol(const protocols::Protocol& protocol,
                               int plan_subjects,
                               const std::function<void(int, int)>& progress);
 
-// Runs every subject's session, then writes the BIDS exports.
+// Runs every subject's session, then writes the BIDS exports, the dataset's
+// README and protocol copy, and participants.tsv with every subject's
+// observer parameters (a failure there is each exported subject's
+// "export failed: ...").
 SimulatedStudyResult RunSimulatedStudy(const protocols::LoadedProtocol& loaded,
                                        const SimulatedStudyOptions& options);
 

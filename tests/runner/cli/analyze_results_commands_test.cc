@@ -514,6 +514,71 @@ interval_s = 0.5
   EXPECT_EQ(RunBurrlab({"analyze", "scores", results}).err, "");
 }
 
+// Every session of a subject is analysed: scores pool a subject's sessions
+// (the subject stays the unit of the t-test), thresholds and kinematics are
+// given per session, and warnings name the session and its --session.
+TEST_F(AnalyzeResults, EverySessionOfASubjectIsAnalysed) {
+  const std::string protocol = (dir_ / "protocol.toml").string();
+  std::ofstream(protocol) << TwoBlockProtocol("two sessions", 4, 6, 0.3);
+  const std::string results = (dir_ / "out").string();
+  for (const char* subject : {"01", "02"}) {
+    for (const char* session : {"1", "2"}) {
+      const CliRun run =
+          RunBurrlab({"run", protocol, "--subject", subject, "--session",
+                      session, "--out", results, "--observer", "simulated",
+                      "--seed", std::string(subject) + session});
+      ASSERT_EQ(run.code, 0) << run.err;
+    }
+  }
+  const CliRun scores = RunBurrlab({"analyze", "scores", results, "--json"});
+  ASSERT_EQ(scores.code, 0) << scores.err;
+  EXPECT_EQ(scores.err, "");
+  const Json sd = Json::parse(scores.out)["blocks"][0];
+  EXPECT_EQ(sd["block"], "sd");
+  ASSERT_EQ(sd["subjects"].size(), 2u);
+  EXPECT_EQ(sd["subjects"][0]["subject"], "01");
+  EXPECT_EQ(sd["subjects"][0]["trials"], 8);  // 4 of each session
+  EXPECT_EQ(sd["trials_per_subject"], 8);
+
+  const CliRun thresholds = RunBurrlab({"analyze", "thresholds", results});
+  ASSERT_EQ(thresholds.code, 0) << thresholds.err;
+  std::vector<std::string> who;
+  std::istringstream lines(thresholds.out);
+  for (std::string line; std::getline(lines, line);) {
+    who.push_back(line.substr(0, line.find(':')));
+  }
+  EXPECT_EQ(who, (std::vector<std::string>{"sub-01 ses-1 stairs staircase 0",
+                                           "sub-01 ses-2 stairs staircase 0",
+                                           "sub-02 ses-1 stairs staircase 0",
+                                           "sub-02 ses-2 stairs staircase 0"}));
+  const Json json =
+      Json::parse(RunBurrlab({"analyze", "thresholds", results, "--json"}).out);
+  EXPECT_EQ(json["thresholds"][1]["subject"], "01");
+  EXPECT_EQ(json["thresholds"][1]["session"], "2");
+
+  const std::string plots = (dir_ / "plots").string();
+  const CliRun kinematics =
+      RunBurrlab({"analyze", "kinematics", results, "--plots", plots});
+  ASSERT_EQ(kinematics.code, 0) << kinematics.err;
+  EXPECT_NE(kinematics.out.find("sub-02 ses-2 stairs"), std::string::npos)
+      << kinematics.out;
+  EXPECT_TRUE(fs::exists(dir_ / "plots" / "sub-01_ses-2_stairs_force.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "plots" / "sub-01_ses-1_stairs_speed.png"));
+
+  // ses-2 of sub-02 lost its exports: the warning names it and how to
+  // export it again.
+  fs::remove_all(dir_ / "out" / "sub-02" / "ses-2" / "beh");
+  const CliRun warned = RunBurrlab({"analyze", "scores", results});
+  ASSERT_EQ(warned.code, 0) << warned.err;
+  EXPECT_EQ(warned.err,
+            "burrlab: warning: sub-02 ses-2's journal holds 10 trials but its "
+            "exports only 0, and analyses read the exports; `burrlab run "
+            "PROTOCOL --subject 02 --session 2 --out " +
+                results +
+                " --resume` exports them (and finishes the session if it "
+                "can)\n");
+}
+
 TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {
   for (const std::string command :
        {"scores", "rt", "thresholds", "kinematics"}) {

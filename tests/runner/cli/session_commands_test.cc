@@ -9,12 +9,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "devices/libusb_transport.h"
+#include "read_file.h"
 #include "run_cli.h"
+#include "two_block_protocol.h"
 
 namespace burrlab::runner {
 namespace {
@@ -88,6 +91,135 @@ TEST_F(RunAtStationTest, RefusesBadFlagCombinationsWithExactErrors) {
   ExpectRefused({"--device", "hid"},
                 "burrlab: --device hid needs --station FILE with a "
                 "[response_box] table (the box's ids and buttons)\n");
+}
+
+// Session labels, authors and participants are checked before anything
+// runs: a clear error saying where and what, exit 1, no output folder.
+TEST_F(RunAtStationTest, RefusesBadSessionsAuthorsAndParticipants) {
+  ExpectRefused({"--session", "ses-2"},
+                "burrlab: --session: session label \"ses-2\" includes the "
+                "\"ses-\" prefix; give only the label, e.g. \"2\"\n");
+  ExpectRefused({"--session", "day 1"},
+                "burrlab: --session: session label \"day 1\" has byte 0x20 at "
+                "position 4; use letters and digits only (BIDS "
+                "ses-<label>)\n");
+  ExpectRefused({"--author", "Doe, Jane", "--author", "Doe, J., Roe, R."},
+                "burrlab: --author: author \"Doe, J., Roe, R.\" has 3 commas; "
+                "give one name per --author (\"Surname, Given names\" at "
+                "most: BIDS validators read more commas as several authors in "
+                "one entry)\n");
+  ExpectRefused({"--participant", "age34"},
+                "burrlab: --participant \"age34\": expected key=value, e.g. "
+                "age=34\n");
+  ExpectRefused({"--participant", "first_name=Ada"},
+                "burrlab: --participant \"first_name=Ada\": column "
+                "\"first_name\" looks like a personal name; burrlab keeps "
+                "subjects pseudonymous (sub-<label>) and stores no names or "
+                "dates of birth: leave the column out\n");
+  ExpectRefused({"--participant", "date_of_birth=1990-01-01"},
+                "burrlab: --participant \"date_of_birth=1990-01-01\": column "
+                "\"date_of_birth\" looks like a date of birth; burrlab keeps "
+                "subjects pseudonymous (sub-<label>) and stores no names or "
+                "dates of birth: leave the column out (age in years is "
+                "fine)\n");
+  ExpectRefused({"--participant", "age=34", "--participant", "age=35"},
+                "burrlab: --participant: column age is given twice (34 and "
+                "35); give each column once\n");
+  ExpectRefused({"--participant", "observer_lapse=0"},
+                "burrlab: --participant: column observer_lapse is burrlab's: "
+                "observer_* columns hold a simulated subject's observer "
+                "parameters\n");
+  // The experimenter's table, as a spreadsheet saves it (BOM, CRLF).
+  const fs::path names =
+      Write("names.csv",
+            "\xEF\xBB\xBFparticipant_id,age,surname\r\nsub-01,34,Doe\r\n");
+  ExpectRefused({"--participants", names.string()},
+                "burrlab: " + names.string() +
+                    ":1:20: error: column \"surname\" looks like a personal "
+                    "name; burrlab keeps subjects pseudonymous (sub-<label>) "
+                    "and stores no names or dates of birth: leave the column "
+                    "out\n");
+  const fs::path twice =
+      Write("twice.tsv", "participant_id\tage\r\n01\t34\r\nsub-01\t35\r\n");
+  ExpectRefused({"--participants", twice.string()},
+                "burrlab: " + twice.string() +
+                    ":3:1: error: participant_id sub-01 appears twice (lines 2 "
+                    "and 3); give each subject one row\n");
+  const fs::path others =
+      Write("others.csv", "participant_id,age\r\n02,41\r\n");
+  ExpectRefused({"--participants", others.string()},
+                "burrlab: " + others.string() +
+                    ": error: no row for sub-01 (no participant_id is sub-01 "
+                    "or 01)\n");
+  ExpectRefused({"--participants", (dir_ / "missing.csv").string()},
+                "burrlab: cannot read " + (dir_ / "missing.csv").string() +
+                    ": No such file or directory\n");
+}
+
+// A results folder whose participants.tsv cannot be merged is refused before
+// the session starts, and kept as it is.
+TEST_F(RunAtStationTest, RefusesAParticipantsTsvThatCannotBeMerged) {
+  fs::create_directories(out());
+  const std::string bad = "participant_id\tage\tname\nsub-09\t3\tAda\n";
+  std::ofstream(out() / "participants.tsv", std::ios::binary) << bad;
+  const CliRun r = Run({"--observer", "simulated"});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err, "burrlab: " + (out() / "participants.tsv").string() +
+                       ":1:20: error: column \"name\" looks like a personal "
+                       "name; burrlab keeps subjects pseudonymous "
+                       "(sub-<label>) and stores no names or dates of birth: "
+                       "leave the column out\n");
+  EXPECT_FALSE(fs::exists(out() / "sub-01"));
+  const CliRun study = RunBurrlab({"study", protocol_, "--simulated-subjects",
+                                   "1", "--out", out().string()});
+  EXPECT_EQ(study.code, 1);
+  EXPECT_EQ(study.err, r.err);
+  EXPECT_FALSE(fs::exists(out() / "sub-01"));
+}
+
+// The subject's row of the experimenter's table and the --participant
+// values (a flag wins) go to the dataset's participants.tsv with the
+// simulated observer's parameters; a later session updates its subject's
+// row and keeps the others.
+TEST_F(RunAtStationTest, ParticipantsFromATableAndFlagsMergeIntoTheDataset) {
+  protocol_ =
+      Write("short.toml", TwoBlockProtocol("short", 4, 4, 0.3)).string();
+  const fs::path roster =
+      Write("roster.csv",
+            "\xEF\xBB\xBFparticipant_id,age,group,handedness\r\n"
+            "sub-01,34,\"expert, ENT\",R\r\n02,41,novice,\r\n,,,\r\n");
+  auto run = [&](const std::string& subject, const std::string& session,
+                 std::vector<std::string> extra) {
+    std::vector<std::string> args = {
+        "run",          protocol_,   "--subject", subject,      "--out",
+        out().string(), "--session", session,     "--observer", "simulated"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliRun r = RunBurrlab(args);
+    EXPECT_EQ(r.code, 0) << r.err;
+  };
+  run("01", "1",
+      {"--participants", roster.string(), "--participant", "group=surgeon",
+       "--participant", "years_of_practice=6"});
+  run("02", "1", {"--participants", roster.string()});
+  const std::string observer = "0.2\t0.3\t0.02\t1\t1\t0.35\t0.5\tpercepts";
+  const std::string columns =
+      "participant_id\tage\tgroup\thandedness\tyears_of_practice\t"
+      "observer_weber_stiffness\tobserver_weber_removal\tobserver_lapse\t"
+      "observer_criterion\tobserver_rt_median\tobserver_rt_log_sd\t"
+      "observer_match_tolerance\tobserver_answers\n";
+  EXPECT_EQ(ReadFile(out() / "participants.tsv"),
+            columns + "sub-01\t34\tsurgeon\tR\t6\t" + observer + "\n" +
+                "sub-02\t41\tnovice\tn/a\tn/a\t" + observer + "\n");
+  // Day 2 of sub-01, a year older by then: only that cell changes.
+  run("01", "2", {"--participant", "age=35"});
+  EXPECT_EQ(ReadFile(out() / "participants.tsv"),
+            columns + "sub-01\t35\tsurgeon\tR\t6\t" + observer + "\n" +
+                "sub-02\t41\tnovice\tn/a\tn/a\t" + observer + "\n");
+  const nlohmann::json sidecar =
+      nlohmann::json::parse(ReadFile(out() / "participants.json"));
+  EXPECT_EQ(sidecar["age"]["Units"], "year");
+  EXPECT_EQ(sidecar["observer_rt_median"]["Units"], "s");
+  EXPECT_EQ(sidecar.size(), 13u);
 }
 
 TEST_F(RunAtStationTest, ReportsABadStationFileAndScriptWithTheirPlaces) {

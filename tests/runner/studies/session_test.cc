@@ -451,6 +451,161 @@ TEST_F(SessionTest, StudyRunsEverySubjectAndRefusesToOverwrite) {
                            "; use --resume to continue the study\n");
 }
 
+// A subject who comes back is recorded as another session: each session
+// has its own folder, journal and resume, and its files carry the
+// _ses-<session> entity; nothing else in them differs from a session run
+// without a label.
+TEST_F(SessionTest, ASubjectsSessionsHaveTheirOwnFoldersJournalsAndResume) {
+  const fs::path out = dir_ / "sessions";
+  auto run = [&](const std::string& session, const std::string& seed,
+                 bool resume) {
+    std::vector<std::string> args = {"run",       protocol_,   "--subject",
+                                     "01",        "--out",     out.string(),
+                                     "--seed",    seed,        "--observer",
+                                     "simulated", "--session", session};
+    if (resume) args.push_back("--resume");
+    return RunBurrlab(args);
+  };
+  const CliRun first = run("1", "7", false);
+  ASSERT_EQ(first.code, 0) << first.err;
+  EXPECT_EQ(first.out.substr(0, first.out.find(" run now")),
+            "sub-01 ses-1: 20 trials (0 resumed, 20");
+  ASSERT_EQ(run("2", "8", false).code, 0);
+  const CliRun resumed = run("2", "8", true);
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_THAT(resumed.out,
+              HasSubstr("sub-01 ses-2: 20 trials (20 resumed, 0 run now)"));
+  auto journal = rs::Journal::Open(out, "01", "2");
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  EXPECT_EQ(journal->Trials()->size(), 20u);
+  EXPECT_EQ(journal->path(), out / "sub-01" / "ses-2" / "journal.sqlite");
+  journal = Error{"closed"};
+  const fs::path beh = out / "sub-01" / "ses-2" / "beh";
+  EXPECT_TRUE(fs::exists(beh / "sub-01_ses-2_task-stairs_physio.tsv.gz"));
+  EXPECT_TRUE(fs::exists(out / "sub-01" / "ses-2" / "sub-01_ses-2_scans.tsv"));
+  EXPECT_FALSE(fs::exists(out / "sub-01" / "beh"));
+  const fs::path plain = dir_ / "plain";
+  ASSERT_EQ(
+      RunBurrlab({"run", protocol_, "--subject", "01", "--out", plain.string(),
+                  "--seed", "8", "--observer", "simulated"})
+          .code,
+      0);
+  EXPECT_EQ(Read(beh / "sub-01_ses-2_task-sd_beh.tsv"),
+            Read(plain / "sub-01" / "beh" / "sub-01_task-sd_beh.tsv"));
+
+  const CliRun again = run("2", "8", false);
+  EXPECT_EQ(again.code, 1);
+  EXPECT_EQ(again.err, "burrlab: sub-01 ses-2 already exists in " +
+                           out.string() + "; use --resume to continue it\n");
+  const CliRun unlabelled =
+      RunBurrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
+                  "--observer", "simulated"});
+  EXPECT_EQ(unlabelled.code, 1);
+  EXPECT_EQ(unlabelled.err,
+            "burrlab: sub-01 in " + out.string() +
+                " has labelled sessions (ses-1, ses-2); give --session LABEL "
+                "to record another (a subject's sessions are all labelled or "
+                "none is)\n");
+  Result<std::vector<rs::BehFile>> files = rs::ReadBidsDataset(out);
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  std::vector<std::string> read;
+  for (const rs::BehFile& f : *files) {
+    read.push_back(f.subject + " " + f.session + " " + f.task);
+  }
+  EXPECT_EQ(read, (std::vector<std::string>{"01 1 sd", "01 1 stairs", "01 2 sd",
+                                            "01 2 stairs"}));
+}
+
+// `study --session` records every simulated subject's session in its own
+// folder, and participants.tsv lists each subject's true observer, the one
+// its journal records.
+TEST_F(SessionTest, StudySessionsListEachSubjectsTrueObserver) {
+  const fs::path out = dir_ / "study";
+  const CliRun run = RunBurrlab(
+      {"study", protocol_, "--simulated-subjects", "3", "--out", out.string(),
+       "--jobs", "2", "--seed", "3", "--weber-spread", "0.5", "--session", "1",
+       "--author", "Doe, Jane", "--author", "Roe, Richard"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::string table = Read(out / "participants.tsv");
+  std::istringstream lines(table);
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_EQ(header,
+            "participant_id\tobserver_weber_stiffness\tobserver_weber_removal\t"
+            "observer_lapse\tobserver_criterion\tobserver_rt_median\t"
+            "observer_rt_log_sd\tobserver_match_tolerance\tobserver_answers");
+  for (const char* label : {"01", "02", "03"}) {
+    std::string row;
+    ASSERT_TRUE(std::getline(lines, row)) << label;
+    std::vector<std::string> cells;
+    std::istringstream split(row);
+    for (std::string cell; std::getline(split, cell, '\t');) {
+      cells.push_back(cell);
+    }
+    ASSERT_EQ(cells.size(), 9u) << row;
+    EXPECT_EQ(cells[0], std::string("sub-") + label);
+    auto journal = rs::Journal::Open(out, label, "1");
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    std::string responder;
+    for (const rs::SetupField& f : journal->session().setup) {
+      if (f.name == "responder") responder = f.value;
+    }
+    EXPECT_THAT(responder, HasSubstr("weber_stiffness=" + cells[1] +
+                                     " weber_removal=" + cells[2] +
+                                     " lapse=" + cells[3] + " "));
+    EXPECT_EQ(cells[8], "percepts");
+  }
+  EXPECT_FALSE(std::getline(lines, header));
+  const nlohmann::json description =
+      nlohmann::json::parse(Read(out / "dataset_description.json"));
+  EXPECT_EQ(description["Authors"],
+            nlohmann::json::parse(R"(["Doe, Jane", "Roe, Richard"])"));
+  EXPECT_EQ(Read(out / "code" / "protocol.toml"), kProtocol);
+  EXPECT_TRUE(fs::exists(out / "README"));
+  EXPECT_TRUE(fs::exists(out / "sub-03" / "ses-1" / "beh" /
+                         "sub-03_ses-1_task-sd_beh.tsv"));
+  const CliRun again =
+      RunBurrlab({"study", protocol_, "--simulated-subjects", "3", "--out",
+                  out.string(), "--session", "1"});
+  EXPECT_EQ(again.code, 1);
+  EXPECT_EQ(again.err, "burrlab: sub-01 ses-1 already exists in " +
+                           out.string() +
+                           "; use --resume to continue the study\n");
+}
+
+// Everything the runs export, the dataset's own files included (README,
+// code/, participants.tsv and .json, dataset_description.json), is the same
+// byte for byte for the same runs: no wall-clock time in any of them.
+TEST_F(SessionTest, TheSameRunsGiveByteIdenticalDatasets) {
+  for (const char* name : {"a", "b"}) {
+    const std::string out = (dir_ / name).string();
+    for (const char* session : {"1", "2"}) {
+      const CliRun run = RunBurrlab(
+          {"run", protocol_, "--subject", "01", "--session", session, "--out",
+           out, "--seed", session, "--observer", "simulated", "--participant",
+           "group=expert", "--author", "Doe, Jane", "--author", "Roe, R."});
+      ASSERT_EQ(run.code, 0) << run.err;
+    }
+  }
+  std::vector<std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir_ / "a")) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && !name.starts_with("journal.sqlite")) {
+      files.push_back(fs::relative(entry.path(), dir_ / "a").string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files.size(), 26u);  // 2 x (8 in beh/ + 2 scans) + the 6 below
+  for (const char* root :
+       {"README", "code/protocol.toml", "participants.tsv", "participants.json",
+        "dataset_description.json", ".bidsignore"}) {
+    EXPECT_NE(std::find(files.begin(), files.end(), root), files.end()) << root;
+  }
+  for (const std::string& file : files) {
+    EXPECT_EQ(Read(dir_ / "a" / file), Read(dir_ / "b" / file)) << file;
+  }
+}
+
 TEST(DefaultSubjectIndex, IsTheLabelNumberMinusOne) {
   EXPECT_EQ(DefaultSubjectIndex("01"), 0);
   EXPECT_EQ(DefaultSubjectIndex("12"), 11);

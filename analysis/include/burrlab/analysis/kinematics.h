@@ -43,6 +43,7 @@ struct KinematicsOptions {
 
 struct KinematicsSummary {
   std::string subject;
+  std::string session;  // the files' session label; empty: not labelled
   // The task label of the files; empty in a subject's summary over all its
   // blocks.
   std::string block;

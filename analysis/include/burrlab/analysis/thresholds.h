@@ -33,6 +33,7 @@ struct ThresholdOptions {
 
 struct ThresholdEstimate {
   std::string subject;
+  std::string session;  // the file's session label; empty: not labelled
   std::string block;
   std::string method;
   std::string task;

@@ -1,6 +1,7 @@
 // BIDS-style export of one subject's journal (BIDS 1.9.0 behavioural and
 // physiological conventions):
-//   DIR/dataset_description.json            written only if absent
+//   DIR/dataset_description.json            written only if absent (authors
+//                                           given later are added to it)
 //   DIR/.bidsignore                         written only if absent; hides the
 //                                           journal files from BIDS validators
 //   DIR/sub-<id>/beh/sub-<id>_task-<task>_beh.tsv   one row per trial
@@ -13,11 +14,16 @@
 //                                           record), session_trials,
 //                                           session_planned_trials (n/a when
 //                                           not known ahead)
-// with one <task> per protocol block (see TaskLabel). Exports are derived from
-// the journal and are rewritten whole (temporary file, then rename) on every
-// export (temporary files that an export killed before its rename left behind
-// are removed by the next export, once their process is gone); they carry no
-// wall-clock time, so the same protocol, seed and
+// with one <task> per protocol block (see TaskLabel). A labelled session's
+// files are in DIR/sub-<id>/ses-<session>/ and their names start with
+// sub-<id>_ses-<session> (dataset_layout.h): e.g.
+// DIR/sub-01/ses-2/beh/sub-01_ses-2_task-<task>_beh.tsv and
+// DIR/sub-01/ses-2/sub-01_ses-2_scans.tsv. The dataset's README, code/ and
+// participants.tsv come from dataset_files.h and participants.h. Exports are
+// derived from the journal and are rewritten whole (temporary file, then
+// rename) on every export (temporary files that an export killed before its
+// rename left behind are removed by the next export, once their process is
+// gone); they carry no wall-clock time, so the same protocol, seed and
 // responses give byte-identical files.
 #ifndef BURRLAB_RESULTS_SCHEMA_BIDS_EXPORT_H_
 #define BURRLAB_RESULTS_SCHEMA_BIDS_EXPORT_H_
@@ -50,6 +56,22 @@ const std::vector<std::string>& PhysioLeadingColumns();
 // blocks distinct by appending 2, 3, ... in order of first appearance.
 std::string TaskLabel(std::string_view block_name);
 
+// OK when `author` can be one entry of dataset_description.json's Authors:
+// a name on one line, valid UTF-8, with at most one comma ("Surname, Given
+// names"; BIDS validators take more commas for several people in one
+// entry).
+Status ValidateAuthor(std::string_view author);
+
+// What an export writes besides the journal's contents.
+struct BidsExportOptions {
+  std::string session;  // the session's label (ses-<session>); empty: none
+  // Authors of the dataset, one name each, for dataset_description.json:
+  // written when the file is new, and added to an existing file's Authors
+  // when it lacks them. None: no Authors field (BIDS recommends one; the
+  // validator warns NO_AUTHORS, and TOO_FEW_AUTHORS for a single one).
+  std::vector<std::string> authors;
+};
+
 // Writes the BIDS-style files of DIR/sub-<label>/journal.sqlite (see top of
 // file), reading the journal in one snapshot so a running session can be
 // exported. Traces of a block are concatenated in trial and interval order;
@@ -57,6 +79,10 @@ std::string TaskLabel(std::string_view block_name);
 // its own file with a _recording-<k> entity (k = 1, 2, ... by first use).
 Status ExportBids(const std::filesystem::path& dir,
                   std::string_view subject_label);
+// The same for the session and with the authors of `options`.
+Status ExportBids(const std::filesystem::path& dir,
+                  std::string_view subject_label,
+                  const BidsExportOptions& options);
 
 }  // namespace burrlab::results_schema
 

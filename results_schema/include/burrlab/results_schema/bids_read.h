@@ -42,17 +42,21 @@ struct PhysioFile {
   std::vector<std::string> columns;
 };
 
-// One subject's block as exported.
+// One subject's block as exported (of one session).
 struct BehFile {
   std::string subject;  // label without "sub-"
+  std::string session;  // label without "ses-"; empty: not labelled
   std::string task;     // the task label of the file name
   std::filesystem::path path;
   BehTable table;
   std::vector<PhysioFile> physio;  // one per recording kind (often one)
 };
 
-// Every DIR/sub-*/beh/sub-*_task-*_beh.tsv, sorted by subject label, then by
-// the first trial index of the block (the order the subject ran them). Files
+// Every DIR/sub-*/beh/sub-*_task-*_beh.tsv and
+// DIR/sub-*/ses-*/beh/sub-*_ses-*_task-*_beh.tsv (a subject with two
+// sessions gives the files of both), sorted by subject label, then session
+// label, then by the first trial index of the block (the order the subject
+// ran them). Files
 // that are not burrlab's (other names) are left alone; a malformed burrlab
 // file is an error naming it. A folder without any is an error.
 Result<std::vector<BehFile>> ReadBidsDataset(const std::filesystem::path& dir);
@@ -63,11 +67,13 @@ struct UnexportedTrials {
   std::string subject;  // label without "sub-"
   int journal_trials = 0;
   int exported_trials = 0;  // rows of its _beh.tsv files in `files`
+  std::string session;      // label without "ses-"; empty: not labelled
 };
 
-// Every DIR/sub-*/journal.sqlite with more trials than the subject's rows in
-// `files` (ReadBidsDataset's answer for DIR, or empty), sorted by label. A
-// journal that cannot be read counts as holding trials (-1).
+// Every DIR/sub-*/journal.sqlite (and DIR/sub-*/ses-*/journal.sqlite) with
+// more trials than the session's rows in `files` (ReadBidsDataset's answer
+// for DIR, or empty), sorted by label, then session. A journal that cannot be
+// read counts as holding trials (-1).
 std::vector<UnexportedTrials> FindUnexportedTrials(
     const std::filesystem::path& dir, const std::vector<BehFile>& files);
 
@@ -78,12 +84,13 @@ struct IncompleteSession {
   std::string subject;                // label without "sub-"
   int trials = 0;                     // trials its journal holds
   std::optional<int> planned_trials;  // when known ahead
+  std::string session;  // label without "ses-"; empty: not labelled
 };
 
-// Every DIR/sub-*/journal.sqlite whose session has not run to its end,
-// sorted by label. Journals older than the record (schema version < 3, not
-// resumed since) do not say and are not listed; nor are unreadable ones
-// (FindUnexportedTrials lists those).
+// Every DIR/sub-*/journal.sqlite (and DIR/sub-*/ses-*/journal.sqlite) whose
+// session has not run to its end, sorted by label, then session. Journals older
+// than the record (schema version < 3, not resumed since) do not say and are
+// not listed; nor are unreadable ones (FindUnexportedTrials lists those).
 std::vector<IncompleteSession> FindIncompleteSessions(
     const std::filesystem::path& dir);
 

@@ -1,11 +1,12 @@
-// The session journal: one SQLite database per subject at
-// DIR/sub-<label>/journal.sqlite (WAL, synchronous=FULL, foreign keys on), one
-// transaction per completed trial. A crash or SIGKILL loses at most the trial
-// being appended, never half a trial; `burrlab run --resume` reopens the
-// journal, checks it belongs to the same protocol, seed, burrlab version and
-// set-up, and continues from Trials().size() with the last trial's rng_state.
-// An open journal holds the session's lock (session_lock.h): one process per
-// session.
+// The session journal: one SQLite database per subject and session at
+// DIR/sub-<label>/journal.sqlite, or DIR/sub-<label>/ses-<session>/
+// journal.sqlite for a labelled session (dataset_layout.h) (WAL,
+// synchronous=FULL, foreign keys on), one transaction per completed trial. A
+// crash or SIGKILL loses at most the trial being appended, never half a trial;
+// `burrlab run --resume` reopens the journal, checks it belongs to the same
+// protocol, seed, burrlab version and set-up, and continues from
+// Trials().size() with the last trial's rng_state. An open journal holds the
+// session's lock (session_lock.h): one process per session.
 //
 // Tables (schema version 3; every statement is parametrized):
 //   schema_version(version, written_by)          one row per version written
@@ -45,6 +46,11 @@ inline constexpr int kJournalSchemaVersion = 3;
 // DIR/sub-<label>/journal.sqlite.
 std::filesystem::path JournalPath(const std::filesystem::path& dir,
                                   std::string_view subject_label);
+// The journal of session `session_label` (none when empty):
+// DIR/sub-<label>/ses-<session>/journal.sqlite.
+std::filesystem::path JournalPath(const std::filesystem::path& dir,
+                                  std::string_view subject_label,
+                                  std::string_view session_label);
 
 // The SQLite settings in force on a journal's connection (for tests and
 // `burrlab run --resume` diagnostics).
@@ -68,6 +74,10 @@ struct SessionProgress {
 // taking the session's lock (a running session's journal can be read).
 Result<SessionProgress> ReadSessionProgress(const std::filesystem::path& dir,
                                             std::string_view subject_label);
+// The same for session `session_label` of the subject (none when empty).
+Result<SessionProgress> ReadSessionProgress(const std::filesystem::path& dir,
+                                            std::string_view subject_label,
+                                            std::string_view session_label);
 
 // An open journal. Move-only; closing is the destructor.
 class Journal {
@@ -82,12 +92,26 @@ class Journal {
   // hard-linked into place, which never replaces a file).
   static Result<Journal> Create(const std::filesystem::path& dir,
                                 const SessionInfo& session);
+  // The same for session `session_label` of the subject (none when empty),
+  // in DIR/sub-<label>/ses-<session>/; messages name it "sub-<label>
+  // ses-<session>". A subject's sessions are all labelled or none is: a
+  // labelled session of a subject recorded without one is refused ("sub-01
+  // in DIR was recorded without a session label (...)"), and so is an
+  // unlabelled one of a subject with labelled sessions ("sub-01 in DIR has
+  // labelled sessions (ses-1); give --session LABEL ...").
+  static Result<Journal> Create(const std::filesystem::path& dir,
+                                const SessionInfo& session,
+                                std::string_view session_label);
 
   // Opens an existing journal to resume it, taking the session's lock (see
   // Create); fails with "no journal for sub-<label> in DIR ..." when there is
   // none and refuses journals written by a newer schema version.
   static Result<Journal> Open(const std::filesystem::path& dir,
                               std::string_view subject_label);
+  // The same for session `session_label` of the subject (none when empty).
+  static Result<Journal> Open(const std::filesystem::path& dir,
+                              std::string_view subject_label,
+                              std::string_view session_label);
 
   // Moves the open connection.
   Journal(Journal&& other) noexcept;
@@ -156,6 +180,7 @@ class Journal {
   explicit Journal(std::unique_ptr<Impl> impl);
   static Result<Journal> OpenLocked(const std::filesystem::path& dir,
                                     std::string_view subject_label,
+                                    std::string_view session_label,
                                     SessionLock lock);
   std::unique_ptr<Impl> impl_;
 };

@@ -16,7 +16,7 @@
 
 namespace burrlab::results_schema {
 
-// Longest subject label accepted (characters).
+// Longest subject (or session) label accepted (characters).
 inline constexpr std::size_t kMaxSubjectLabelLength = 64;
 
 // Largest trace accepted by Journal::Append: rows x columns values (1 GB of
@@ -97,6 +97,10 @@ struct TraceSamples {
 
 // OK when `label` is a BIDS subject label: 1..64 ASCII letters or digits.
 Status ValidateSubjectLabel(std::string_view label);
+
+// OK when `label` is a BIDS session label (ses-<label>): 1..64 ASCII letters
+// or digits, e.g. "2" for a subject's second visit.
+Status ValidateSessionLabel(std::string_view label);
 
 // OK when every field of `session` is acceptable (label, 64-hex hash, ...).
 Status ValidateSession(const SessionInfo& session);

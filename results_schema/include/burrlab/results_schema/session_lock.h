@@ -1,12 +1,13 @@
 // One process per session: an exclusive advisory lock (flock) on
-// DIR/sub-<label>/journal.sqlite.lock, held while a process writes the
-// session's journal. The file names its holder ("pid P on HOST since UTC"), so
-// a second process is refused with a message saying who has the session. The
-// kernel drops the lock when its holder exits or is killed, so a lock left by a
-// crashed or SIGKILLed run is free: the next run takes it over and rewrites
-// the holder line. The file itself stays (it is not part of the exports).
-// flock works on local file systems and on NFS v4 (Linux emulates it with
-// byte-range locks there).
+// journal.sqlite.lock in the session's folder (DIR/sub-<label>/, or
+// DIR/sub-<label>/ses-<session>/: dataset_layout.h), held while a process
+// writes the session's journal. The file names its holder ("pid P on HOST since
+// UTC"), so a second process is refused with a message saying who has the
+// session. The kernel drops the lock when its holder exits or is killed, so a
+// lock left by a crashed or SIGKILLed run is free: the next run takes it over
+// and rewrites the holder line. The file itself stays (it is not part of the
+// exports). flock works on local file systems and on NFS v4 (Linux emulates it
+// with byte-range locks there).
 #ifndef BURRLAB_RESULTS_SCHEMA_SESSION_LOCK_H_
 #define BURRLAB_RESULTS_SCHEMA_SESSION_LOCK_H_
 
@@ -21,6 +22,10 @@ namespace burrlab::results_schema {
 // DIR/sub-<label>/journal.sqlite.lock.
 std::filesystem::path SessionLockPath(const std::filesystem::path& dir,
                                       std::string_view subject_label);
+// The same in the folder of session `session_label` (none when empty).
+std::filesystem::path SessionLockPath(const std::filesystem::path& dir,
+                                      std::string_view subject_label,
+                                      std::string_view session_label);
 
 // The lock of one session. Move-only; the destructor releases it.
 class SessionLock {
@@ -32,6 +37,11 @@ class SessionLock {
   // before starting another on this session".
   static Result<SessionLock> Acquire(const std::filesystem::path& dir,
                                      std::string_view subject_label);
+  // The same for session `session_label` of the subject (none when empty);
+  // the message names it "sub-<label> ses-<session>".
+  static Result<SessionLock> Acquire(const std::filesystem::path& dir,
+                                     std::string_view subject_label,
+                                     std::string_view session_label);
 
   // Moves the lock.
   SessionLock(SessionLock&& other) noexcept;

@@ -3,9 +3,15 @@
 # into PREFIX for the test runner.bids_validator (validate.sh). Once: a
 # validator installed there by an earlier run is kept.
 #   install.sh PREFIX
+# `make test` starts it in the background before building, so the download
+# overlaps the compilation; the ctest fixture's run then waits for that one
+# (a lock beside PREFIX) and finds the validator installed.
 set -euo pipefail
 prefix=$1
 validator=$prefix/node_modules/.bin/bids-validator
+mkdir -p "$(dirname "$prefix")"
+exec 9> "$prefix.lock"
+flock 9
 if [[ -x $validator ]] && version=$("$validator" --version 2>/dev/null); then
   echo "bids-validator $version is installed in $prefix"
   exit 0

@@ -130,7 +130,8 @@ Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
     Json sj = {{"subject", s.subject},
                {"correct", s.correct},
                {"trials", s.trials},
-               {"proportion", s.proportion}};
+               {"proportion", s.proportion},
+               {"late_answers", s.late_answers}};
     if (s.rates) sj["rates"] = RatesJson(*s.rates);
     j["subjects"].push_back(sj);
   }
@@ -163,6 +164,8 @@ Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
                       : Json(nullptr);
   j["pooled_rates"] =
       b.pooled_rates ? RatesJson(*b.pooled_rates) : Json(nullptr);
+  j["answers_with_deadline"] = b.answers_with_deadline;
+  j["late_answers"] = b.late_answers;
   j["no_test_reason"] = b.no_test_reason;
   j["warnings"] = b.warnings;
   j["histogram"] = plot.empty() ? Json(nullptr) : Json(plot);
@@ -213,10 +216,18 @@ void PrintScores(std::ostream& out, const analysis::BlockScores& b,
   if (b.pooled_rates) {
     out << "  pooled     " << DPrimeText(*b.pooled_rates) << '\n';
   }
+  if (b.answers_with_deadline > 0) {
+    out << fmt::format(
+        "  late       {} of {} answers after the response deadline (kept and "
+        "scored)\n",
+        b.late_answers, b.answers_with_deadline);
+  }
   for (const analysis::SubjectScore& s : b.subjects) {
-    out << fmt::format("  sub-{:<8} {:>3} of {:<3}{}\n", s.subject, s.correct,
-                       s.trials,
-                       s.rates ? "  " + DPrimeText(*s.rates) : std::string());
+    out << fmt::format(
+        "  sub-{:<8} {:>3} of {:<3}{}{}\n", s.subject, s.correct, s.trials,
+        b.answers_with_deadline > 0 ? fmt::format("  {} late", s.late_answers)
+                                    : std::string(),
+        s.rates ? "  " + DPrimeText(*s.rates) : std::string());
   }
   for (const std::string& w : b.warnings) out << "  warning    " << w << '\n';
   if (!plot.empty()) out << "  histogram  " << plot << '\n';
@@ -230,7 +241,9 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
       "and two-sided), an exact binomial test of the pooled answers, and for "
       "same-different blocks hit and false-alarm rates with d' "
       "(differencing and independent-observation models; rates of 0 or 1 "
-      "moved to 1/(2N), marked *).",
+      "moved to 1/(2N), marked *). Practice trials are left out (the output "
+      "says how many); answers after a block's response deadline are counted "
+      "per block and scored.",
       "burrlab analyze scores"};
   std::string dir, plots;
   bool json = false;
@@ -245,6 +258,8 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
   if (!files.ok()) return Fail(err, files.error().message);
+  const std::vector<analysis::PracticeLeftOut> practice =
+      analysis::PracticeTrials(*files);
   Result<std::vector<analysis::BlockScores>> blocks =
       analysis::ScoreBlocks(*files);
   if (!blocks.ok())
@@ -267,12 +282,28 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
   if (json) {
     Json j;
     j["results"] = dir;
+    j["practice_left_out"] = Json::array();
+    for (const analysis::PracticeLeftOut& p : practice) {
+      j["practice_left_out"].push_back(
+          {{"block", p.block}, {"trials", p.trials}});
+    }
     j["blocks"] = Json::array();
     for (std::size_t i = 0; i < blocks->size(); ++i) {
       j["blocks"].push_back(ScoresJson((*blocks)[i], plot_paths[i]));
     }
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
+  }
+  if (!practice.empty()) {
+    int n = 0;
+    std::string which;
+    for (const analysis::PracticeLeftOut& p : practice) {
+      n += p.trials;
+      which += fmt::format("{}{} ({})", which.empty() ? "" : ", ", p.block,
+                           p.trials);
+    }
+    out << fmt::format("left out {} practice trial{}, never scored: {}\n\n", n,
+                       n == 1 ? "" : "s", which);
   }
   for (std::size_t i = 0; i < blocks->size(); ++i) {
     if (i > 0) out << '\n';

@@ -172,7 +172,7 @@ Status SessionRunner::Replay(const std::vector<rs::TrialRecord>& records) {
           "protocol's trial {} (block \"{}\")",
           r.trial_index, r.block, t.trial_index, t.block)};
     }
-    if (r.correct.has_value()) {
+    if (r.correct.has_value() && !r.practice) {  // practice is not scored
       ++scored_;
       correct_ += *r.correct ? 1 : 0;
     }
@@ -429,6 +429,8 @@ Result<SessionSummary> SessionRunner::Run() {
     r.correct = outcome->correct;
     r.response_time_s = response->response_time_s;
     r.source = SourceName();
+    r.practice = trial.practice;
+    r.late = outcome->late;
     r.staircase_id = trial.staircase_id;
     r.reversal = outcome->reversal;
     r.step_size = outcome->step_size;
@@ -452,7 +454,7 @@ Result<SessionSummary> SessionRunner::Run() {
           "it; fix the cause and run again with --resume)",
           trial.trial_index, s.error().message, trial.trial_index)};
     }
-    if (r.correct.has_value()) {
+    if (r.correct.has_value() && !r.practice) {  // practice is not scored
       ++scored_;
       correct_ += *r.correct ? 1 : 0;
     }

@@ -149,8 +149,8 @@ struct SessionSummary {
   int trials_total = 0;         // trials in the journal at the end
   bool finished = false;        // the protocol ran to its end
   std::string stop_reason;      // why it stopped early (kStation), if it did
-  std::optional<double> score;  // fraction correct over trials with an
-                                // answer key, when any
+  std::optional<double> score;  // fraction correct over scored trials
+                                // (with an answer key, not practice)
 };
 
 // What shapes a session's results besides its protocol and seed, as the

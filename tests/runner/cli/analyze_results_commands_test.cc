@@ -15,6 +15,7 @@
 
 #include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/journal.h"
+#include "paced_protocol.h"
 #include "run_cli.h"
 #include "two_block_protocol.h"
 
@@ -107,6 +108,54 @@ TEST_F(AnalyzeResults, ScoresJsonHasTheTestsAndTheHistogram) {
   EXPECT_NEAR(k["kinematics"][0]["duration_s"].get<double>(), 120.0, 1e-6);
   EXPECT_NEAR(k["kinematics"][0]["removal_rate_mm3_per_s"].get<double>(), 0.0,
               1e-12);  // probing removes nothing
+}
+
+// Practice trials are never scored and the output says how many were left
+// out; late answers are counted per block (truth: the exported marks).
+TEST_F(AnalyzeResults, ScoresLeaveOutPracticeAndCountLateAnswers) {
+  const std::string protocol = (dir_ / "paced.toml").string();
+  std::ofstream(protocol) << PacedProtocol(0.5, 0.25, 0.5, 1.0);
+  const std::string results = (dir_ / "out").string();
+  ASSERT_EQ(RunBurrlab({"study", protocol, "--simulated-subjects", "2", "--out",
+                        results, "--seed", "3", "--jobs", "1"})
+                .code,
+            0);
+  auto files = results_schema::ReadBidsDataset(results);
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  int late = 0, practice = 0;
+  for (const auto& f : *files) {
+    for (const auto& t : f.table.trials) {
+      practice += t.practice ? 1 : 0;
+      if (!t.practice) {
+        ASSERT_TRUE(t.late.has_value()) << t.trial_index;
+        late += *t.late ? 1 : 0;
+      } else {
+        EXPECT_EQ(t.late, std::nullopt);  // no deadline in practice
+      }
+    }
+  }
+  EXPECT_EQ(practice, 8);
+  EXPECT_GT(late, 0);  // simulated answers take about 1 s: some are late
+  EXPECT_LT(late, 16);
+  const CliRun text = RunBurrlab({"analyze", "scores", results});
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_TRUE(text.out.starts_with(
+      "left out 8 practice trials, never scored: familiarize (8)\n\nblock "
+      "main (same_different, probe): 2 subjects, 8 trials each\n"))
+      << text.out;
+  EXPECT_NE(text.out.find("  late       " + std::to_string(late) +
+                          " of 16 answers after the response deadline (kept "
+                          "and scored)\n"),
+            std::string::npos)
+      << text.out;
+  const CliRun json = RunBurrlab({"analyze", "scores", results, "--json"});
+  ASSERT_EQ(json.code, 0) << json.err;
+  const Json j = Json::parse(json.out);
+  EXPECT_EQ(j["practice_left_out"],
+            Json::parse(R"([{"block": "familiarize", "trials": 8}])"));
+  ASSERT_EQ(j["blocks"].size(), 1u);
+  EXPECT_EQ(j["blocks"][0]["late_answers"], late);
+  EXPECT_EQ(j["blocks"][0]["answers_with_deadline"], 16);
 }
 
 // A subject whose run stopped before its export (here: its exports

@@ -19,6 +19,7 @@
 #include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/journal.h"
 #include "cli/session_commands.h"
+#include "paced_protocol.h"
 #include "run_cli.h"
 #include "two_block_protocol.h"
 
@@ -106,6 +107,46 @@ TEST_F(SessionTest, SimulatedRunWritesJournalAndBidsExport) {
   EXPECT_TRUE(
       fs::exists(out / "sub-01" / "beh" / "sub-01_task-stairs_physio.tsv.gz"));
   EXPECT_TRUE(fs::exists(out / "dataset_description.json"));
+}
+
+// A practice block's trials are run and recorded like the others, marked as
+// practice and left out of the session's score; answers after a deadline
+// are kept and marked late (the simulated observer answers in about 1 s).
+TEST_F(SessionTest, PracticeTrialsAndLateAnswersAreMarkedInJournalAndExport) {
+  const fs::path out = dir_ / "out";
+  Write(protocol_, PacedProtocol(0.5, 0.0, 0.0, 1.0));
+  const CliRun run =
+      RunBurrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
+                  "--seed", "7", "--observer", "simulated"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::vector<rs::TrialRecord> trials = Trials(out, "01");
+  ASSERT_EQ(trials.size(), 12u);
+  int late = 0, correct = 0;
+  for (const rs::TrialRecord& t : trials) {
+    const bool practice = t.block == "familiarize";
+    EXPECT_EQ(t.practice, practice) << t.trial_index;
+    ASSERT_TRUE(t.response_time_s.has_value());
+    if (practice) {
+      EXPECT_EQ(t.late, std::nullopt) << t.trial_index;  // no deadline
+    } else {
+      EXPECT_EQ(t.late, *t.response_time_s > 1.0) << t.trial_index;
+      late += t.late == true ? 1 : 0;
+      correct += t.correct == true ? 1 : 0;
+    }
+  }
+  EXPECT_GT(late, 0);
+  EXPECT_THAT(run.out, HasSubstr(fmt::format("sub-01: 12 trials (0 resumed, 12 "
+                                             "run now), {:.1f} % correct",
+                                             100.0 * correct / 8)));
+  Result<std::vector<rs::BehFile>> files = rs::ReadBidsDataset(out);
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  ASSERT_EQ(files->size(), 2u);
+  for (const rs::BehFile& f : *files) {
+    for (const rs::TrialRecord& t : f.table.trials) {
+      EXPECT_EQ(t.practice, trials[t.trial_index].practice);
+      EXPECT_EQ(t.late, trials[t.trial_index].late);
+    }
+  }
 }
 
 // The seed column holds text that `--seed` takes back as written: a seed

@@ -122,7 +122,9 @@ struct SessionOptions {
   std::istream* in = nullptr;         // kTerminal: answers
   std::ostream* prompt = nullptr;     // kTerminal: trial descriptions
   // kTerminal: false when the answers come from a pipe or a file, not a
-  // person at a terminal; their response times are then not recorded (n/a).
+  // person at a terminal; their response times are then not recorded (n/a),
+  // and instructions and rest breaks are printed without waiting for Enter
+  // (which would take an answer).
   bool answers_timed = true;
   LiveStation* station = nullptr;  // kStation: the station
   // kStation: the device backend ("mouse", "hid", ...) and the SHA-256 of the

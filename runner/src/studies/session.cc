@@ -549,6 +549,19 @@ Result<SessionSummary> SessionRunner::Run() {
       correct_ += *r.correct ? 1 : 0;
     }
     ++summary.trials_run;
+    if (options_.responder == Responder::kStation) {
+      const std::string stop =
+          options_.station->AfterAnswer(trial, outcome->correct);
+      if (!stop.empty()) {
+        if (options_.on_trial) {
+          options_.on_trial(summary.trials_resumed + summary.trials_run,
+                            trial.block);
+        }
+        summary.stop_reason = stop;
+        summary.trials_total = summary.trials_resumed + summary.trials_run;
+        return summary;
+      }
+    }
     if (options_.responder == Responder::kTerminal) {
       if (trial.feedback && outcome->correct.has_value()) {
         // A terminal echoed the answer's line break; a pipe did not.

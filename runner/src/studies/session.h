@@ -105,6 +105,16 @@ class LiveStation {
   // answers or the session stops; an error is a failure of the station.
   virtual Result<LiveTrial> PresentTrial(const protocols::TrialSpec& trial,
                                          int trials_done) = 0;
+  // After the trial's answer is saved: feedback (when the trial gives it;
+  // `correct` is the engine's verdict) and the gap after the answer. Returns
+  // why the session stops there (the window was closed, the experimenter
+  // aborted), or empty to go on.
+  virtual std::string AfterAnswer(const protocols::TrialSpec& trial,
+                                  std::optional<bool> correct) {
+    (void)trial;
+    (void)correct;
+    return {};
+  }
   // Shows that the session ran to its end.
   virtual void Finish() = 0;
 };

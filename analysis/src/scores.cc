@@ -83,14 +83,34 @@ SameDifferentRates RatesFromCounts(int hits, int different_trials,
   return r;
 }
 
+std::vector<PracticeLeftOut> PracticeTrials(std::span<const BehFile> files) {
+  std::vector<PracticeLeftOut> out;
+  for (const BehFile& file : files) {
+    for (const TrialRecord& t : file.table.trials) {
+      if (!t.practice) continue;
+      auto it = std::find_if(
+          out.begin(), out.end(),
+          [&](const PracticeLeftOut& p) { return p.block == t.block; });
+      if (it == out.end()) it = out.insert(out.end(), {t.block, 0});
+      ++it->trials;
+    }
+  }
+  return out;
+}
+
 Result<std::vector<BlockScores>> ScoreBlocks(std::span<const BehFile> files) {
   // Blocks in the order they first appear, trials per block and subject.
   std::vector<std::string> order;
   std::map<std::string, BlockScores> blocks;
   std::map<std::string, std::map<std::string, std::vector<const TrialRecord*>>>
       trials;
+  int practice = 0;
   for (const BehFile& file : files) {
     for (const TrialRecord& t : file.table.trials) {
+      if (t.practice) {  // familiarization (§13.5.1): never scored
+        ++practice;
+        continue;
+      }
       if (!t.correct.has_value()) continue;
       auto [it, added] = blocks.try_emplace(t.block);
       if (added) {
@@ -107,9 +127,13 @@ Result<std::vector<BlockScores>> ScoreBlocks(std::span<const BehFile> files) {
     }
   }
   if (order.empty()) {
-    return Error{
-        "no block has trials with a correct answer (adjustment and limits "
-        "blocks have none; see burrlab analyze thresholds)"};
+    return Error{fmt::format(
+        "no block has {}trials with a correct answer (adjustment and limits "
+        "blocks have none; see burrlab analyze thresholds){}",
+        practice > 0 ? "scored " : "",
+        practice > 0
+            ? fmt::format("; the {} practice trials are never scored", practice)
+            : std::string())};
   }
   std::vector<BlockScores> out;
   for (const std::string& name : order) {
@@ -127,6 +151,13 @@ Result<std::vector<BlockScores>> ScoreBlocks(std::span<const BehFile> files) {
       for (const TrialRecord* t : list) {
         ++s.trials;
         s.correct += *t->correct ? 1 : 0;
+        if (t->late.has_value()) {
+          ++b.answers_with_deadline;
+          if (*t->late) {
+            ++s.late_answers;
+            ++b.late_answers;
+          }
+        }
         if (!same_different || t->response.empty()) continue;
         const bool said_different = t->response == "different";
         if (IsDifferentPair(t->trial_type)) {

@@ -251,6 +251,18 @@ Status Engine::Impl::PlanTrial() {
   t.method = b.method;
   t.task = b.task;
   t.question = DefaultQuestion(b);
+  t.practice = b.practice;
+  t.feedback = b.feedback;
+  t.isi_s = b.isi_s;
+  t.iti_s = b.iti_s;
+  t.response_deadline_s = b.response_deadline_s;
+  if (trial_index == 0) t.study_instructions = protocol->instructions;
+  if (trial_in_block == 0) {
+    t.block_instructions = b.instructions;
+    t.break_before = position > 0 && protocol->breaks_between_blocks;
+  } else if (b.break_every.has_value()) {
+    t.break_before = trial_in_block % *b.break_every == 0;
+  }
   const Axis* axis = b.axis.empty() ? nullptr : protocol->FindAxis(b.axis);
   if (axis != nullptr) {
     t.stim_unit = AxisUnit(*axis);
@@ -427,6 +439,8 @@ Status Engine::Impl::PlanTrial() {
       },
       state);
   if (!status.ok()) return status;
+  // A trial at the standard's level has no correct answer to tell.
+  if (t.correct_answer.empty()) t.feedback = false;
   spec = std::move(t);
   return {};
 }
@@ -550,6 +564,10 @@ Result<Outcome> Engine::Respond(const Response& response) {
   }
 
   Outcome out;
+  if (b.response_deadline_s.has_value() &&
+      response.response_time_s.has_value()) {
+    out.late = *response.response_time_s > *b.response_deadline_s;
+  }
   Json extra = Json::object();
   if (!answer.empty() && !t.correct_answer.empty()) {
     out.correct = answer == t.correct_answer;

@@ -205,6 +205,28 @@ std::string_view MethodName(Method method) {
   return "?";
 }
 
+std::string NoFeedbackReason(const Block& block) {
+  switch (block.method) {
+    case Method::kLimits:
+      return "method limits has no correct answer (the subject says whether "
+             "the comparison felt different)";
+    case Method::kAdjustment:
+      return "method adjustment has no correct answer (the level the subject "
+             "sets is recorded)";
+    case Method::kStaircase:
+    case Method::kQuest:
+      if (block.adaptive_response == AdaptiveResponse::kYesNo) {
+        return fmt::format(
+            "a yes/no {} block counts every \"yes\" as correct, so feedback "
+            "would only repeat the answer",
+            MethodName(block.method));
+      }
+      return {};
+    default:
+      return {};
+  }
+}
+
 const ProtocolMaterial* Protocol::FindMaterial(std::string_view id) const {
   for (const ProtocolMaterial& m : materials) {
     if (m.id == id) return &m;

@@ -40,8 +40,8 @@ constexpr std::size_t kMaxScheduleEntries = 100;
 constexpr std::string_view kRootKeys[] = {
     "format",         "study",     "recording", "observer",
     "counterbalance", "materials", "axes",      "blocks"};
-constexpr std::string_view kStudyKeys[] = {"name", "description",
-                                           "instructions"};
+constexpr std::string_view kStudyKeys[] = {
+    "name", "description", "instructions", "breaks_between_blocks"};
 constexpr std::string_view kRecordingKeys[] = {"trace_hz"};
 constexpr std::string_view kObserverKeys[] = {
     "weber_stiffness", "weber_removal", "lapse",
@@ -69,8 +69,20 @@ static_assert(std::size(kSpellings) == 5 &&
                   &sim::Material::c_i_n_s_per_mm3);
 constexpr std::string_view kAxisKeys[] = {"kind", "parameter", "reference",
                                           "from", "to"};
-constexpr std::string_view kCommonBlockKeys[] = {
-    "name", "method", "task", "instructions", "question", "interval_s"};
+constexpr std::string_view kCommonBlockKeys[] = {"name",
+                                                 "method",
+                                                 "task",
+                                                 "instructions",
+                                                 "question",
+                                                 "interval_s",
+                                                 "practice",
+                                                 "feedback",
+                                                 "isi_s",
+                                                 "iti_s",
+                                                 "response_deadline_s",
+                                                 "break_every"};
+// Longest gap (isi_s, iti_s) and response deadline, s: as an interval.
+constexpr double kMaxGapS = 600.0;
 constexpr std::string_view kSameDifferentKeys[] = {"a", "b", "trials"};
 constexpr std::string_view kTwoIntervalKeys[] = {
     "design", "standard", "comparison",         "a",
@@ -163,6 +175,10 @@ class Parser {
                             const std::string& name, Keys choices) {
     return fields_.Choice(t, key, name, choices);
   }
+  std::optional<bool> Boolean(const toml::table& t, std::string_view key,
+                              const std::string& name) {
+    return fields_.Boolean(t, key, name);
+  }
   bool Range(const toml::table& t, std::string_view key,
              const std::string& name, double value, double lo, double hi,
              bool lo_open, bool hi_open) {
@@ -197,6 +213,9 @@ class Parser {
                       StaircaseOptions& o, const Axis* axis);
   void ParseIntervals(const toml::table& t, const std::string& name,
                       std::size_t count, Block& b);
+  // practice, feedback, isi_s, iti_s, response_deadline_s and break_every
+  // (after the method's keys: feedback depends on the design).
+  void ParsePacing(const toml::table& t, const std::string& name, Block& b);
   // Fills b.reach for a block parsed without errors: the materials it names
   // and, on its axis, its standard and the ends of the levels it can reach.
   // `staircases` holds each staircase's table.
@@ -292,6 +311,9 @@ void Parser::ParseStudy(const toml::table& root, Protocol& p) {
       String(*study, "description", "study.description").value_or("");
   p.instructions =
       String(*study, "instructions", "study.instructions").value_or("");
+  p.breaks_between_blocks =
+      Boolean(*study, "breaks_between_blocks", "study.breaks_between_blocks")
+          .value_or(false);
 }
 
 void Parser::ParseRecording(const toml::table& root, Protocol& p) {
@@ -702,6 +724,49 @@ void Parser::ParseIntervals(const toml::table& t, const std::string& name,
       return;
     }
     b.interval_s.push_back(v);
+  }
+}
+
+void Parser::ParsePacing(const toml::table& t, const std::string& name,
+                         Block& b) {
+  b.practice = Boolean(t, "practice", name + ".practice").value_or(false);
+  // Feedback needs a correct answer that is more than the answer itself.
+  const std::string no_feedback = NoFeedbackReason(b);
+  if (std::optional<bool> f = Boolean(t, "feedback", name + ".feedback")) {
+    if (*f && !no_feedback.empty()) {
+      Fail(*t.get("feedback"),
+           fmt::format("{}.feedback cannot be true: {}", name, no_feedback));
+    } else {
+      b.feedback = *f;
+    }
+  } else {
+    b.feedback = b.practice && no_feedback.empty();
+  }
+  struct Gap {
+    std::string_view key;
+    double* value;
+  };
+  for (const Gap& g : {Gap{"isi_s", &b.isi_s}, Gap{"iti_s", &b.iti_s}}) {
+    const std::string field = fmt::format("{}.{}", name, g.key);
+    if (std::optional<double> v = Number(t, g.key, field)) {
+      if (Range(t, g.key, field, *v, 0.0, kMaxGapS, false, false)) {
+        *g.value = *v;
+      }
+    }
+  }
+  const std::string deadline = name + ".response_deadline_s";
+  if (std::optional<double> v = Number(t, "response_deadline_s", deadline)) {
+    if (Range(t, "response_deadline_s", deadline, *v, 0.0, kMaxGapS, true,
+              false)) {
+      b.response_deadline_s = *v;
+    }
+  }
+  const std::string every = name + ".break_every";
+  if (std::optional<std::int64_t> v = Integer(t, "break_every", every)) {
+    if (Range(t, "break_every", every, static_cast<double>(*v), 1,
+              kMaxTrialsPerBlock, false, false)) {
+      b.break_every = static_cast<int>(*v);
+    }
   }
 }
 
@@ -1307,6 +1372,7 @@ void Parser::ParseBlock(const toml::table& t, int index, const Protocol& p,
     }
   }
   ParseIntervals(t, name, n_intervals, b);
+  ParsePacing(t, name, b);
   if (diagnostics_.size() == errors_before) {
     Reach(t, name, p, axis, staircase_tables, b);
   }

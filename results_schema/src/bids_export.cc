@@ -127,6 +127,7 @@ Result<std::vector<std::string>> BehRow(const TrialRecord& t,
       t.method,
       t.task,
       OrNa(t.trial_type),
+      t.practice ? std::string("1") : std::string("0"),
       OrNa(t.stim_level),
       OrNa(t.stim_unit),
       t.interval_materials.empty() ? std::string(kNa)
@@ -135,6 +136,7 @@ Result<std::vector<std::string>> BehRow(const TrialRecord& t,
       OrNa(t.response),
       OrNa(t.correct),
       OrNa(t.response_time_s),
+      OrNa(t.late),
       OrNa(t.source),
       OrNa(t.staircase_id),
       OrNa(t.reversal),
@@ -177,6 +179,11 @@ std::string BehSidecar(const std::string& block,
   for (const std::string& type : trial_types) {
     j["trial_type"]["Levels"][type] = TrialTypeDescription(type);
   }
+  j["practice"] = Column(
+      "Whether the trial belongs to a practice block: a familiarization "
+      "trial, run and recorded like the others but left out of scores");
+  j["practice"]["Levels"]["1"] = "practice (not scored)";
+  j["practice"]["Levels"]["0"] = "scored";
   j["stim_level"] = Column(
       "Level of the varied stimulus parameter in this trial (n/a when the "
       "design has none)");
@@ -195,6 +202,12 @@ std::string BehSidecar(const std::string& block,
   j["response_time"] =
       Column("Time from the response prompt to the answer (n/a when missed)");
   j["response_time"]["Units"] = "s";
+  j["late"] = Column(
+      "Whether the answer came after the block's response deadline; a late "
+      "answer is kept and scored like the others (n/a when the block has no "
+      "deadline or the response time is unknown)");
+  j["late"]["Levels"]["1"] = "after the deadline";
+  j["late"]["Levels"]["0"] = "in time";
   j["source"] = Column(
       "Who answered: typed (at the prompt), station <device> (a person at a "
       "station with that haptic device) or simulated observer (n/a when the "
@@ -568,11 +581,13 @@ const std::vector<std::string>& ScansColumns() {
 
 const std::vector<std::string>& BehColumns() {
   static const std::vector<std::string> kColumns = {
-      "trial_index",    "block",        "method",    "task",
-      "trial_type",     "stim_level",   "stim_unit", "interval_materials",
-      "correct_answer", "response",     "correct",   "response_time",
-      "source",         "staircase_id", "reversal",  "step_size",
-      "estimate",       "seed",         "extra"};
+      "trial_index",    "block",      "method",
+      "task",           "trial_type", "practice",
+      "stim_level",     "stim_unit",  "interval_materials",
+      "correct_answer", "response",   "correct",
+      "response_time",  "late",       "source",
+      "staircase_id",   "reversal",   "step_size",
+      "estimate",       "seed",       "extra"};
   return kColumns;
 }
 

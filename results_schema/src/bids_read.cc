@@ -136,7 +136,8 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
   std::vector<std::size_t> at;
   for (const std::string& name : BehColumns()) {
     const auto it = index.find(name);
-    if (it == index.end() && name == "source") {
+    if (it == index.end() &&
+        (name == "source" || name == "practice" || name == "late")) {
       at.push_back(kAbsent);  // exports written before it existed
       continue;
     }
@@ -154,6 +155,7 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
     kMethod,
     kTask,
     kTrialType,
+    kPractice,
     kStimLevel,
     kStimUnit,
     kMaterials,
@@ -161,6 +163,7 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
     kResponse,
     kCorrect,
     kResponseTime,
+    kLate,
     kSource,
     kStaircaseId,
     kReversal,
@@ -229,6 +232,15 @@ Result<BehTable> ParseBehTsv(std::string_view path, std::string_view text) {
     t.response = text_of(kResponse);
     if (!flag(kCorrect, &t.correct)) return bad(kCorrect, "is not 1, 0 or n/a");
     if (at[kSource] != kAbsent) t.source = text_of(kSource);
+    if (at[kPractice] != kAbsent) {
+      if (cell(kPractice).text != "0" && cell(kPractice).text != "1") {
+        return bad(kPractice, "is not 1 or 0");
+      }
+      t.practice = cell(kPractice).text == "1";
+    }
+    if (at[kLate] != kAbsent && !flag(kLate, &t.late)) {
+      return bad(kLate, "is not 1, 0 or n/a");
+    }
     if (!number(kResponseTime, &t.response_time_s) ||
         (t.response_time_s && *t.response_time_s < 0.0)) {
       return bad(kResponseTime, "is not a time of at least 0 s or n/a");

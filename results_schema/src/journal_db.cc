@@ -197,6 +197,8 @@ CREATE TABLE trial (
   estimate REAL,
   rng_state TEXT NOT NULL,
   source TEXT NOT NULL DEFAULT '',
+  practice INTEGER NOT NULL DEFAULT 0 CHECK (practice IN (0, 1)),
+  late INTEGER CHECK (late IN (0, 1)),
   extra TEXT NOT NULL CHECK (json_valid(extra)),
   committed_utc TEXT NOT NULL
 );
@@ -373,7 +375,14 @@ Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,
        "ALTER TABLE session ADD COLUMN planned_trials INTEGER CHECK "
        "(planned_trials > 0)"},
       {"session", "completed_utc",
-       "ALTER TABLE session ADD COLUMN completed_utc TEXT"}};
+       "ALTER TABLE session ADD COLUMN completed_utc TEXT"},
+      // Version 4: practice trials and late answers (no trial before it was
+      // practice; whether an answer was late is unknown).
+      {"trial", "practice",
+       "ALTER TABLE trial ADD COLUMN practice INTEGER NOT NULL DEFAULT 0 "
+       "CHECK (practice IN (0, 1))"},
+      {"trial", "late",
+       "ALTER TABLE trial ADD COLUMN late INTEGER CHECK (late IN (0, 1))"}};
   bool upgraded = false;
   for (const Added& added : kAdded) {
     Result<bool> has = HasColumn(db, path, added.table, added.column);
@@ -539,20 +548,20 @@ Result<int> CountTrials(sqlite3* db, const std::filesystem::path& path) {
 
 Result<std::vector<TrialRecord>> ReadTrials(sqlite3* db,
                                             const std::filesystem::path& path) {
+  // Columns later versions added read as their defaults in older journals
+  // (an export reads a journal without upgrading it).
   Result<bool> has_source = HasColumn(db, path, "trial", "source");
   if (!has_source) return has_source.error();
-  auto query = Prepare(
-      db,
-      *has_source
-          ? "SELECT trial_index, block, method, task, trial_type, stim_level, "
-            "stim_unit, interval_materials, correct_answer, response, correct, "
-            "response_time_s, staircase_id, reversal, step_size, estimate, "
-            "rng_state, extra, source FROM trial ORDER BY trial_index"
-          : "SELECT trial_index, block, method, task, trial_type, stim_level, "
-            "stim_unit, interval_materials, correct_answer, response, correct, "
-            "response_time_s, staircase_id, reversal, step_size, estimate, "
-            "rng_state, extra, '' FROM trial ORDER BY trial_index",
-      "cannot read the trials of", path);
+  Result<bool> has_practice = HasColumn(db, path, "trial", "practice");
+  if (!has_practice) return has_practice.error();
+  const std::string sql = fmt::format(
+      "SELECT trial_index, block, method, task, trial_type, stim_level, "
+      "stim_unit, interval_materials, correct_answer, response, correct, "
+      "response_time_s, staircase_id, reversal, step_size, estimate, "
+      "rng_state, extra, {}, {} FROM trial ORDER BY trial_index",
+      *has_source ? "source" : "''",
+      *has_practice ? "practice, late" : "0, NULL");
+  auto query = Prepare(db, sql.c_str(), "cannot read the trials of", path);
   if (!query) return query.error();
   sqlite3_stmt* stmt = query->get();
   std::vector<TrialRecord> trials;
@@ -582,6 +591,8 @@ Result<std::vector<TrialRecord>> ReadTrials(sqlite3* db,
     t.rng_state = ColumnText(stmt, 16);
     t.extra = ColumnText(stmt, 17);
     t.source = ColumnText(stmt, 18);
+    t.practice = sqlite3_column_int(stmt, 19) != 0;
+    t.late = ColumnOptionalBool(stmt, 20);
     trials.push_back(std::move(t));
   }
   if (rc != SQLITE_DONE)
@@ -673,8 +684,9 @@ Status InsertTrial(sqlite3* db, const std::filesystem::path& path,
       "INSERT INTO trial (trial_index, block, method, task, trial_type, "
       "stim_level, stim_unit, interval_materials, correct_answer, response, "
       "correct, response_time_s, staircase_id, reversal, step_size, estimate, "
-      "rng_state, extra, committed_utc, source) VALUES (?1, ?2, ?3, ?4, ?5, "
-      "?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)",
+      "rng_state, extra, committed_utc, source, practice, late) VALUES (?1, "
+      "?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, "
+      "?17, ?18, ?19, ?20, ?21, ?22)",
       what, path);
   if (!insert) return insert.error();
   sqlite3_stmt* stmt = insert->get();
@@ -698,6 +710,8 @@ Status InsertTrial(sqlite3* db, const std::filesystem::path& path,
   BindText(stmt, 18, t.extra);
   BindText(stmt, 19, NowUtc());
   BindText(stmt, 20, t.source);
+  sqlite3_bind_int(stmt, 21, t.practice ? 1 : 0);
+  BindOptionalBool(stmt, 22, t.late);
   return StepDone(db, stmt, what, path);
 }
 

@@ -73,7 +73,8 @@ Result<bool> HasColumn(sqlite3* db, const std::filesystem::path& path,
                        std::string_view table, std::string_view column);
 
 // Gives an older journal what later versions added (2: the session's setup,
-// the trials' source; 3: the session's planned trials and completion) and
+// the trials' source; 3: the session's planned trials and completion; 4: the
+// trials' practice and late marks) and
 // records the current version; nothing when it has them. In the caller's
 // transaction.
 Status UpgradeSchema(sqlite3* db, const std::filesystem::path& path,

@@ -335,6 +335,8 @@ Result<std::string> TrialToJson(const TrialRecord& trial) {
     j["estimate"] = OptionalJson(trial.estimate);
     j["rng_state"] = trial.rng_state;
     j["source"] = trial.source;
+    j["practice"] = trial.practice;
+    j["late"] = OptionalJson(trial.late);
     j["extra"] = OrderedJson::parse(extra.dump());
     return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
   } catch (const std::exception& e) {

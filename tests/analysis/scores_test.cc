@@ -178,6 +178,62 @@ TEST(Scores, NoScoredTrialsIsAnError) {
             "blocks have none; see burrlab analyze thresholds)");
 }
 
+// Practice trials (§13.5.1's familiarization) are recorded but never
+// scored: a practice block is left out whole, and PracticeTrials says how
+// many trials that was.
+TEST(Scores, PracticeTrialsAreLeftOutAndCounted) {
+  std::vector<BehFile> files;
+  for (const std::string subject : {"01", "02"}) {
+    BehFile practice = SameDifferentSubject(subject, 0, 6);  // all wrong
+    for (TrialRecord& t : practice.table.trials) {
+      t.block = "familiarize";
+      t.practice = true;
+    }
+    files.push_back(practice);
+    files.push_back(SameDifferentSubject(subject, 6, 0));  // all right
+  }
+  Result<std::vector<BlockScores>> blocks = ScoreBlocks(files);
+  ASSERT_TRUE(blocks.ok()) << blocks.error().message;
+  ASSERT_EQ(blocks->size(), 1u);
+  EXPECT_EQ((*blocks)[0].block, "probe");
+  EXPECT_EQ((*blocks)[0].subjects[0].correct, 12);
+  EXPECT_EQ((*blocks)[0].subjects[0].trials, 12);
+  const std::vector<PracticeLeftOut> left_out = PracticeTrials(files);
+  ASSERT_EQ(left_out.size(), 1u);
+  EXPECT_EQ(left_out[0].block, "familiarize");
+  EXPECT_EQ(left_out[0].trials, 24);
+  // Practice alone scores nothing.
+  const std::vector<BehFile> only = {files[0]};
+  blocks = ScoreBlocks(only);
+  ASSERT_FALSE(blocks.ok());
+  EXPECT_EQ(blocks.error().message,
+            "no block has scored trials with a correct answer (adjustment and "
+            "limits blocks have none; see burrlab analyze thresholds); the 12 "
+            "practice trials are never scored");
+}
+
+// Late answers are scored like the others and counted per subject and block,
+// over the answers whose block had a deadline.
+TEST(Scores, LateAnswersAreCountedPerBlockAndScored) {
+  std::vector<BehFile> files = {SameDifferentSubject("01", 6, 0),
+                                SameDifferentSubject("02", 6, 0)};
+  for (BehFile& f : files) {
+    for (TrialRecord& t : f.table.trials) t.late = false;
+  }
+  files[0].table.trials[0].late = true;
+  files[0].table.trials[5].late = true;
+  files[1].table.trials[11].late = true;
+  files[1].table.trials[10].late = std::nullopt;  // time unknown
+  Result<std::vector<BlockScores>> blocks = ScoreBlocks(files);
+  ASSERT_TRUE(blocks.ok()) << blocks.error().message;
+  const BlockScores& b = (*blocks)[0];
+  EXPECT_EQ(b.answers_with_deadline, 23);
+  EXPECT_EQ(b.late_answers, 3);
+  EXPECT_EQ(b.subjects[0].late_answers, 2);
+  EXPECT_EQ(b.subjects[1].late_answers, 1);
+  EXPECT_EQ(b.subjects[0].correct, 12);  // late answers still count
+}
+
 TEST(ScoreHistogram, OneBarPerScoreWithTheChanceLine) {
   const std::vector<BehFile> files = {SameDifferentSubject("01", 5, 2),
                                       SameDifferentSubject("02", 6, 1),

@@ -378,6 +378,142 @@ TEST(Engine, CounterbalancedBlockOrderFollowsTheSubjectIndex) {
   EXPECT_EQ(odd->block_order(), (std::vector<int>{1, 0}));
 }
 
+// What a runner shows around each trial comes with the trial: the study's
+// instructions before the first, a block's before its first, a rest break
+// every break_every trials within a block and between blocks, and the
+// block's pacing and practice flag on every trial.
+TEST(Engine, TrialsCarryInstructionsBreaksAndPacingOfTheirBlock) {
+  Protocol p = BaseProtocol();
+  p.instructions = "Feel each pair and say whether it is the same.";
+  p.breaks_between_blocks = true;
+  p.blocks = {SameDifferentBlock("familiarize", 4),
+              SameDifferentBlock("main", 8)};
+  p.blocks[0].practice = true;
+  p.blocks[0].feedback = true;
+  p.blocks[0].instructions = "Practice: you will be told if you are right.";
+  p.blocks[0].isi_s = 1.5;
+  p.blocks[0].iti_s = 2.0;
+  p.blocks[1].instructions = "Now the scored trials.";
+  p.blocks[1].break_every = 3;
+  p.blocks[1].response_deadline_s = 4.0;
+  Result<Engine> engine = Engine::Create(p, 0, 5);
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  const std::vector<TrialSpec> specs = RunAll(*engine, Correct);
+  ASSERT_EQ(specs.size(), 12u);
+  std::string breaks;
+  for (const TrialSpec& t : specs) breaks += t.break_before ? 'B' : '.';
+  // Block 2 starts with a break (between blocks), then one after its 3rd
+  // and 6th trials; none after its last.
+  EXPECT_EQ(breaks, "....B..B..B.");
+  EXPECT_EQ(specs[0].study_instructions, p.instructions);
+  EXPECT_EQ(specs[0].block_instructions, p.blocks[0].instructions);
+  EXPECT_EQ(specs[4].block_instructions, p.blocks[1].instructions);
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const TrialSpec& t = specs[i];
+    if (i > 0) {
+      EXPECT_EQ(t.study_instructions, "") << i;
+    }
+    if (i != 0 && i != 4) {
+      EXPECT_EQ(t.block_instructions, "") << i;
+    }
+    const bool practice = i < 4;
+    EXPECT_EQ(t.practice, practice) << i;
+    EXPECT_EQ(t.feedback, practice) << i;
+    EXPECT_EQ(t.isi_s, practice ? 1.5 : 0.0) << i;
+    EXPECT_EQ(t.iti_s, practice ? 2.0 : 0.0) << i;
+    EXPECT_EQ(t.response_deadline_s,
+              practice ? std::nullopt : std::optional<double>(4.0))
+        << i;
+  }
+}
+
+// Pacing never draws from a random stream: the same seed gives the same
+// trials with or without it.
+TEST(Engine, PacingKeysLeaveTheTrialsAndRandomStateAlone) {
+  Protocol plain = BaseProtocol();
+  plain.blocks = {SameDifferentBlock("probe", 8), StaircaseBlock(2, 2.0, 0.25)};
+  Protocol paced = plain;
+  paced.breaks_between_blocks = true;
+  for (Block& b : paced.blocks) {
+    b.practice = true;
+    b.isi_s = 0.5;
+    b.iti_s = 1.0;
+    b.break_every = 2;
+    b.response_deadline_s = 3.0;
+  }
+  Result<Engine> a = Engine::Create(plain, 0, 31);
+  Result<Engine> b = Engine::Create(paced, 0, 31);
+  ASSERT_TRUE(a.ok() && b.ok());
+  int k = 0;
+  while (!a->finished()) {
+    ASSERT_FALSE(b->finished());
+    EXPECT_EQ(a->current().trial_type, b->current().trial_type);
+    EXPECT_EQ(a->current().level, b->current().level);
+    const std::string token = (k++ % 3 == 0) ? "0" : "1";
+    Result<Outcome> oa =
+        a->Respond(ScriptedResponse(a->current(), token).value());
+    Result<Outcome> ob =
+        b->Respond(ScriptedResponse(b->current(), token).value());
+    ASSERT_TRUE(oa.ok() && ob.ok());
+    EXPECT_EQ(oa->correct, ob->correct);
+    EXPECT_EQ(oa->extra, ob->extra);
+    EXPECT_EQ(a->RngState(), b->RngState());
+  }
+  EXPECT_TRUE(b->finished());
+}
+
+// An answer after the deadline is taken like any other and marked late; no
+// deadline, or no response time, leaves `late` unknown.
+TEST(Engine, AnswersAfterTheDeadlineAreKeptAndMarkedLate) {
+  Protocol p = BaseProtocol();
+  p.blocks = {SameDifferentBlock("timed", 4), SameDifferentBlock("free", 4)};
+  p.blocks[0].response_deadline_s = 2.0;
+  Result<Engine> engine = Engine::Create(p, 0, 3);
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  const auto answer = [&](std::optional<double> rt) {
+    Response r = Correct(engine->current());
+    r.response_time_s = rt;
+    Result<Outcome> out = engine->Respond(r);
+    EXPECT_TRUE(out.ok()) << out.error().message;
+    return out.ok() ? *out : Outcome{};
+  };
+  EXPECT_EQ(answer(1.5).late, false);
+  EXPECT_EQ(answer(2.0).late, false);  // at the deadline is in time
+  const Outcome late = answer(2.5);
+  EXPECT_EQ(late.late, true);
+  EXPECT_EQ(late.correct, true);  // still scored
+  EXPECT_EQ(answer(std::nullopt).late, std::nullopt);
+  EXPECT_EQ(answer(9.0).late, std::nullopt);  // block "free": no deadline
+}
+
+// Constant stimuli at the standard's level have no correct answer: such a
+// trial gets no feedback even in a feedback block.
+TEST(Engine, ATrialWithoutACorrectAnswerGetsNoFeedback) {
+  Protocol p = BaseProtocol();
+  Block b;
+  b.name = "levels";
+  b.method = Method::kConstantStimuli;
+  b.axis = "ce";
+  b.standard_level = 1.0;
+  b.constant_stimuli.levels = {1.0, 1.5};
+  b.constant_stimuli.repetitions = 2;
+  b.constant_stimuli.response = ResponseMode::kTwoInterval;
+  b.interval_s = {1.0, 1.0};
+  b.practice = true;
+  b.feedback = true;
+  p.blocks = {b};
+  Result<Engine> engine = Engine::Create(p, 0, 9);
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  int with = 0, without = 0;
+  const auto first = [](const TrialSpec&) { return Response{"1", {}}; };
+  for (const TrialSpec& t : RunAll(*engine, first)) {
+    EXPECT_EQ(t.feedback, !t.correct_answer.empty()) << t.trial_index;
+    (t.feedback ? with : without) += 1;
+  }
+  EXPECT_EQ(with, 2);
+  EXPECT_EQ(without, 2);
+}
+
 TEST(ScriptedResponse, MapsOneAndZeroToRightAndWrongAnswers) {
   TrialSpec t;
   t.trial_index = 3;

@@ -1471,6 +1471,300 @@ b = "bone"
 format = "burrlab-protocol/2"
          ^
 )toml"},
+    {"practice_not_boolean",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+practice = "yes"
+)toml",
+     R"toml(NAME:22:12: error: blocks[1].practice must be true or false, got a string
+practice = "yes"
+           ^
+)toml"},
+    {"feedback_in_adjustment",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "adjustment"
+task = "probe"
+axis = "ce"
+start_level = 1.2
+step = 0.05
+floor = 0.5
+ceiling = 2
+practice = true
+feedback = true
+)toml",
+     R"toml(NAME:26:12: error: blocks[1].feedback cannot be true: method adjustment has no correct answer (the level the subject sets is recorded)
+feedback = true
+           ^
+)toml"},
+    {"feedback_in_limits",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "limits"
+task = "probe"
+axis = "ce"
+step = 0.1
+ascending_start = 1.0
+descending_start = 1.8
+floor = 0.5
+ceiling = 2
+feedback = true
+)toml",
+     R"toml(NAME:26:12: error: blocks[1].feedback cannot be true: method limits has no correct answer (the subject says whether the comparison felt different)
+feedback = true
+           ^
+)toml"},
+    {"feedback_in_yes_no_staircase",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "staircase"
+task = "probe"
+axis = "ce"
+response = "yesno"
+start_level = 1.5
+step_down = 0.1
+step_up = 0.1
+floor = 1.0
+ceiling = 2
+max_trials = 20
+feedback = true
+)toml",
+     R"toml(NAME:28:12: error: blocks[1].feedback cannot be true: a yes/no staircase block counts every "yes" as correct, so feedback would only repeat the answer
+feedback = true
+           ^
+)toml"},
+    {"isi_negative",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+isi_s = -0.5
+)toml",
+     R"toml(NAME:22:9: error: blocks[1].isi_s must be in [0, 600], got -0.5
+isi_s = -0.5
+        ^
+)toml"},
+    {"iti_too_long",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+iti_s = 900
+)toml",
+     R"toml(NAME:22:9: error: blocks[1].iti_s must be in [0, 600], got 900
+iti_s = 900
+        ^
+)toml"},
+    {"response_deadline_zero",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+response_deadline_s = 0
+)toml",
+     R"toml(NAME:22:23: error: blocks[1].response_deadline_s must be in (0, 600], got 0
+response_deadline_s = 0
+                      ^
+)toml"},
+    {"break_every_zero",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+break_every = 0
+)toml",
+     R"toml(NAME:22:15: error: blocks[1].break_every must be in [1, 10000], got 0
+break_every = 0
+              ^
+)toml"},
+    {"break_every_fraction",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+break_every = 1.5
+)toml",
+     R"toml(NAME:22:15: error: blocks[1].break_every must be an integer, got a number
+break_every = 1.5
+              ^
+)toml"},
+    {"breaks_between_blocks_not_boolean",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+breaks_between_blocks = 1
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+)toml",
+     R"toml(NAME:5:25: error: study.breaks_between_blocks must be true or false, got an integer
+breaks_between_blocks = 1
+                        ^
+)toml"},
 };
 
 std::string Formatted(std::string_view path, std::string_view text) {

@@ -137,6 +137,105 @@ TEST(ProtocolParse, DissertationSameDifferentExampleMapsToTheModel) {
   EXPECT_EQ(p.blocks[0].material_b, "bone");
 }
 
+// Pacing keys land in the block; feedback defaults to on in a practice block
+// whose design has a correct answer, off elsewhere.
+TEST(ProtocolParse, PacingKeysLandInTheBlockAndFeedbackFollowsPractice) {
+  const ParseOutcome outcome = ParseProtocol("pacing.toml", R"toml(
+format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+instructions = "Feel, then answer."
+breaks_between_blocks = true
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+
+[[blocks]]
+name = "familiarize"
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+trials = 4
+practice = true
+isi_s = 1.5
+iti_s = 2
+response_deadline_s = 8
+break_every = 2
+
+[[blocks]]
+name = "familiarize_quiet"
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+trials = 4
+practice = true
+feedback = false
+
+[[blocks]]
+name = "scored"
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+
+[[blocks]]
+name = "scored_told"
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+feedback = true
+
+[[blocks]]
+name = "adjust_practice"
+method = "adjustment"
+task = "probe"
+axis = "ce"
+start_level = 1.2
+step = 0.05
+floor = 0.5
+ceiling = 2
+practice = true
+)toml");
+  std::string all;
+  for (const Diagnostic& d : outcome.diagnostics) all += d.message + "\n";
+  ASSERT_TRUE(outcome.protocol.has_value()) << all;
+  const Protocol& p = *outcome.protocol;
+  EXPECT_TRUE(p.breaks_between_blocks);
+  ASSERT_EQ(p.blocks.size(), 5u);
+  const Block& practice = p.blocks[0];
+  EXPECT_TRUE(practice.practice);
+  EXPECT_TRUE(practice.feedback);
+  EXPECT_EQ(practice.isi_s, 1.5);
+  EXPECT_EQ(practice.iti_s, 2.0);
+  EXPECT_EQ(practice.response_deadline_s, 8.0);
+  EXPECT_EQ(practice.break_every, 2);
+  EXPECT_TRUE(p.blocks[1].practice);
+  EXPECT_FALSE(p.blocks[1].feedback);
+  const Block& scored = p.blocks[2];
+  EXPECT_FALSE(scored.practice);
+  EXPECT_FALSE(scored.feedback);
+  EXPECT_EQ(scored.isi_s, 0.0);
+  EXPECT_EQ(scored.iti_s, 0.0);
+  EXPECT_EQ(scored.response_deadline_s, std::nullopt);
+  EXPECT_EQ(scored.break_every, std::nullopt);
+  EXPECT_TRUE(p.blocks[3].feedback);
+  // An adjustment has no correct answer: practice without feedback.
+  EXPECT_TRUE(p.blocks[4].practice);
+  EXPECT_FALSE(p.blocks[4].feedback);
+}
+
 TEST(ProtocolParse, StaircaseEntriesOverrideBlockDefaults) {
   const fs::path file = fs::path(BURRLAB_SOURCE_DIR) /
                         "protocols/examples/staircase_1up3down.toml";

@@ -197,6 +197,7 @@ TEST_F(BidsExport, BehTsvReadsBackWithColumnsAndNa) {
       {"method", "same_different"},
       {"task", "probe"},
       {"trial_type", "AB"},
+      {"practice", "0"},
       {"stim_level", "n/a"},
       {"stim_unit", "n/a"},
       {"interval_materials", "pvc_k70+human_temporal_bone"},
@@ -204,6 +205,7 @@ TEST_F(BidsExport, BehTsvReadsBackWithColumnsAndNa) {
       {"response", "same"},
       {"correct", "0"},
       {"response_time", "1.5"},
+      {"late", "0"},
       {"source", "typed"},
       {"staircase_id", "n/a"},
       {"reversal", "n/a"},
@@ -217,6 +219,7 @@ TEST_F(BidsExport, BehTsvReadsBackWithColumnsAndNa) {
   EXPECT_EQ(rows[1].at("response"), "n/a");
   EXPECT_EQ(rows[1].at("correct"), "n/a");
   EXPECT_EQ(rows[1].at("response_time"), "n/a");
+  EXPECT_EQ(rows[1].at("late"), "n/a");  // no answer, no time
   EXPECT_EQ(rows[1].at("correct_answer"), "same");
   EXPECT_EQ(rows[3].at("correct"), "1");  // trial 7: AA answered "same"
 }
@@ -236,6 +239,30 @@ TEST_F(BidsExport, AdaptiveColumnsKeepTheirValues) {
     EXPECT_EQ(row.at("extra"), R"({"quest_sd":0.25})");
   }
   EXPECT_EQ(rows[1].at("stim_level"), "1.1");
+}
+
+// Practice trials and late answers are columns analysts filter on.
+TEST_F(BidsExport, PracticeAndLateAreColumnsToFilterOn) {
+  const auto practice =
+      Records(ParseTsv(ReadFile(Beh("sub-01_task-practice_beh.tsv"))));
+  ASSERT_EQ(practice.size(), 4u);
+  for (const auto& row : practice) {
+    EXPECT_EQ(row.at("practice"), "1");
+    EXPECT_EQ(row.at("late"), "n/a");  // the block has no deadline
+  }
+  const auto main =
+      Records(ParseTsv(ReadFile(Beh("sub-01_task-sameDifferentMain_beh.tsv"))));
+  std::string late;
+  for (const auto& row : main) {
+    EXPECT_EQ(row.at("practice"), "0");
+    late += row.at("late") + " ";
+  }
+  // Trials 4-9 answered after 1.5, -, 2, 2.25, 2.5 and 2.75 s; deadline 2 s.
+  EXPECT_EQ(late, "0 n/a 0 1 1 1 ");
+  const Json sidecar =
+      Json::parse(ReadFile(Beh("sub-01_task-sameDifferentMain_beh.json")));
+  EXPECT_EQ(sidecar["practice"]["Levels"]["1"], "practice (not scored)");
+  EXPECT_EQ(sidecar["late"]["Levels"]["1"], "after the deadline");
 }
 
 TEST_F(BidsExport, SidecarsSatisfyTheSchemasAndDescribeEveryColumn) {

@@ -221,6 +221,40 @@ TEST(BidsRead, MalformedTablesNameFileLineAndColumn) {
   EXPECT_EQ(ok->trials[0].interval_materials,
             (std::vector<std::string>{"x", "y"}));
   EXPECT_EQ(ok->trials[0].extra, "{}");
+  // ... and from before practice and late: scored, lateness unknown.
+  EXPECT_FALSE(ok->trials[0].practice);
+  EXPECT_EQ(ok->trials[0].late, std::nullopt);
+}
+
+TEST(BidsRead, PracticeAndLateColumnsAreReadAndChecked) {
+  const std::string header =
+      "trial_index\tblock\tmethod\ttask\ttrial_type\tpractice\tstim_level\t"
+      "stim_unit\tinterval_materials\tcorrect_answer\tresponse\tcorrect\t"
+      "response_time\tlate\tsource\tstaircase_id\treversal\tstep_size\t"
+      "estimate\tseed\textra\n";
+  const auto row = [](int index, std::string practice, std::string late) {
+    return std::to_string(index) + "\tb\tsame_different\tprobe\tAB\t" +
+           practice + "\tn/a\tn/a\tx+y\tdifferent\tsame\t0\t2.5\t" + late +
+           "\ttyped\tn/a\tn/a\tn/a\tn/a\tseed-5\tn/a\n";
+  };
+  Result<BehTable> ok =
+      ParseBehTsv("b.tsv", header + row(0, "1", "1") + row(1, "0", "0") +
+                               row(2, "0", "n/a"));
+  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  ASSERT_EQ(ok->trials.size(), 3u);
+  EXPECT_TRUE(ok->trials[0].practice);
+  EXPECT_EQ(ok->trials[0].late, true);
+  EXPECT_FALSE(ok->trials[1].practice);
+  EXPECT_EQ(ok->trials[1].late, false);
+  EXPECT_EQ(ok->trials[2].late, std::nullopt);
+  Result<BehTable> bad = ParseBehTsv("b.tsv", header + row(0, "n/a", "0"));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message,
+            "b.tsv:2:29: error: practice \"n/a\" is not 1 or 0");
+  bad = ParseBehTsv("b.tsv", header + row(0, "0", "yes"));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().message,
+            "b.tsv:2:64: error: late \"yes\" is not 1, 0 or n/a");
 }
 
 TEST(BidsRead, PhysioTextRowsNameTheLineCountingBlankLines) {

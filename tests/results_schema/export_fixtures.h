@@ -30,7 +30,8 @@ inline SessionInfo FixtureSession(const std::string& label) {
   return s;
 }
 
-// Trials 0-3 in block "practice", 4-9 in "same-different main".
+// Trials 0-3 in block "practice" (practice trials), 4-9 in "same-different
+// main" (a response deadline of 2 s: trials 7-9 answered late).
 inline TrialRecord FixtureTrial(int i) {
   TrialRecord t;
   t.trial_index = i;
@@ -59,6 +60,10 @@ inline TrialRecord FixtureTrial(int i) {
   }
   t.rng_state = "state " + std::to_string(i);
   t.source = "typed";
+  t.practice = i < 4;
+  if (i >= 4 && t.response_time_s.has_value()) {
+    t.late = *t.response_time_s > 2.0;
+  }
   return t;
 }
 

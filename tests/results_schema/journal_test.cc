@@ -21,6 +21,8 @@
 #include <thread>
 #include <vector>
 
+#include "burrlab/results_schema/bids_export.h"
+#include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/records.h"
 #include "burrlab/results_schema/session_lock.h"
 #include "temp_dir.h"
@@ -534,6 +536,8 @@ TEST(Journal, ReadsASchemaVersion1JournalAndRestartsIt) {
   RawSql(path, "ALTER TABLE session DROP COLUMN planned_trials");
   RawSql(path, "ALTER TABLE session DROP COLUMN completed_utc");
   RawSql(path, "ALTER TABLE trial DROP COLUMN source");
+  RawSql(path, "ALTER TABLE trial DROP COLUMN practice");
+  RawSql(path, "ALTER TABLE trial DROP COLUMN late");
   RawSql(path, "UPDATE schema_version SET version = 1");
   {
     auto journal = Journal::Open(dir.path(), "01");
@@ -563,13 +567,13 @@ TEST(Journal, RefusesANewerSchemaVersion) {
   TempDir dir;
   ASSERT_TRUE(Journal::Create(dir.path(), MakeSession("01")).ok());
   const fs::path path = JournalPath(dir.path(), "01");
-  RawSql(path, "UPDATE schema_version SET version = 4");
+  RawSql(path, "UPDATE schema_version SET version = 5");
   auto journal = Journal::Open(dir.path(), "01");
   ASSERT_FALSE(journal.ok());
   EXPECT_EQ(journal.error().message,
             path.string() +
-                " was written by a newer burrlab (journal schema version 4; "
-                "this burrlab reads up to version 3); use a newer burrlab to "
+                " was written by a newer burrlab (journal schema version 5; "
+                "this burrlab reads up to version 4); use a newer burrlab to "
                 "resume or export it");
 }
 
@@ -607,8 +611,44 @@ TEST(Journal, AVersion2JournalLearnsItsCompletionWhenResumed) {
   EXPECT_EQ(ReadSessionProgress(dir.path(), "01")->complete, std::nullopt);
   auto journal = Journal::Open(dir.path(), "01");
   ASSERT_TRUE(journal.ok()) << journal.error().message;
-  EXPECT_EQ(journal->Settings()->schema_version, 3);
+  EXPECT_EQ(journal->Settings()->schema_version, kJournalSchemaVersion);
   EXPECT_EQ(journal->Progress()->complete, false);
+}
+
+// A version 3 journal has no practice or late marks: its trials read as
+// scored with lateness unknown, as they are exported without an upgrade;
+// resuming it upgrades it to version 4, and new trials keep their marks.
+TEST(Journal, AVersion3JournalReadsItsTrialsAsScoredAndLearnsTheMarks) {
+  TempDir dir;
+  {
+    auto journal = Journal::Create(dir.path(), MakeSession("01"));
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    ASSERT_TRUE(journal->Append(MakeTrial(0), MakeTraces(0)).ok());
+  }
+  const fs::path path = JournalPath(dir.path(), "01");
+  RawSql(path, "ALTER TABLE trial DROP COLUMN practice");
+  RawSql(path, "ALTER TABLE trial DROP COLUMN late");
+  RawSql(path, "UPDATE schema_version SET version = 3");
+  // Exported as it is.
+  ASSERT_TRUE(ExportBids(dir.path(), "01").ok());
+  Result<std::vector<BehFile>> exported = ReadBidsDataset(dir.path());
+  ASSERT_TRUE(exported.ok()) << exported.error().message;
+  EXPECT_FALSE(exported->at(0).table.trials.at(0).practice);
+  EXPECT_EQ(exported->at(0).table.trials.at(0).late, std::nullopt);
+  auto journal = Journal::Open(dir.path(), "01");
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  EXPECT_EQ(journal->Settings()->schema_version, 4);
+  Result<std::vector<TrialRecord>> trials = journal->Trials();
+  ASSERT_TRUE(trials.ok()) << trials.error().message;
+  EXPECT_FALSE(trials->at(0).practice);
+  EXPECT_EQ(trials->at(0).late, std::nullopt);
+  TrialRecord marked = MakeTrial(1);
+  marked.practice = true;
+  marked.late = true;
+  ASSERT_TRUE(journal->Append(marked, MakeTraces(1)).ok());
+  trials = journal->Trials();
+  ASSERT_TRUE(trials.ok()) << trials.error().message;
+  EXPECT_EQ(trials->at(1), marked);
 }
 
 TEST(Journal, RefusesFilesThatAreNotJournals) {

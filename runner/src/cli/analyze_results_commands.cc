@@ -168,7 +168,8 @@ Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
     Json sj = {{"subject", s.subject},
                {"correct", s.correct},
                {"trials", s.trials},
-               {"proportion", s.proportion}};
+               {"proportion", s.proportion},
+               {"late_answers", s.late_answers}};
     if (s.rates) sj["rates"] = RatesJson(*s.rates);
     j["subjects"].push_back(sj);
   }
@@ -202,6 +203,8 @@ Json ScoresJson(const analysis::BlockScores& b, const std::string& plot) {
   j["pooled_rates"] =
       b.pooled_rates ? RatesJson(*b.pooled_rates) : Json(nullptr);
   j["response_times"] = ResponseTimesJson(b.response_times);
+  j["answers_with_deadline"] = b.answers_with_deadline;
+  j["late_answers"] = b.late_answers;
   j["no_test_reason"] = b.no_test_reason;
   j["warnings"] = b.warnings;
   j["histogram"] = plot.empty() ? Json(nullptr) : Json(plot);
@@ -252,10 +255,18 @@ void PrintScores(std::ostream& out, const analysis::BlockScores& b,
   if (b.pooled_rates) {
     out << "  pooled     " << DPrimeText(*b.pooled_rates) << '\n';
   }
+  if (b.answers_with_deadline > 0) {
+    out << fmt::format(
+        "  late       {} of {} answers after the response deadline (kept and "
+        "scored)\n",
+        b.late_answers, b.answers_with_deadline);
+  }
   for (const analysis::SubjectScore& s : b.subjects) {
-    out << fmt::format("  sub-{:<8} {:>3} of {:<3}{}\n", s.subject, s.correct,
-                       s.trials,
-                       s.rates ? "  " + DPrimeText(*s.rates) : std::string());
+    out << fmt::format(
+        "  sub-{:<8} {:>3} of {:<3}{}{}\n", s.subject, s.correct, s.trials,
+        b.answers_with_deadline > 0 ? fmt::format("  {} late", s.late_answers)
+                                    : std::string(),
+        s.rates ? "  " + DPrimeText(*s.rates) : std::string());
   }
   if (!b.response_times.empty()) {
     out << "  response time, s: median [Q1, Q3] (R quantile type 7), IQR = "
@@ -280,9 +291,11 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
       "and two-sided), an exact binomial test of the pooled answers, and for "
       "same-different blocks hit and false-alarm rates with d' "
       "(differencing and independent-observation models; rates of 0 or 1 "
-      "moved to 1/(2N), marked *), and response times per condition "
+      "moved to 1/(2N), marked *), response times per condition "
       "(median and quartiles, R quantile type 7; trials without a time are "
-      "skipped and counted).",
+      "skipped and counted). Practice trials are left out (the output "
+      "says how many); answers after a block's response deadline are counted "
+      "per block and scored.",
       "burrlab analyze scores"};
   std::string dir, plots;
   bool json = false;
@@ -297,6 +310,8 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
   if (!files.ok()) return Fail(err, files.error().message);
+  const std::vector<analysis::PracticeLeftOut> practice =
+      analysis::PracticeTrials(*files);
   Result<std::vector<analysis::BlockScores>> blocks =
       analysis::ScoreBlocks(*files);
   if (!blocks.ok())
@@ -319,12 +334,28 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
   if (json) {
     Json j;
     j["results"] = dir;
+    j["practice_left_out"] = Json::array();
+    for (const analysis::PracticeLeftOut& p : practice) {
+      j["practice_left_out"].push_back(
+          {{"block", p.block}, {"trials", p.trials}});
+    }
     j["blocks"] = Json::array();
     for (std::size_t i = 0; i < blocks->size(); ++i) {
       j["blocks"].push_back(ScoresJson((*blocks)[i], plot_paths[i]));
     }
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
+  }
+  if (!practice.empty()) {
+    int n = 0;
+    std::string which;
+    for (const analysis::PracticeLeftOut& p : practice) {
+      n += p.trials;
+      which += fmt::format("{}{} ({})", which.empty() ? "" : ", ", p.block,
+                           p.trials);
+    }
+    out << fmt::format("left out {} practice trial{}, never scored: {}\n\n", n,
+                       n == 1 ? "" : "s", which);
   }
   for (std::size_t i = 0; i < blocks->size(); ++i) {
     if (i > 0) out << '\n';

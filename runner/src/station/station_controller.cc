@@ -21,11 +21,48 @@ std::string_view StationPhaseName(StationPhase phase) noexcept {
       return "paused";
     case StationPhase::kFinished:
       return "finished";
+    case StationPhase::kInstructions:
+      return "instructions";
+    case StationPhase::kIsi:
+      return "isi";
+    case StationPhase::kFeedback:
+      return "feedback";
+    case StationPhase::kBreak:
+      return "break";
+    case StationPhase::kIti:
+      return "iti";
   }
   return "?";
 }
 
 namespace {
+
+// Protocol text as the window wraps it: the author's line breaks within a
+// paragraph (a TOML multi-line string keeps them) become spaces; a blank
+// line separates paragraphs.
+std::string Reflow(std::string_view text) {
+  std::string out;
+  bool blank = false;  // a blank line since the last text
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) {
+      line.remove_suffix(1);
+    }
+    while (!line.empty() && line.front() == ' ') line.remove_prefix(1);
+    if (line.empty()) {
+      blank = !out.empty();
+      continue;
+    }
+    if (!out.empty()) out += blank ? "\n\n" : " ";
+    out += line;
+    blank = false;
+  }
+  return out;
+}
 
 std::string Upper(std::string_view text) {
   std::string out(text);
@@ -72,28 +109,101 @@ StationController::StationController(int trials_total, std::string device_name,
   frame_.subject.max_force_n = max_force_n;
 }
 
+std::string StationController::TrialTitle() const {
+  // An adaptive protocol may not know its length: then no "of N".
+  const std::string title =
+      frame_.experimenter.trials_total > 0
+          ? fmt::format("Trial {} of {}", trials_done_ + 1,
+                        frame_.experimenter.trials_total)
+          : fmt::format("Trial {}", trials_done_ + 1);
+  return trial_->practice ? "Practice - " + title : title;
+}
+
 void StationController::BeginTrial(const protocols::TrialSpec& trial,
                                    int trials_done) {
   trial_ = trial;
+  trials_done_ = trials_done;
   trial_aborted_ = false;
+  after_answer_ = false;
   interval_ = 0;
   SubjectView& s = frame_.subject;
-  s.phase = StationPhase::kReady;
-  // An adaptive protocol may not know its length: then no "of N".
-  s.title = frame_.experimenter.trials_total > 0
-                ? fmt::format("Trial {} of {}", trials_done + 1,
-                              frame_.experimenter.trials_total)
-                : fmt::format("Trial {}", trials_done + 1);
-  s.interval_label.clear();
-  s.time_left_s = 0.0;
+  s.title = TrialTitle();
   s.question = trial.question;
   s.buttons = ResponseButtonsFor(trial.response_options);
-  s.message = "Press SPACE to start the trial.";
   ExperimenterView& e = frame_.experimenter;
   e.trials_done = trials_done;
   e.trial_line = fmt::format(
-      "trial {}, block {}, {}, {}", trial.trial_index + 1, trial.block,
-      protocols::MethodName(trial.method), protocols::TaskName(trial.task));
+      "trial {}, block {}, {}, {}{}", trial.trial_index + 1, trial.block,
+      protocols::MethodName(trial.method), protocols::TaskName(trial.task),
+      trial.practice ? ", practice" : "");
+  intro_.clear();
+  if (intro_done_for_ != trial.trial_index) {
+    if (!trial.study_instructions.empty()) {
+      intro_.push_back(
+          {StationPhase::kInstructions, trial.study_instructions, true});
+    }
+    if (trial.break_before) intro_.push_back({StationPhase::kBreak, "", false});
+    if (!trial.block_instructions.empty()) {
+      intro_.push_back(
+          {StationPhase::kInstructions, trial.block_instructions, false});
+    }
+  }
+  if (intro_.empty()) {
+    intro_done_for_ = trial.trial_index;
+    EnterReady();
+  } else {
+    EnterIntroStep(0);
+  }
+}
+
+void StationController::EnterIntroStep(std::size_t index) {
+  intro_index_ = index;
+  const IntroStep& step = intro_[index];
+  SubjectView& s = frame_.subject;
+  s.phase = step.phase;
+  s.interval_label.clear();
+  s.time_left_s = 0.0;
+  s.force_n = 0.0;
+  if (step.phase == StationPhase::kBreak) {
+    s.title = "Rest break";
+    s.panel_heading = "Rest break";
+    s.panel_text = "Take a rest. The next trials follow when you are ready.";
+    s.message = "Press any key to continue.";
+  } else {
+    s.title = step.study         ? "Welcome"
+              : trial_->practice ? "Practice"
+                                 : "Next block";
+    s.panel_heading = "Instructions";
+    s.panel_text = Reflow(step.text);
+    s.message = "Press SPACE to continue.";
+  }
+}
+
+void StationController::EnterReady() {
+  SubjectView& s = frame_.subject;
+  s.phase = StationPhase::kReady;
+  s.title = TrialTitle();
+  s.interval_label.clear();
+  s.time_left_s = 0.0;
+  s.panel_heading.clear();
+  s.panel_text.clear();
+  s.message = "Press SPACE to start the trial.";
+}
+
+std::string StationController::screen() const {
+  const StationPhase phase = frame_.subject.phase;
+  const std::string name(StationPhaseName(phase));
+  switch (phase) {
+    case StationPhase::kInterval:
+    case StationPhase::kIsi:
+      return fmt::format("{}{}", name, interval_ + 1);
+    case StationPhase::kInstructions:
+      return intro_index_ < intro_.size() && intro_[intro_index_].study
+                 ? name + "_study"
+                 : name + "_block";
+    default:
+      return name;
+  }
 }
 
 void StationController::EnterInterval(std::size_t index, double now_s) {
@@ -101,6 +211,8 @@ void StationController::EnterInterval(std::size_t index, double now_s) {
   interval_start_s_ = now_s;
   SubjectView& s = frame_.subject;
   s.phase = StationPhase::kInterval;
+  s.panel_heading.clear();
+  s.panel_text.clear();
   s.interval_label =
       fmt::format("Interval {} of {}", index + 1, trial_->intervals.size());
   const double duration = trial_->intervals[index].duration_s;
@@ -111,6 +223,30 @@ void StationController::EnterInterval(std::size_t index, double now_s) {
   } else {
     s.message = "Feel the real sample, then press SPACE.";
   }
+}
+
+void StationController::EndInterval(double end_s) {
+  if (interval_ + 1 >= trial_->intervals.size()) {
+    EnterResponse(end_s);
+    return;
+  }
+  if (trial_->isi_s <= 0.0) {
+    EnterInterval(interval_ + 1, end_s);
+    return;
+  }
+  // The blank gap: nothing to feel, nothing to see (interval_ stays the one
+  // it follows).
+  gap_start_s_ = end_s;
+  SubjectView& s = frame_.subject;
+  s.phase = StationPhase::kIsi;
+  s.interval_label = fmt::format("Interval {} of {} next", interval_ + 2,
+                                 trial_->intervals.size());
+  s.time_left_s = trial_->isi_s;
+  s.force_n = 0.0;
+  s.panel_heading.clear();
+  s.panel_text = fmt::format("Interval {} of {} comes next.", interval_ + 2,
+                             trial_->intervals.size());
+  s.message = "Wait for the next interval.";
 }
 
 void StationController::EnterResponse(double now_s) {
@@ -126,6 +262,15 @@ void StationController::EnterResponse(double now_s) {
 
 void StationController::Start(double now_s) {
   if (!trial_.has_value()) return;
+  if (frame_.subject.phase == StationPhase::kInstructions) {
+    if (intro_index_ + 1 < intro_.size()) {
+      EnterIntroStep(intro_index_ + 1);
+    } else {
+      intro_done_for_ = trial_->trial_index;
+      EnterReady();
+    }
+    return;
+  }
   if (frame_.subject.phase == StationPhase::kReady) {
     if (trial_->intervals.empty()) {
       EnterResponse(now_s);
@@ -134,45 +279,122 @@ void StationController::Start(double now_s) {
     }
   } else if (frame_.subject.phase == StationPhase::kInterval &&
              trial_->intervals[interval_].duration_s <= 0.0) {
-    if (interval_ + 1 < trial_->intervals.size()) {
-      EnterInterval(interval_ + 1, now_s);
-    } else {
-      EnterResponse(now_s);
-    }
+    EndInterval(now_s);
   }
 }
 
 void StationController::Advance(double now_s) {
-  while (frame_.subject.phase == StationPhase::kInterval) {
-    const double duration = trial_->intervals[interval_].duration_s;
-    if (duration <= 0.0) return;  // subject-paced
-    const double end_s = interval_start_s_ + duration;
-    if (now_s < end_s) {
-      frame_.subject.time_left_s = end_s - now_s;
+  for (;;) {
+    SubjectView& s = frame_.subject;
+    if (s.phase == StationPhase::kInterval) {
+      const double duration = trial_->intervals[interval_].duration_s;
+      if (duration <= 0.0) return;  // subject-paced
+      const double end_s = interval_start_s_ + duration;
+      if (now_s < end_s) {
+        s.time_left_s = end_s - now_s;
+        return;
+      }
+      EndInterval(end_s);
+    } else if (s.phase == StationPhase::kIsi) {
+      const double end_s = gap_start_s_ + trial_->isi_s;
+      if (now_s < end_s) {
+        s.time_left_s = end_s - now_s;
+        return;
+      }
+      EnterInterval(interval_ + 1, end_s);
+    } else if (s.phase == StationPhase::kFeedback) {
+      if (now_s < gap_start_s_ + kFeedbackS) return;
+      EnterIti(gap_start_s_ + kFeedbackS);
+    } else if (s.phase == StationPhase::kIti && after_answer_) {
+      if (now_s < gap_start_s_ + trial_->iti_s) return;
+      EndAfterAnswer();
+    } else {
+      if (s.phase == StationPhase::kResponse &&
+          trial_->response_deadline_s.has_value() &&
+          now_s - question_start_s_ > *trial_->response_deadline_s) {
+        s.message = "Time is up: please answer now.";
+      }
       return;
     }
-    if (interval_ + 1 < trial_->intervals.size()) {
-      EnterInterval(interval_ + 1, end_s);
-    } else {
-      EnterResponse(end_s);
-    }
   }
+}
+
+void StationController::BeginAfterAnswer(std::optional<bool> correct,
+                                         double now_s) {
+  if (!trial_.has_value()) return;
+  after_answer_ = true;
+  SubjectView& s = frame_.subject;
+  if (trial_->feedback && correct.has_value()) {
+    gap_start_s_ = now_s;
+    s.phase = StationPhase::kFeedback;
+    s.interval_label.clear();
+    s.time_left_s = 0.0;
+    s.force_n = 0.0;
+    s.panel_heading = *correct ? "Correct" : "Wrong";
+    s.panel_text.clear();
+    s.panel_good = *correct;
+    s.message =
+        *correct ? "Your answer was correct." : "Your answer was wrong.";
+    return;
+  }
+  EnterIti(now_s);
+}
+
+void StationController::EnterIti(double now_s) {
+  if (trial_->iti_s <= 0.0) {
+    EndAfterAnswer();
+    return;
+  }
+  gap_start_s_ = now_s;
+  SubjectView& s = frame_.subject;
+  s.phase = StationPhase::kIti;
+  s.interval_label.clear();
+  s.time_left_s = 0.0;
+  s.force_n = 0.0;
+  s.panel_heading.clear();
+  s.panel_text = "The next trial follows shortly.";
+  s.message = "Please wait.";
+}
+
+void StationController::EndAfterAnswer() {
+  after_answer_ = false;
+  SubjectView& s = frame_.subject;
+  s.panel_heading.clear();
+  s.panel_text.clear();
 }
 
 std::optional<protocols::Response> StationController::OnInput(
     std::string_view key_or_answer, double now_s) {
   const std::string key = Upper(key_or_answer);
+  const StationPhase phase = frame_.subject.phase;
+  if (phase == StationPhase::kBreak) {  // any key ends a rest break
+    if (intro_index_ + 1 < intro_.size()) {
+      EnterIntroStep(intro_index_ + 1);
+    } else {
+      intro_done_for_ = trial_->trial_index;
+      EnterReady();
+    }
+    return std::nullopt;
+  }
+  if (phase == StationPhase::kFeedback) {  // any key ends feedback
+    EnterIti(now_s);
+    return std::nullopt;
+  }
   if (key == "SPACE") {
     Start(now_s);
     return std::nullopt;
   }
-  if (frame_.subject.phase != StationPhase::kResponse) return std::nullopt;
+  if (phase != StationPhase::kResponse) return std::nullopt;
   for (const ResponseButton& b : frame_.subject.buttons) {
     if (b.key == key || b.answer == key_or_answer) {
       const double rt = std::max(0.0, now_s - question_start_s_);
-      frame_.experimenter.last_event =
-          fmt::format("trial {}: answered {} after {:.2f} s",
-                      trial_->trial_index + 1, b.answer, rt);
+      // Late answers are kept (the engine marks them); the experimenter sees
+      // it at once.
+      const bool late = trial_->response_deadline_s.has_value() &&
+                        rt > *trial_->response_deadline_s;
+      frame_.experimenter.last_event = fmt::format(
+          "trial {}: answered {} after {:.2f} s{}", trial_->trial_index + 1,
+          b.answer, rt, late ? " (late)" : "");
       frame_.subject.message = "Thank you.";
       return protocols::Response{b.answer, rt};
     }
@@ -191,12 +413,16 @@ void StationController::MarkQuestionShown(double now_s) {
 void StationController::Pause(std::string reason) {
   const StationPhase phase = frame_.subject.phase;
   if (phase == StationPhase::kFinished) return;
-  if (phase == StationPhase::kInterval || phase == StationPhase::kResponse) {
+  if (phase == StationPhase::kInterval || phase == StationPhase::kIsi ||
+      phase == StationPhase::kResponse) {
     trial_aborted_ = true;
     ++aborted_trials_;
     frame_.experimenter.last_event =
         fmt::format("trial {} aborted: {}", trial_->trial_index + 1, reason);
   }
+  after_answer_ = false;  // the answer is saved: nothing is lost
+  frame_.subject.panel_heading.clear();
+  frame_.subject.panel_text.clear();
   frame_.subject.phase = StationPhase::kPaused;
   frame_.subject.interval_label.clear();
   frame_.subject.time_left_s = 0.0;
@@ -215,10 +441,14 @@ void StationController::Resume() {
 
 void StationController::Abort(std::string reason) {
   if (frame_.subject.phase == StationPhase::kInterval ||
+      frame_.subject.phase == StationPhase::kIsi ||
       frame_.subject.phase == StationPhase::kResponse) {
     trial_aborted_ = true;
     ++aborted_trials_;
   }
+  after_answer_ = false;
+  frame_.subject.panel_heading.clear();
+  frame_.subject.panel_text.clear();
   frame_.subject.phase = StationPhase::kFinished;
   frame_.subject.interval_label.clear();
   frame_.subject.message = "The session was stopped: " + reason;
@@ -227,6 +457,9 @@ void StationController::Abort(std::string reason) {
 }
 
 void StationController::Finish() {
+  after_answer_ = false;
+  frame_.subject.panel_heading.clear();
+  frame_.subject.panel_text.clear();
   frame_.subject.phase = StationPhase::kFinished;
   frame_.subject.interval_label.clear();
   frame_.subject.force_n = 0.0;

@@ -1,5 +1,6 @@
 // The trial state machine of a subject station, free of windows and devices:
-// ready -> intervals (timed, or subject-paced) -> response -> next trial, with
+// [instructions, rest break] -> ready -> intervals (timed, or subject-paced;
+// a blank gap between them) -> response -> [feedback, gap] -> next trial, with
 // pause, resume and abort. Inputs carry their own times (s on the session
 // clock), so a script drives it exactly as a person would, and the frame it
 // produces is what the window draws.
@@ -22,22 +23,43 @@ namespace burrlab::runner {
 std::vector<ResponseButton> ResponseButtonsFor(
     const std::vector<std::string>& options);
 
+// How long "Correct" or "Wrong" stays up unless a key ends it, s.
+inline constexpr double kFeedbackS = 1.0;
+
 class StationController {
  public:
   StationController(int trials_total, std::string device_name,
                     double max_force_n);
 
-  // Shows `trial` (trials_done completed before it) in the ready phase.
+  // Shows `trial` (trials_done completed before it): first what comes before
+  // it (the study's instructions, a rest break, the block's instructions:
+  // TrialSpec), once per trial (a trial presented again after a pause goes
+  // straight to ready), then the ready phase.
   void BeginTrial(const protocols::TrialSpec& trial, int trials_done);
-  // The subject starts the trial (space) or ends a subject-paced interval.
+  // The subject starts the trial (space), ends a subject-paced interval, or
+  // goes on from instructions.
   void Start(double now_s);
-  // Moves through the timed intervals up to the question.
+  // Moves through the timed intervals and the gaps between them up to the
+  // question, through feedback and the gap after the answer, and marks the
+  // question late once its deadline has passed.
   void Advance(double now_s);
   // A key (as named in ResponseButton::key, or "SPACE") or a clicked answer.
   // Returns the response when it answers the question; the response time is
-  // from the moment the question appeared.
+  // from the moment the question appeared. Any key ends a rest break and
+  // feedback; SPACE goes on from instructions.
   std::optional<protocols::Response> OnInput(std::string_view key_or_answer,
                                              double now_s);
+  // After the trial's answer was saved: "Correct" or "Wrong" for kFeedbackS
+  // (or until a key) when the trial gives feedback and `correct` is known,
+  // then the trial's gap after the answer (iti_s), from now_s.
+  void BeginAfterAnswer(std::optional<bool> correct, double now_s);
+  // Whether feedback or the gap after the answer is still shown.
+  bool after_answer() const { return after_answer_; }
+  // The screen shown, for screenshot names: the phase's name, with the
+  // interval's number ("interval2"), the number of the interval a gap follows
+  // ("isi1") or whose instructions ("instructions_study",
+  // "instructions_block").
+  std::string screen() const;
   // A live window: the question first reached the screen at now_s (the
   // first call in a response phase counts); the response time then counts
   // from there, not from when the last interval was due to end.
@@ -46,7 +68,8 @@ class StationController {
   // will be presented again from the start after Resume).
   void Pause(std::string reason);
   // Back to the ready phase of the current trial.
-  void Resume();
+  void Resume();  // (what came before the trial, if cut short, is shown
+                  // again by the next BeginTrial)
   // Ends the session: nothing more is presented.
   void Abort(std::string reason);
   // Marks the session as finished after the last trial.
@@ -70,15 +93,35 @@ class StationController {
   int aborted_trials() const { return aborted_trials_; }
 
  private:
+  // One screen before the trial.
+  struct IntroStep {
+    StationPhase phase = StationPhase::kInstructions;
+    std::string text;    // kInstructions: the protocol's text
+    bool study = false;  // kInstructions: the study's, not the block's
+  };
+
+  void EnterIntroStep(std::size_t index);
+  void EnterReady();
   void EnterInterval(std::size_t index, double now_s);
+  // The next interval after `interval_`, or the blank gap before it.
+  void EndInterval(double end_s);
   void EnterResponse(double now_s);
+  void EnterIti(double now_s);
+  void EndAfterAnswer();
+  std::string TrialTitle() const;
 
   StationFrame frame_;
   std::optional<protocols::TrialSpec> trial_;
+  int trials_done_ = 0;
+  std::vector<IntroStep> intro_;
+  std::size_t intro_index_ = 0;
+  std::optional<int> intro_done_for_;  // trial index whose intro was shown
   std::size_t interval_ = 0;
   double interval_start_s_ = 0.0;
+  double gap_start_s_ = 0.0;  // kIsi, kFeedback, kIti: when it began
   double question_start_s_ = 0.0;
   bool question_shown_ = false;  // MarkQuestionShown came in this phase
+  bool after_answer_ = false;
   bool trial_aborted_ = false;
   int aborted_trials_ = 0;
 };

@@ -19,9 +19,17 @@ enum class StationPhase {
   kResponse,  // the question is asked
   kPaused,    // the experimenter or a device fault paused the session
   kFinished,  // the protocol ran to its end or was aborted
+  // The pacing of a session (§13.5.1: familiarization before the scored
+  // trials; protocols/README.md, "Pacing, practice and breaks"):
+  kInstructions,  // the study's or a block's instructions, until SPACE
+  kIsi,           // the blank gap between two intervals (isi_s)
+  kFeedback,      // "Correct" or "Wrong", about 1 s or until a key
+  kBreak,         // a rest break, until a key
+  kIti,           // the gap after the answer, before the next trial (iti_s)
 };
 
-// "ready", "interval", "response", "paused", "finished".
+// "ready", "interval", "response", "paused", "finished", "instructions",
+// "isi", "feedback", "break", "iti".
 std::string_view StationPhaseName(StationPhase phase) noexcept;
 
 // One answer the subject can give.
@@ -40,6 +48,12 @@ struct SubjectView {
   std::string message;       // instruction or pause reason for the subject
   double force_n = 0.0;      // |force| sent (or rendered, for the mouse)
   double max_force_n = 8.0;  // the device's limit, for the indicator scale
+  // Drawn over the block view in kInstructions, kIsi, kFeedback, kBreak and
+  // kIti: a large heading ("Instructions", "Correct", "Rest break", ...) and
+  // text under it (the protocol's instructions; may be empty).
+  std::string panel_heading;
+  std::string panel_text;
+  bool panel_good = true;  // kFeedback: "Correct" (green) or "Wrong"
 };
 
 struct ExperimenterView {

@@ -19,8 +19,14 @@ constexpr std::size_t kMaxAnswers = 100'000;
 constexpr std::size_t kMaxUnplugs = 1'000;
 constexpr double kMaxTimeS = 3600.0;
 constexpr double kMaxCoordinateMm = 1000.0;
-constexpr std::string_view kScriptKeys[] = {
-    "format", "path", "answers", "start_delay_s", "response_delay_s", "unplug"};
+constexpr std::string_view kScriptKeys[] = {"format",
+                                            "path",
+                                            "answers",
+                                            "start_delay_s",
+                                            "response_delay_s",
+                                            "continue_delay_s",
+                                            "end_feedback_after_s",
+                                            "unplug"};
 constexpr std::string_view kUnplugKeys[] = {"presentation", "interval",
                                             "after_s", "resume"};
 
@@ -178,12 +184,21 @@ StationScriptParseOutcome ParseStationScript(std::string_view path,
   const stimuli::TomlFields fields = StationFields(&d);
   for (auto [key, field] :
        {std::pair{"start_delay_s", &script.start_delay_s},
-        std::pair{"response_delay_s", &script.response_delay_s}}) {
+        std::pair{"response_delay_s", &script.response_delay_s},
+        std::pair{"continue_delay_s", &script.continue_delay_s}}) {
     const std::optional<double> v = fields.Number(root, key, key);
     if (v.has_value() &&
         fields.Range(root, key, key, *v, 0.0, 60.0, false, false)) {
       *field = *v;
     }
+  }
+  constexpr std::string_view kEndFeedback = "end_feedback_after_s";
+  const std::optional<double> end_feedback =
+      fields.Number(root, kEndFeedback, kEndFeedback);
+  if (end_feedback.has_value() &&
+      fields.Range(root, kEndFeedback, kEndFeedback, *end_feedback, 0.0, 60.0,
+                   false, false)) {
+    script.end_feedback_after_s = end_feedback;
   }
   if (const toml::node* n = root.get("unplug")) ParseUnplugs(*n, &script, &d);
   if (d.empty()) outcome.script = std::move(script);

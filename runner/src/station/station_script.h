@@ -2,7 +2,8 @@
 // does at a station run with `burrlab run --device simulated --script FILE`,
 // for tests and dry runs of the real session path: the burr's path in every
 // interval (waypoints for the simulated device), the key pressed at each
-// question, and device unplugs. Untrusted input, parsed from (path, text)
+// question, how quickly it goes on from instructions, rest breaks and
+// feedback, and device unplugs. Untrusted input, parsed from (path, text)
 // with diagnostics in the style of protocol files.
 #ifndef BURRLAB_RUNNER_STATION_STATION_SCRIPT_H_
 #define BURRLAB_RUNNER_STATION_STATION_SCRIPT_H_
@@ -37,6 +38,10 @@ struct StationScript {
   std::vector<std::string> answers;  // key pressed at each question, in order
   double start_delay_s = 0.05;       // ready screen to SPACE
   double response_delay_s = 0.1;     // question to the answer's key
+  // Instructions (SPACE) or a rest break (a key) to the key that goes on.
+  double continue_delay_s = 0.05;
+  // Feedback to a key that ends it early; none: it stays its full second.
+  std::optional<double> end_feedback_after_s;
   std::vector<ScriptedUnplug> unplugs;
 };
 

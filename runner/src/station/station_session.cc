@@ -312,11 +312,7 @@ Status StationSession::SyncInterval(const protocols::TrialSpec& trial,
 }
 
 void StationSession::SaveShown(const protocols::TrialSpec& trial) {
-  const std::string shown =
-      fmt::format("{}{}", StationPhaseName(controller_.phase()),
-                  controller_.phase() == StationPhase::kInterval
-                      ? fmt::format("{}", controller_.interval_index() + 1)
-                      : std::string());
+  const std::string shown = controller_.screen();
   if (options_.screenshots_dir.empty() || shown == shown_) return;
   shown_ = shown;
   const std::string path =
@@ -361,8 +357,7 @@ StationSession::Ending StationSession::RunPresentation(
     const protocols::TrialSpec& trial, LiveTrial* out) {
   StationWindow& w = *options_.window;
   const StationScript* script = options_.script;
-  StationPhase last_phase = controller_.phase();
-  std::size_t last_interval = controller_.interval_index();
+  std::string last_screen = controller_.screen();
   phase_since_s_ = NowS();
   for (;;) {
     const auto frame_start = std::chrono::steady_clock::now();
@@ -390,10 +385,8 @@ StationSession::Ending StationSession::RunPresentation(
                               trial.intervals[*running_].duration_s - 1e-6);
     }
     controller_.Advance(advance_s);
-    if (controller_.phase() != last_phase ||
-        controller_.interval_index() != last_interval) {
-      last_phase = controller_.phase();
-      last_interval = controller_.interval_index();
+    if (controller_.screen() != last_screen) {
+      last_screen = controller_.screen();
       phase_since_s_ = now_s;
       question_shown_s_ = -1.0;
     }
@@ -440,8 +433,12 @@ StationSession::Ending StationSession::RunPresentation(
       const bool paced_interval =
           phase == StationPhase::kInterval &&
           trial.intervals[controller_.interval_index()].duration_s <= 0.0;
+      const bool goes_on =
+          phase == StationPhase::kInstructions || phase == StationPhase::kBreak;
       if ((phase == StationPhase::kReady || paced_interval) &&
           in_phase_s >= script->start_delay_s) {
+        keys.push_back({"SPACE", now_s});
+      } else if (goes_on && in_phase_s >= script->continue_delay_s) {
         keys.push_back({"SPACE", now_s});
       } else if (phase == StationPhase::kResponse && question_shown_s_ >= 0.0 &&
                  now_s - question_shown_s_ >= script->response_delay_s) {
@@ -481,7 +478,8 @@ void StationSession::Pause(const protocols::TrialSpec& trial,
 }
 
 StationSession::Ending StationSession::WaitForResume(
-    const protocols::TrialSpec& trial, std::string* stop_reason) {
+    const protocols::TrialSpec& trial, std::string* stop_reason,
+    bool answered) {
   StationWindow& w = *options_.window;
   const double paused_at_s = NowS();
   for (;;) {
@@ -537,8 +535,10 @@ StationSession::Ending StationSession::WaitForResume(
       pending_unplug_ = nullptr;
       controller_.SetDeviceState("ok");
       controller_.Resume();
-      Log(fmt::format("resumed: trial {} is presented again",
-                      trial.trial_index + 1));
+      Log(answered
+              ? fmt::format("resumed after trial {}", trial.trial_index + 1)
+              : fmt::format("resumed: trial {} is presented again",
+                            trial.trial_index + 1));
       return Ending::kAnswered;  // go on presenting
     }
     WaitFrame(frame_start);
@@ -573,6 +573,51 @@ Result<LiveTrial> StationSession::PresentTrial(
       return result;
     }
   }
+}
+
+std::string StationSession::AfterAnswer(const protocols::TrialSpec& trial,
+                                        std::optional<bool> correct) {
+  StationWindow& w = *options_.window;
+  const StationScript* script = options_.script;
+  const double since_s = NowS();
+  controller_.BeginAfterAnswer(correct, since_s);
+  while (controller_.after_answer()) {
+    const auto frame_start = std::chrono::steady_clock::now();
+    const double now_s = NowS();
+    controller_.Advance(now_s);
+    if (!controller_.after_answer()) break;
+    const WindowInput input = DrawFrame();
+    SaveShown(trial);
+    w.Present();
+    if (input.close_requested || input.action == ExperimenterAction::kAbort) {
+      const std::string reason = input.close_requested
+                                     ? "the subject window was closed"
+                                     : "the experimenter aborted the session";
+      controller_.Abort(reason);
+      return reason;
+    }
+    if (input.action == ExperimenterAction::kPause) {
+      // The answer is saved: the pause cuts only the feedback or the gap.
+      pause_reason_ = "paused by the experimenter";
+      controller_.Pause(pause_reason_);
+      Log(fmt::format("paused after trial {} (its answer is saved)",
+                      trial.trial_index + 1));
+      std::string stop_reason;
+      if (WaitForResume(trial, &stop_reason, true) == Ending::kStopped) {
+        return stop_reason;
+      }
+      return {};
+    }
+    std::vector<Key> keys = CollectKeys(input, now_s);
+    if (script != nullptr && script->end_feedback_after_s.has_value() &&
+        controller_.phase() == StationPhase::kFeedback &&
+        now_s - since_s >= *script->end_feedback_after_s) {
+      keys.push_back({"SPACE", now_s});
+    }
+    for (const Key& k : keys) (void)controller_.OnInput(k.name, k.t_s);
+    WaitFrame(frame_start);
+  }
+  return {};
 }
 
 void StationSession::Finish() {

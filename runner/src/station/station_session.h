@@ -1,5 +1,7 @@
 // The live station behind `burrlab run --device ...`: each trial goes through
-// StationController in the subject window; every simulated interval runs the
+// StationController in the subject window (with the instructions, rest
+// breaks, gaps and feedback the protocol paces it with); every simulated
+// interval runs the
 // haptic loop on its own thread with the chosen device, the interval's
 // material rendered by the simulator (SimForceSource, within the station's
 // force and stiffness limits) and the block shown from loop snapshots; the
@@ -66,6 +68,8 @@ class StationSession final : public LiveStation {
 
   Result<LiveTrial> PresentTrial(const protocols::TrialSpec& trial,
                                  int trials_done) override;
+  std::string AfterAnswer(const protocols::TrialSpec& trial,
+                          std::optional<bool> correct) override;
   void Finish() override;
 
   int screenshots_saved() const { return screenshots_; }
@@ -82,8 +86,10 @@ class StationSession final : public LiveStation {
 
   double NowS() const;
   Ending RunPresentation(const protocols::TrialSpec& trial, LiveTrial* out);
+  // `answered`: the pause came after the trial's answer was saved (the next
+  // trial follows), not during it (the trial is presented again).
   Ending WaitForResume(const protocols::TrialSpec& trial,
-                       std::string* stop_reason);
+                       std::string* stop_reason, bool answered = false);
   void Pause(const protocols::TrialSpec& trial, std::string reason);
   // Starts or stops the interval's loop to match the controller.
   Status SyncInterval(const protocols::TrialSpec& trial, LiveTrial* out);

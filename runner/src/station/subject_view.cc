@@ -38,6 +38,79 @@ void Text(const std::string& text) {
   ImGui::TextUnformatted(text.c_str(), text.c_str() + text.size());
 }
 
+// Whether the phase covers the block view with a panel (the pacing phases:
+// nothing to feel, so nothing of the block to see).
+bool HasPanel(StationPhase phase) {
+  return phase == StationPhase::kInstructions || phase == StationPhase::kIsi ||
+         phase == StationPhase::kFeedback || phase == StationPhase::kBreak ||
+         phase == StationPhase::kIti;
+}
+
+// The line under the title: the phase, in words a subject reads.
+std::string PhaseLine(StationPhase phase) {
+  switch (phase) {
+    case StationPhase::kIsi:
+      return "between intervals";
+    case StationPhase::kIti:
+      return "between trials";
+    case StationPhase::kBreak:
+      return "rest break";
+    default:
+      return std::string(StationPhaseName(phase));
+  }
+}
+
+// `text` centred horizontally in the current window at the cursor's height.
+void Centred(const std::string& text) {
+  const float width = ImGui::CalcTextSize(text.c_str()).x;
+  ImGui::SetCursorPosX(
+      std::max(0.0f, (ImGui::GetWindowSize().x - width) * 0.5f));
+  Text(text);
+}
+
+// The panel over the block view: a large heading (green "Correct", orange
+// "Wrong") and the text wrapped under it, both centred; blank in the gaps
+// but for a short line.
+void DrawPanel(const SubjectView& view, const StationLayout& layout) {
+  Place(layout.block);
+  ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.06f, 0.06f, 0.08f, 1.0f));
+  ImGui::Begin("##panel", nullptr, kFixed);
+  const float height = ImGui::GetWindowSize().y;
+  const bool feedback = view.phase == StationPhase::kFeedback;
+  const bool instructions = view.phase == StationPhase::kInstructions;
+  ImGui::SetCursorPosY(height * (instructions ? 0.12f : 0.38f));
+  if (!view.panel_heading.empty()) {
+    ImGui::SetWindowFontScale(feedback ? 3.0f : 2.0f);
+    if (feedback) {
+      ImGui::PushStyleColor(ImGuiCol_Text,
+                            view.panel_good ? ImVec4(0.35f, 0.85f, 0.45f, 1.0f)
+                                            : ImVec4(1.0f, 0.55f, 0.25f, 1.0f));
+    }
+    Centred(view.panel_heading);
+    if (feedback) ImGui::PopStyleColor();
+    ImGui::SetWindowFontScale(1.0f);
+    ImGui::Spacing();
+    ImGui::Spacing();
+  }
+  if (!view.panel_text.empty()) {
+    ImGui::SetWindowFontScale(instructions ? 1.25f : 1.1f);
+    if (instructions) {
+      // Wrapped in a column of 4/5 of the width, left-aligned (a paragraph).
+      const float width = ImGui::GetWindowSize().x;
+      ImGui::SetCursorPosX(width * 0.1f);
+      ImGui::PushTextWrapPos(width * 0.9f);
+      ImGui::TextUnformatted(view.panel_text.c_str(),
+                             view.panel_text.c_str() + view.panel_text.size());
+      ImGui::PopTextWrapPos();
+    } else {
+      Centred(view.panel_text);
+    }
+    ImGui::SetWindowFontScale(1.0f);
+  }
+  ImGui::End();
+  ImGui::PopStyleColor();
+}
+
 }  // namespace
 
 std::optional<std::string> DrawSubjectView(const SubjectView& view,
@@ -54,7 +127,7 @@ std::optional<std::string> DrawSubjectView(const SubjectView& view,
       Text(fmt::format("  {:.1f} s left", view.time_left_s));
     }
   } else {
-    Text(std::string(StationPhaseName(view.phase)));
+    Text(PhaseLine(view.phase));
   }
   const bool alert = view.phase == StationPhase::kPaused;
   if (alert)
@@ -62,6 +135,8 @@ std::optional<std::string> DrawSubjectView(const SubjectView& view,
   ImGui::TextWrapped("%s", view.message.c_str());
   if (alert) ImGui::PopStyleColor();
   ImGui::End();
+
+  if (HasPanel(view.phase)) DrawPanel(view, layout);
 
   Place(layout.answers);
   ImGui::Begin("##answers", nullptr, kFixed);

@@ -13,6 +13,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -51,6 +52,34 @@ std::string UtcNow() {
   char text[32];
   std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &tm);
   return text;
+}
+
+// Protocol text (instructions) for the terminal: each line made printable
+// (no control byte reaches the terminal) and indented by two spaces.
+std::string IndentedLines(std::string_view text) {
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    if (line.ends_with('\r')) line.remove_suffix(1);
+    // Appended in steps: GCC 12 reports a false -Wrestrict for
+    // `const char* + std::string&&` in a unity batch.
+    out += "  ";
+    out += PrintableText(line);
+    out += '\n';
+    start = end + 1;
+  }
+  return out;
+}
+
+// Waits `seconds` on the real clock (typed sessions; stations wait in their
+// own loop, simulated sessions never).
+void WaitS(double seconds) {
+  if (seconds > 0.0) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  }
 }
 
 // Everything one trial produced before the response.
@@ -147,6 +176,14 @@ class SessionRunner {
     return "";
   }
   Result<protocols::Response> TerminalResponse(const TrialSpec& trial);
+  // kTerminal: the study's and the block's instructions and a rest break
+  // that come before `trial`, each waiting for Enter when a person types
+  // (SessionOptions::answers_timed); false when the input ended.
+  bool TerminalIntroduce(const TrialSpec& trial);
+  // Prints `prompt` and waits for Enter when a person types; from a pipe or
+  // a file, prints `prompt` and `going_on` and goes on (no answer is
+  // consumed). False when the input ended.
+  bool WaitForEnter(std::string_view prompt, std::string_view going_on);
   rs::TraceSamples ToTrace(const TrialSpec& trial, int interval,
                            stimuli::IntervalResult&& result);
 
@@ -176,7 +213,7 @@ Status SessionRunner::Replay(const std::vector<rs::TrialRecord>& records) {
           "protocol's trial {} (block \"{}\")",
           r.trial_index, r.block, t.trial_index, t.block)};
     }
-    if (r.correct.has_value()) {
+    if (r.correct.has_value() && !r.practice) {  // practice is not scored
       ++scored_;
       correct_ += *r.correct ? 1 : 0;
     }
@@ -235,6 +272,9 @@ Result<Presented> SessionRunner::PresentTrial(const TrialSpec& trial) {
   Presented p;
   for (std::size_t i = 0; i < trial.intervals.size(); ++i) {
     const PlannedInterval& interval = trial.intervals[i];
+    // The blank gap before every interval but the first: on the session
+    // clock, never waited for here.
+    if (i > 0) clock_s_ += trial.isi_s;
     if (!interval.material.has_value()) {
       // A real sample outside the computer: nothing to render or record.
       // The simulated observer feels a stand-in: the material modelled on
@@ -296,6 +336,7 @@ Result<protocols::Response> SessionRunner::SimulatedResponse(
           Result<stimuli::MaterialSet> set = engine_.MaterialAt(level.value());
           if (!set.ok()) return set.error();
           const int interval = static_cast<int>(path.size()) + 1;
+          clock_s_ += trial.isi_s;  // each step is one more interval
           Result<stimuli::IntervalResult> r =
               Present(trial, *set, trial.intervals[1].duration_s,
                       static_cast<std::uint64_t>(interval));
@@ -322,6 +363,10 @@ Result<protocols::Response> SessionRunner::TerminalResponse(
                      protocols::TaskName(trial.task));
   for (std::size_t i = 0; i < trial.intervals.size(); ++i) {
     const PlannedInterval& iv = trial.intervals[i];
+    if (i > 0 && trial.isi_s > 0.0) {
+      out.flush();
+      WaitS(trial.isi_s);  // the blank gap between intervals
+    }
     out << fmt::format("  interval {}: {}{}\n", i + 1,
                        iv.material.has_value() ? "simulated" : "real sample",
                        iv.duration_s > 0.0
@@ -369,6 +414,43 @@ Result<protocols::Response> SessionRunner::TerminalResponse(
   }
 }
 
+bool SessionRunner::WaitForEnter(std::string_view prompt,
+                                 std::string_view going_on) {
+  std::ostream& out = *options_.prompt;
+  if (!options_.answers_timed) {
+    out << prompt << ' ' << going_on << '\n';
+    return true;
+  }
+  out << prompt << ' ';
+  out.flush();
+  std::string line;
+  return static_cast<bool>(std::getline(*options_.in, line));
+}
+
+bool SessionRunner::TerminalIntroduce(const TrialSpec& trial) {
+  std::ostream& out = *options_.prompt;
+  constexpr std::string_view kGoingOn = "(input is not a terminal: going on)";
+  if (!trial.study_instructions.empty()) {
+    out << '\n' << IndentedLines(trial.study_instructions);
+    if (!WaitForEnter("Press Enter to begin.", kGoingOn)) return false;
+  }
+  if (trial.break_before) {
+    out << '\n';
+    if (!WaitForEnter("Rest break: press Enter to continue", kGoingOn)) {
+      return false;
+    }
+  }
+  if (!trial.block_instructions.empty()) {
+    out << fmt::format("\nblock \"{}\"{}:\n", PrintableText(trial.block),
+                       trial.practice ? " (practice, not scored)" : "")
+        << IndentedLines(trial.block_instructions);
+    if (!WaitForEnter("Press Enter to start the block.", kGoingOn)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 Result<SessionSummary> SessionRunner::Run() {
   SessionSummary summary;
   Result<int> next = journal_.NextTrialIndex();
@@ -396,6 +478,11 @@ Result<SessionSummary> SessionRunner::Run() {
       response = std::move(*live->response);
       live_intervals = LiveIntervalsJson(*live);
     } else {
+      if (options_.responder == Responder::kTerminal &&
+          !TerminalIntroduce(trial)) {
+        summary.trials_total = summary.trials_resumed + summary.trials_run;
+        return summary;
+      }
       presented = PresentTrial(trial);
       if (!presented.ok()) return presented.error();
       response = options_.responder == Responder::kSimulated
@@ -433,11 +520,16 @@ Result<SessionSummary> SessionRunner::Run() {
     r.correct = outcome->correct;
     r.response_time_s = response->response_time_s;
     r.source = SourceName();
+    r.practice = trial.practice;
+    r.late = outcome->late;
     r.staircase_id = trial.staircase_id;
     r.reversal = outcome->reversal;
     r.step_size = outcome->step_size;
     r.estimate = outcome->estimate;
     r.rng_state = engine_.RngState();
+    // The gap after the answer counts on the session clock (simulated
+    // sessions wait for nothing, but model it).
+    clock_s_ += trial.iti_s;
     nlohmann::ordered_json extra =
         nlohmann::ordered_json::parse(outcome->extra, nullptr, false);
     if (!extra.is_object()) extra = nlohmann::ordered_json::object();
@@ -456,11 +548,33 @@ Result<SessionSummary> SessionRunner::Run() {
           "it; fix the cause and run again with --resume)",
           trial.trial_index, s.error().message, trial.trial_index)};
     }
-    if (r.correct.has_value()) {
+    if (r.correct.has_value() && !r.practice) {  // practice is not scored
       ++scored_;
       correct_ += *r.correct ? 1 : 0;
     }
     ++summary.trials_run;
+    if (options_.responder == Responder::kStation) {
+      const std::string stop =
+          options_.station->AfterAnswer(trial, outcome->correct);
+      if (!stop.empty()) {
+        if (options_.on_trial) {
+          options_.on_trial(summary.trials_resumed + summary.trials_run,
+                            trial.block);
+        }
+        summary.stop_reason = stop;
+        summary.trials_total = summary.trials_resumed + summary.trials_run;
+        return summary;
+      }
+    }
+    if (options_.responder == Responder::kTerminal) {
+      if (trial.feedback && outcome->correct.has_value()) {
+        // A terminal echoed the answer's line break; a pipe did not.
+        *options_.prompt << (options_.answers_timed ? "" : "\n")
+                         << (*outcome->correct ? "  correct\n" : "  wrong\n");
+        options_.prompt->flush();
+      }
+      WaitS(trial.iti_s);
+    }
     if (options_.on_trial) {
       options_.on_trial(summary.trials_resumed + summary.trials_run,
                         trial.block);

@@ -107,6 +107,16 @@ class LiveStation {
   // answers or the session stops; an error is a failure of the station.
   virtual Result<LiveTrial> PresentTrial(const protocols::TrialSpec& trial,
                                          int trials_done) = 0;
+  // After the trial's answer is saved: feedback (when the trial gives it;
+  // `correct` is the engine's verdict) and the gap after the answer. Returns
+  // why the session stops there (the window was closed, the experimenter
+  // aborted), or empty to go on.
+  virtual std::string AfterAnswer(const protocols::TrialSpec& trial,
+                                  std::optional<bool> correct) {
+    (void)trial;
+    (void)correct;
+    return {};
+  }
   // Shows that the session ran to its end.
   virtual void Finish() = 0;
 };
@@ -134,7 +144,9 @@ struct SessionOptions {
   std::istream* in = nullptr;         // kTerminal: answers
   std::ostream* prompt = nullptr;     // kTerminal: trial descriptions
   // kTerminal: false when the answers come from a pipe or a file, not a
-  // person at a terminal; their response times are then not recorded (n/a).
+  // person at a terminal; their response times are then not recorded (n/a),
+  // and instructions and rest breaks are printed without waiting for Enter
+  // (which would take an answer).
   bool answers_timed = true;
   LiveStation* station = nullptr;  // kStation: the station
   // kStation: the device backend ("mouse", "hid", ...) and the SHA-256 of the
@@ -161,8 +173,8 @@ struct SessionSummary {
   int trials_total = 0;         // trials in the journal at the end
   bool finished = false;        // the protocol ran to its end
   std::string stop_reason;      // why it stopped early (kStation), if it did
-  std::optional<double> score;  // fraction correct over trials with an
-                                // answer key, when any
+  std::optional<double> score;  // fraction correct over scored trials
+                                // (with an answer key, not practice)
 };
 
 // What shapes a session's results besides its protocol and seed, as the

@@ -64,6 +64,57 @@ trials = 2
 interval_s = 0.4
 )";
 
+// kProtocol paced as with naive subjects (§13.5.1): instructions, a practice
+// block with feedback and gaps, then a scored block after a rest break, with
+// a response deadline the scripted subject misses.
+constexpr const char* kPacedProtocol = R"(format = "burrlab-protocol/1"
+
+[study]
+name = "Station pacing check"
+instructions = "Press into the block in each interval, then say which was stiffer."
+breaks_between_blocks = true
+
+[recording]
+trace_hz = 100
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.stiff]
+c_e_n_per_mm2 = 20.0
+alpha_per_s = 0.1
+c_mu_n_per_mm2 = 0.5
+mu = 0.5
+c_i_n_s_per_mm3 = 0.0001
+
+[[blocks]]
+name = "practice"
+method = "two_interval"
+design = "2afc"
+task = "probe"
+standard = "pvc"
+comparison = "stiff"
+question = "Which interval was stiffer?"
+trials = 2
+interval_s = 0.4
+practice = true
+instructions = "Two practice trials, with feedback."
+isi_s = 0.3
+iti_s = 0.3
+
+[[blocks]]
+name = "scored"
+method = "two_interval"
+design = "2afc"
+task = "probe"
+standard = "pvc"
+comparison = "stiff"
+question = "Which interval was stiffer?"
+trials = 2
+interval_s = 0.4
+response_deadline_s = 0.2
+)";
+
 constexpr const char* kStation = R"(format = "burrlab-station/1"
 [device]
 backend = "simulated"
@@ -162,10 +213,14 @@ class StationRunTest : public ::testing::Test {
   // `burrlab run` at the simulated station with `script` (its format line
   // and path added).
   ProcessRun RunWith(const std::string& script, bool resume = false) {
+    return RunProtocol("protocol.toml", script, resume);
+  }
+  ProcessRun RunProtocol(const std::string& protocol, const std::string& script,
+                         bool resume = false) {
     Write(dir_ / "script.toml", "format = \"burrlab-station-script/1\"\n" +
                                     std::string(kPath) + script);
     std::vector<std::string> args = {
-        "run",           (dir_ / "protocol.toml").string(),
+        "run",           (dir_ / protocol).string(),
         "--subject",     "01",
         "--out",         (dir_ / "out").string(),
         "--device",      "simulated",
@@ -318,6 +373,77 @@ TEST_F(StationRunTest, RunsTheProtocolAndStoresLoopStatisticsPerInterval) {
       "005_trial2_ready.png",     "006_trial2_interval1.png",
       "007_trial2_interval2.png", "008_trial2_response.png",
       "009_finished.png"};
+  EXPECT_EQ(shots, expected);
+}
+
+// The pacing phases at a station, driven by the script: instructions and
+// the rest break go on after continue_delay_s, feedback ends at a key after
+// end_feedback_after_s; the gaps pass on the clock. Practice trials and late
+// answers are marked in the journal.
+TEST_F(StationRunTest, PacesTheSessionWithInstructionsGapsFeedbackAndBreaks) {
+  Write(dir_ / "paced.toml", kPacedProtocol);
+  const ProcessRun run =
+      RunProtocol("paced.toml",
+                  "answers = [\"2\", \"2\", \"1\", \"2\"]\n"
+                  "response_delay_s = 0.3\ncontinue_delay_s = 0.1\n"
+                  "end_feedback_after_s = 0.2\n");
+  ASSERT_EQ(run.code, 0) << run.out << run.err;
+  const std::vector<rs::TrialRecord> trials = Trials();
+  ASSERT_EQ(trials.size(), 4u);
+  for (const rs::TrialRecord& t : trials) {
+    SCOPED_TRACE(t.trial_index);
+    const bool practice = t.trial_index < 2;
+    EXPECT_EQ(t.practice, practice);
+    ASSERT_TRUE(t.response_time_s.has_value());
+    EXPECT_GE(*t.response_time_s, 0.3);
+    // The scored block's deadline is 0.2 s: the answers after 0.3 s are
+    // kept, and late.
+    EXPECT_EQ(t.late, practice ? std::nullopt : std::optional<bool>(true));
+    ASSERT_TRUE(t.correct.has_value());
+    // Two intervals, with the 0.3 s gap between them in the practice block.
+    auto journal = rs::Journal::Open(dir_ / "out", "01");
+    ASSERT_TRUE(journal.ok());
+    auto traces = journal->Traces(t.trial_index);
+    ASSERT_TRUE(traces.ok());
+    ASSERT_EQ(traces->size(), 2u);
+    EXPECT_GE((*traces)[1].start_time_s - (*traces)[0].start_time_s,
+              0.4 + (practice ? 0.3 : 0.0) - 0.02);
+  }
+  // Every screen, in order: the study's and the block's instructions, then
+  // per practice trial the gap between intervals, the feedback and the gap
+  // after the answer; the rest break before the scored block.
+  std::vector<std::string> shots;
+  for (const auto& e : fs::directory_iterator(dir_ / "shots")) {
+    shots.push_back(e.path().filename().string());
+  }
+  std::sort(shots.begin(), shots.end());
+  const std::vector<std::string> expected = {
+      "001_trial1_instructions_study.png",
+      "002_trial1_instructions_block.png",
+      "003_trial1_ready.png",
+      "004_trial1_interval1.png",
+      "005_trial1_isi1.png",
+      "006_trial1_interval2.png",
+      "007_trial1_response.png",
+      "008_trial1_feedback.png",
+      "009_trial1_iti.png",
+      "010_trial2_ready.png",
+      "011_trial2_interval1.png",
+      "012_trial2_isi1.png",
+      "013_trial2_interval2.png",
+      "014_trial2_response.png",
+      "015_trial2_feedback.png",
+      "016_trial2_iti.png",
+      "017_trial3_break.png",
+      "018_trial3_ready.png",
+      "019_trial3_interval1.png",
+      "020_trial3_interval2.png",
+      "021_trial3_response.png",
+      "022_trial4_ready.png",
+      "023_trial4_interval1.png",
+      "024_trial4_interval2.png",
+      "025_trial4_response.png",
+      "026_finished.png"};
   EXPECT_EQ(shots, expected);
 }
 

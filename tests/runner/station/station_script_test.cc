@@ -55,7 +55,35 @@ TEST(ParseStationScript, DefaultsToNoAnswersAndShortDelays) {
   EXPECT_TRUE(o.script->answers.empty());
   EXPECT_DOUBLE_EQ(o.script->start_delay_s, 0.05);
   EXPECT_DOUBLE_EQ(o.script->response_delay_s, 0.1);
+  EXPECT_DOUBLE_EQ(o.script->continue_delay_s, 0.05);
+  EXPECT_EQ(o.script->end_feedback_after_s, std::nullopt);
   EXPECT_TRUE(o.script->unplugs.empty());
+}
+
+// A scripted subject goes on from instructions and rest breaks after
+// continue_delay_s and, when end_feedback_after_s is given, ends feedback
+// early with a key.
+TEST(ParseStationScript, ReadsHowQuicklyItGoesOnFromInstructionsAndFeedback) {
+  const StationScriptParseOutcome o = ParseStationScript("script.toml", R"(
+format = "burrlab-station-script/1"
+path = [[0, 0, 0, 3]]
+continue_delay_s = 0.4
+end_feedback_after_s = 0.25
+)");
+  ASSERT_TRUE(o.script.has_value());
+  EXPECT_DOUBLE_EQ(o.script->continue_delay_s, 0.4);
+  EXPECT_EQ(o.script->end_feedback_after_s, 0.25);
+  EXPECT_EQ(ScriptProblems("format = \"burrlab-station-script/1\"\n"
+                           "path = [[0, 0, 0, 1]]\ncontinue_delay_s = -1\n"
+                           "end_feedback_after_s = \"soon\"\n"),
+            "script.toml:3:20: error: continue_delay_s must be in [0, 60], "
+            "got -1\n"
+            "continue_delay_s = -1\n"
+            "                   ^\n"
+            "script.toml:4:24: error: end_feedback_after_s must be a number, "
+            "got a string\n"
+            "end_feedback_after_s = \"soon\"\n"
+            "                       ^\n");
 }
 
 TEST(ParseStationScript, NamesEachProblemWithItsPlace) {
@@ -113,7 +141,8 @@ TEST(ParseStationScript, EscapesControlCharactersOfKeysInMessages) {
   ASSERT_EQ(o.diagnostics.size(), 1u);
   EXPECT_EQ(o.diagnostics[0].message,
             "unknown key \" \\x09 f\\x09\" in the station script; accepted: "
-            "format, path, answers, start_delay_s, response_delay_s, unplug");
+            "format, path, answers, start_delay_s, response_delay_s, "
+            "continue_delay_s, end_feedback_after_s, unplug");
 }
 
 }  // namespace

@@ -3,7 +3,9 @@
 // mouse device moving the burr through the 1 kHz loop body into the simulator,
 // the eroding block shown from loop snapshots. Each trial phase is saved as a
 // PNG (build/.../station_screenshots/) and compared with the committed golden
-// image with a tolerance. BURRLAB_UPDATE_GOLDEN=1 rewrites the golden images.
+// image with a tolerance; so is each pacing phase (instructions, the gap
+// between intervals, feedback, the gap after the answer, a rest break).
+// BURRLAB_UPDATE_GOLDEN=1 rewrites the golden images.
 #include "station/window.h"
 
 #include <gtest/gtest.h>
@@ -51,6 +53,52 @@ comparison = "pvc"
 question = "Which interval was easier to drill?"
 trials = 2
 interval_s = 2
+)";
+
+// Two practice trials with feedback and a gap between intervals, then a
+// scored block after a rest break; instructions for the study and each
+// block.
+constexpr const char* kPacedProtocol = R"(format = "burrlab-protocol/1"
+
+[study]
+name = "Station pacing check"
+instructions = """
+In each trial you drill into the block twice, once in each interval. After
+the second interval, say which interval was easier to drill."""
+breaks_between_blocks = true
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[[blocks]]
+name = "practice"
+method = "two_interval"
+design = "2afc"
+task = "drill"
+standard = "bone"
+comparison = "pvc"
+question = "Which interval was easier to drill?"
+trials = 2
+interval_s = 2
+practice = true
+isi_s = 1
+iti_s = 1.5
+instructions = "Two practice trials first: after each answer you will see whether it was right."
+
+[[blocks]]
+name = "scored"
+method = "two_interval"
+design = "2afc"
+task = "drill"
+standard = "bone"
+comparison = "pvc"
+question = "Which interval was easier to drill?"
+trials = 2
+interval_s = 2
+instructions = "Now the scored trials, without feedback."
 )";
 
 // Time stands still unless the test moves it.
@@ -288,6 +336,84 @@ TEST_F(StationWindowTest, ScreenshotsOfEachTrialPhaseMatchTheGoldenImages) {
   ASSERT_TRUE(engine->finished());
   controller_->Finish();
   Shoot("06_finished");
+}
+
+// The pacing phases of a session (§13.5.1: familiarization before the scored
+// trials) as the subject sees them: the study's and a block's instructions,
+// the blank gap between intervals, feedback, the gap after the answer and a
+// rest break, each over the block view.
+TEST_F(StationWindowTest, ScreenshotsOfThePacingPhasesMatchTheGoldenImages) {
+  Result<std::unique_ptr<StationWindow>> opened = StationWindow::Open({});
+  ASSERT_TRUE(opened.ok()) << opened.error().message;
+  window_ = std::move(opened.value());
+  protocols::ParseOutcome parsed =
+      protocols::ParseProtocol("paced.toml", kPacedProtocol);
+  ASSERT_TRUE(parsed.protocol.has_value());
+  protocol_ = std::move(*parsed.protocol);
+  Result<protocols::Engine> engine =
+      protocols::Engine::Create(protocol_, 0, 11);
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  controller_.emplace(4, "mouse", 8.0);
+
+  protocols::TrialSpec trial = engine->current();
+  controller_->BeginTrial(trial, 0);
+  NewBlock(trial.intervals[0].material->material);
+  ASSERT_EQ(controller_->screen(), "instructions_study");
+  Shoot("07_instructions_study");
+  (void)controller_->OnInput("SPACE", 0.0);
+  ASSERT_EQ(controller_->screen(), "instructions_block");
+  Shoot("08_instructions_block");
+  (void)controller_->OnInput("SPACE", 0.0);
+  ASSERT_EQ(controller_->phase(), StationPhase::kReady);
+  double now_s = 1.0;
+  (void)controller_->OnInput("SPACE", now_s);
+  Drill(1.0, {0.5, 0.5}, -6.0);
+  now_s += 2.25;  // the 2 s interval is over; 0.75 s of the 1 s gap left
+  controller_->Advance(now_s);
+  ASSERT_EQ(controller_->phase(), StationPhase::kIsi);
+  Shoot("09_isi");
+  now_s += 0.75;
+  controller_->Advance(now_s);
+  ASSERT_EQ(controller_->phase(), StationPhase::kInterval);
+  now_s += 2.0;
+  controller_->Advance(now_s);
+  ASSERT_EQ(controller_->phase(), StationPhase::kResponse);
+  std::optional<protocols::Response> answer =
+      controller_->OnInput(trial.correct_answer, now_s + 0.5);
+  ASSERT_TRUE(answer.has_value());
+  Result<protocols::Outcome> outcome = engine->Respond(*answer);
+  ASSERT_TRUE(outcome.ok()) << outcome.error().message;
+  controller_->BeginAfterAnswer(outcome->correct, now_s + 0.5);
+  ASSERT_EQ(controller_->phase(), StationPhase::kFeedback);
+  Shoot("10_feedback_correct");
+  controller_->Advance(now_s + 1.6);
+  ASSERT_EQ(controller_->phase(), StationPhase::kIti);
+  Shoot("11_iti");
+
+  // The second practice trial answered wrongly.
+  trial = engine->current();
+  controller_->BeginTrial(trial, 1);
+  ASSERT_EQ(controller_->phase(), StationPhase::kReady);
+  now_s += 10.0;
+  (void)controller_->OnInput("SPACE", now_s);
+  now_s += 5.0;
+  controller_->Advance(now_s);
+  ASSERT_EQ(controller_->phase(), StationPhase::kResponse);
+  answer = controller_->OnInput(trial.correct_answer == "1" ? "2" : "1",
+                                now_s + 0.8);
+  ASSERT_TRUE(answer.has_value());
+  outcome = engine->Respond(*answer);
+  ASSERT_TRUE(outcome.ok()) << outcome.error().message;
+  controller_->BeginAfterAnswer(outcome->correct, now_s + 0.8);
+  EXPECT_EQ(controller_->frame().subject.panel_heading, "Wrong");
+  Shoot("12_feedback_wrong");
+
+  // The scored block starts with a rest break.
+  trial = engine->current();
+  ASSERT_TRUE(trial.break_before);
+  controller_->BeginTrial(trial, 2);
+  ASSERT_EQ(controller_->phase(), StationPhase::kBreak);
+  Shoot("13_break");
 }
 
 TEST(StationWindow, TheGoldenComparisonSeesAnotherPhase) {

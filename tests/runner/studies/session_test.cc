@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -19,6 +21,7 @@
 #include "burrlab/results_schema/bids_read.h"
 #include "burrlab/results_schema/journal.h"
 #include "cli/session_commands.h"
+#include "paced_protocol.h"
 #include "run_cli.h"
 #include "two_block_protocol.h"
 
@@ -106,6 +109,46 @@ TEST_F(SessionTest, SimulatedRunWritesJournalAndBidsExport) {
   EXPECT_TRUE(
       fs::exists(out / "sub-01" / "beh" / "sub-01_task-stairs_physio.tsv.gz"));
   EXPECT_TRUE(fs::exists(out / "dataset_description.json"));
+}
+
+// A practice block's trials are run and recorded like the others, marked as
+// practice and left out of the session's score; answers after a deadline
+// are kept and marked late (the simulated observer answers in about 1 s).
+TEST_F(SessionTest, PracticeTrialsAndLateAnswersAreMarkedInJournalAndExport) {
+  const fs::path out = dir_ / "out";
+  Write(protocol_, PacedProtocol(0.5, 0.0, 0.0, 1.0));
+  const CliRun run =
+      RunBurrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
+                  "--seed", "7", "--observer", "simulated"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const std::vector<rs::TrialRecord> trials = Trials(out, "01");
+  ASSERT_EQ(trials.size(), 12u);
+  int late = 0, correct = 0;
+  for (const rs::TrialRecord& t : trials) {
+    const bool practice = t.block == "familiarize";
+    EXPECT_EQ(t.practice, practice) << t.trial_index;
+    ASSERT_TRUE(t.response_time_s.has_value());
+    if (practice) {
+      EXPECT_EQ(t.late, std::nullopt) << t.trial_index;  // no deadline
+    } else {
+      EXPECT_EQ(t.late, *t.response_time_s > 1.0) << t.trial_index;
+      late += t.late == true ? 1 : 0;
+      correct += t.correct == true ? 1 : 0;
+    }
+  }
+  EXPECT_GT(late, 0);
+  EXPECT_THAT(run.out, HasSubstr(fmt::format("sub-01: 12 trials (0 resumed, 12 "
+                                             "run now), {:.1f} % correct",
+                                             100.0 * correct / 8)));
+  Result<std::vector<rs::BehFile>> files = rs::ReadBidsDataset(out);
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  ASSERT_EQ(files->size(), 2u);
+  for (const rs::BehFile& f : *files) {
+    for (const rs::TrialRecord& t : f.table.trials) {
+      EXPECT_EQ(t.practice, trials[t.trial_index].practice);
+      EXPECT_EQ(t.late, trials[t.trial_index].late);
+    }
+  }
 }
 
 // The seed column holds text that `--seed` takes back as written: a seed
@@ -376,6 +419,171 @@ TEST_F(SessionTest, TypedAnswersAtThePromptAreRecorded) {
   EXPECT_EQ(trials[1].response, "different");
   EXPECT_TRUE(trials[0].response_time_s.has_value());
   EXPECT_EQ(trials[0].source, "typed");
+}
+
+// Typed answers from a pipe: the study's and the blocks' instructions, the
+// rest breaks and the practice block's feedback are printed, and nothing
+// waits for an Enter that would take an answer.
+TEST_F(SessionTest, TypedAnswersFromAPipePrintInstructionsBreaksAndFeedback) {
+  Write(protocol_, PacedProtocol(0.5, 0.0, 0.0, 30.0));
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  std::string answers;
+  for (int i = 0; i < 12; ++i) answers += i % 3 == 0 ? "different\n" : "same\n";
+  std::istringstream in(answers);
+  std::ostringstream prompt;
+  SessionOptions options = Typed(&in, &prompt);
+  options.answers_timed = false;  // a pipe
+  Result<SessionSummary> summary = RunSession(*loaded, options);
+  ASSERT_TRUE(summary.ok()) << summary.error().message;
+  EXPECT_TRUE(summary->finished);
+  const std::string text = prompt.str();
+  EXPECT_TRUE(text.starts_with(
+      "\n  Feel both intervals, then say whether they felt the same.\n"
+      "Press Enter to begin. (input is not a terminal: going on)\n"
+      "\nblock \"familiarize\" (practice, not scored):\n"
+      "  Practice: you will be told whether you were right.\n"
+      "Press Enter to start the block. (input is not a terminal: going "
+      "on)\n\ntrial 1 - block \"familiarize\""))
+      << text;
+  EXPECT_THAT(text, HasSubstr("\nblock \"main\":\n  Now the scored trials, "
+                              "without feedback.\n"));
+  const std::string rest =
+      "Rest break: press Enter to continue (input is not a terminal: going "
+      "on)\n";
+  // Between the blocks, and after the 4th of main's 8 trials.
+  std::size_t breaks = 0;
+  for (std::size_t at = text.find(rest); at != std::string::npos;
+       at = text.find(rest, at + 1)) {
+    ++breaks;
+  }
+  EXPECT_EQ(breaks, 2u);
+  EXPECT_LT(text.find(rest), text.find("block \"main\":"));
+  // Feedback after each practice answer, as the engine scored it; none after
+  // the scored trials.
+  const std::vector<rs::TrialRecord> trials = Trials(options.out_dir, "05");
+  ASSERT_EQ(trials.size(), 12u);
+  std::string expected_feedback, printed_feedback;
+  for (const rs::TrialRecord& t : trials) {
+    if (t.practice) expected_feedback += *t.correct ? "correct " : "wrong ";
+  }
+  for (std::size_t at = text.find("\n  "); at != std::string::npos;
+       at = text.find("\n  ", at + 1)) {
+    for (const char* word : {"correct\n", "wrong\n"}) {
+      if (text.compare(at + 3, std::strlen(word), word) == 0) {
+        printed_feedback += std::string(word, std::strlen(word) - 1) + " ";
+      }
+    }
+  }
+  EXPECT_EQ(printed_feedback, expected_feedback);
+  EXPECT_EQ(std::count(expected_feedback.begin(), expected_feedback.end(), ' '),
+            4);
+  EXPECT_EQ(trials[0].response, "different");  // no answer went to an Enter
+  EXPECT_EQ(trials[1].response, "same");
+}
+
+// A person at a terminal reads the instructions and the breaks and goes on
+// with Enter; the Enter lines are not taken for answers.
+TEST_F(SessionTest,
+       TypedAnswersAtATerminalWaitForEnterAtInstructionsAndBreaks) {
+  Write(protocol_, PacedProtocol(0.5, 0.0, 0.0, 30.0));
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  // Study instructions, the first block's, 4 answers, a break, the second
+  // block's instructions, 4 answers, a break, 4 answers.
+  std::string input = "\n\n";
+  for (int i = 0; i < 4; ++i) input += "same\n";
+  input += "\n\n";
+  for (int i = 0; i < 4; ++i) input += "different\n";
+  input += "\n";
+  for (int i = 0; i < 4; ++i) input += "same\n";
+  std::istringstream in(input);
+  std::ostringstream prompt;
+  SessionOptions options = Typed(&in, &prompt);  // answers_timed: a terminal
+  Result<SessionSummary> summary = RunSession(*loaded, options);
+  ASSERT_TRUE(summary.ok()) << summary.error().message;
+  EXPECT_TRUE(summary->finished);
+  const std::string text = prompt.str();
+  EXPECT_THAT(text, HasSubstr("Press Enter to begin. "));
+  EXPECT_THAT(text, HasSubstr("\nRest break: press Enter to continue "));
+  EXPECT_THAT(text, ::testing::Not(HasSubstr("please answer")));
+  EXPECT_THAT(text, ::testing::Not(HasSubstr("going on")));
+  const std::vector<rs::TrialRecord> trials = Trials(options.out_dir, "05");
+  ASSERT_EQ(trials.size(), 12u);
+  for (int i = 0; i < 12; ++i) {
+    EXPECT_EQ(trials[i].response, i >= 4 && i < 8 ? "different" : "same") << i;
+  }
+}
+
+// A typed session waits the gaps on the real clock: 12 trials of one
+// 0.1 s gap between intervals and 0.15 s after the answer take 3 s at least.
+TEST_F(SessionTest, TypedSessionsWaitTheGapsOnTheClock) {
+  Write(protocol_, PacedProtocol(0.5, 0.1, 0.15, 30.0));
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol_);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  std::string answers;
+  for (int i = 0; i < 12; ++i) answers += "same\n";
+  std::istringstream in(answers);
+  std::ostringstream prompt;
+  SessionOptions options = Typed(&in, &prompt);
+  options.answers_timed = false;
+  const auto start = std::chrono::steady_clock::now();
+  Result<SessionSummary> summary = RunSession(*loaded, options);
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  ASSERT_TRUE(summary.ok()) << summary.error().message;
+  EXPECT_TRUE(summary->finished);
+  EXPECT_GE(elapsed_s, 12 * (0.1 + 0.15));
+}
+
+// Simulated sessions wait for no gap but count them on the session clock:
+// against the same protocol without gaps (same seed, same answers), each
+// trial's second interval starts isi_s later and each trial ends
+// isi_s + iti_s later than the one before.
+TEST_F(SessionTest, SimulatedSessionsModelTheGapsWithoutWaitingForThem) {
+  const auto run = [&](const std::string& name, double isi_s, double iti_s,
+                       double* elapsed_s) {
+    Write(protocol_, PacedProtocol(0.5, isi_s, iti_s, 1.0));
+    const fs::path out = dir_ / name;
+    const auto start = std::chrono::steady_clock::now();
+    const CliRun cli =
+        RunBurrlab({"run", protocol_, "--subject", "01", "--out", out.string(),
+                    "--seed", "5", "--observer", "simulated"});
+    *elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
+    EXPECT_EQ(cli.code, 0) << cli.err;
+    return out;
+  };
+  double plain_s = 0.0, paced_s = 0.0;
+  const fs::path plain = run("plain", 0.0, 0.0, &plain_s);
+  const fs::path paced = run("paced", 0.4, 0.6, &paced_s);
+  const std::vector<rs::TrialRecord> a = Trials(plain, "01");
+  const std::vector<rs::TrialRecord> b = Trials(paced, "01");
+  ASSERT_EQ(a.size(), 12u);
+  ASSERT_EQ(b.size(), 12u);
+  auto pa = rs::Journal::Open(plain, "01");
+  auto pb = rs::Journal::Open(paced, "01");
+  ASSERT_TRUE(pa.ok() && pb.ok());
+  for (std::size_t k = 0; k < 12; ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_EQ(a[k].response, b[k].response);
+    EXPECT_EQ(a[k].response_time_s, b[k].response_time_s);
+    const double end_a =
+        nlohmann::json::parse(a[k].extra)["session_time_end_s"].get<double>();
+    const double end_b =
+        nlohmann::json::parse(b[k].extra)["session_time_end_s"].get<double>();
+    EXPECT_NEAR(end_b - end_a, static_cast<double>(k + 1) * (0.4 + 0.6), 1e-9);
+    auto ta = pa->Traces(static_cast<int>(k));
+    auto tb = pb->Traces(static_cast<int>(k));
+    ASSERT_TRUE(ta.ok() && tb.ok());
+    ASSERT_EQ(tb->size(), 2u);
+    EXPECT_NEAR((*tb)[1].start_time_s - (*tb)[0].start_time_s,
+                (*ta)[1].start_time_s - (*ta)[0].start_time_s + 0.4, 1e-9);
+  }
+  // 12 s of gaps were modelled, not waited for.
+  EXPECT_LT(paced_s - plain_s, 6.0);
 }
 
 // A protocol file may hold any bytes: the block name and question reach the

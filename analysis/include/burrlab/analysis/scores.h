@@ -4,7 +4,9 @@
 // the pooled answers, and for same-different blocks hit and false-alarm rates
 // with d' under the differencing and independent-observation models, per
 // subject and pooled, and the block's response times per condition. Reads
-// the trials of burrlab's BIDS exports.
+// the trials of burrlab's BIDS exports; practice trials (the
+// familiarization of §13.5.1) are never scored, and answers after a
+// block's response deadline are counted (they are scored).
 #ifndef BURRLAB_ANALYSIS_SCORES_H_
 #define BURRLAB_ANALYSIS_SCORES_H_
 
@@ -45,6 +47,7 @@ struct SubjectScore {
   int correct = 0;      // correct answers (a missed answer counts as wrong)
   int trials = 0;       // trials with a correct answer
   double proportion = 0.0;
+  int late_answers = 0;  // of those, answered after the block's deadline
   std::optional<SameDifferentRates> rates;  // same-different blocks
 };
 
@@ -72,12 +75,27 @@ struct BlockScores {
   // Response times of every subject's trials in the block: "all", then per
   // condition (SummarizeResponseTimes).
   std::vector<ResponseTimeSummary> response_times;
+  // Scored trials whose block has a response deadline (their `late` is
+  // known), and those answered after it (kept and scored).
+  int answers_with_deadline = 0;
+  int late_answers = 0;
   std::vector<std::string> warnings;
 };
 
+// Practice trials of one block, which the scores leave out.
+struct PracticeLeftOut {
+  std::string block;  // block name from the protocol
+  int trials = 0;     // over every subject
+};
+
+// The practice trials of `files` per block, in the order the first subject
+// ran them (empty when there are none).
+std::vector<PracticeLeftOut> PracticeTrials(
+    std::span<const results_schema::BehFile> files);
+
 // Scores of every block with correct answers, in the order the first subject
-// ran them; blocks without any (adjustment, limits) are left out. An error
-// when no block has scored trials.
+// ran them; practice trials and blocks without correct answers (adjustment,
+// limits) are left out. An error when no block has scored trials.
 Result<std::vector<BlockScores>> ScoreBlocks(
     std::span<const results_schema::BehFile> files);
 

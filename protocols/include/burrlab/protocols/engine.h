@@ -53,6 +53,21 @@ struct TrialSpec {
   std::vector<std::string> response_options;  // tokens the subject may give
   std::string correct_answer;                 // empty when the design has none
   std::optional<int> staircase_id;            // interleaved staircase, 0-based
+
+  // Pacing, from the block (Block's keys of the same names): what a runner
+  // shows around the trial, so that it need not work it out.
+  bool practice = false;  // familiarization (§13.5.1): recorded, not scored
+  bool feedback = false;  // say "correct"/"wrong" after the answer (never
+                          // when correct_answer is empty)
+  double isi_s = 0.0;     // blank gap between intervals, s
+  double iti_s = 0.0;     // gap after the answer, before the next trial, s
+  std::optional<double> response_deadline_s;  // later answers are late
+  // Before the trial, in this order: the study's instructions (the
+  // session's first trial), a rest break (ended by a key press), the
+  // block's instructions (the block's first trial). Empty or false: none.
+  std::string study_instructions;
+  bool break_before = false;
+  std::string block_instructions;
 };
 
 // What the subject answered.
@@ -71,6 +86,9 @@ struct Outcome {
   std::optional<double> estimate;   // adaptive methods: threshold estimate
                                     // in level units, once there is one
   std::optional<double> presented_level;  // adjustment: the final level
+  // The answer came after the block's response_deadline_s; none when the
+  // block has no deadline or the response time is unknown.
+  std::optional<bool> late;
   std::string extra = "{}";  // JSON object with method-specific fields
 };
 

@@ -179,6 +179,19 @@ struct Block {
                                    // subject-paced)
   SourceLocation where;            // the [[blocks]] table
 
+  // How the block is paced and what the subject is told (§13.5.1: the
+  // subjects had a familiarization phase before the scored trials).
+  bool practice = false;  // familiarization: recorded, never scored
+  bool feedback = false;  // "correct"/"wrong" after each answer (default:
+                          // practice, where the design has a correct answer)
+  double isi_s = 0.0;     // blank gap between a trial's intervals, s
+  double iti_s = 0.0;     // gap after the answer before the next trial, s
+  // Answers later than this (s from the question) are recorded and marked
+  // late; none: no deadline.
+  std::optional<double> response_deadline_s;
+  // A rest break after every N trials of the block; none: no breaks.
+  std::optional<int> break_every;
+
   // same_different, two_interval: the two materials (ids in [materials]).
   std::string material_a;  // same_different "a"; 2afc "standard"; ref. "a"
   std::string material_b;  // same_different "b"; 2afc "comparison"; ref. "b"
@@ -216,6 +229,10 @@ struct Block {
   std::vector<ReachedStimulus> reach;
 };
 
+// Why a block's trials cannot be given feedback (the design has no correct
+// answer, or one that only repeats the answer), or empty when they can.
+std::string NoFeedbackReason(const Block& block);
+
 // Counterbalancing of block order across subjects.
 enum class Counterbalance {
   kNone,         // "none": blocks in file order for everyone
@@ -242,6 +259,8 @@ struct Protocol {
   std::string study_name;
   std::string description;
   std::string instructions;                 // shown once at the start
+  bool breaks_between_blocks = false;       // a rest break before every block
+                                            // but the first
   int trace_hz = 1000;                      // trace sampling rate; divides 1000
   std::vector<ProtocolMaterial> materials;  // in file order
   std::vector<Axis> axes;                   // in file order

@@ -24,9 +24,10 @@ namespace burrlab::results_schema {
 inline constexpr std::uintmax_t kMaxBehBytes = 512ull << 20;
 
 // The trials of one _beh.tsv (header = BehColumns(), in any order; other
-// columns are ignored; "source" may be absent, as in exports before it
-// existed). rng_state is not exported and stays empty; extra is
-// "{}" where the file says n/a.
+// columns are ignored; "source", "practice" and "late" may be absent, as in
+// exports before they existed: then no source, not practice, late
+// unknown). rng_state is not exported and stays empty; extra is "{}" where
+// the file says n/a.
 struct BehTable {
   std::uint64_t seed = 0;  // the seed column (the same on every row)
   std::vector<TrialRecord> trials;

@@ -41,7 +41,7 @@
 namespace burrlab::results_schema {
 
 // Journal schema version this burrlab writes and the newest it reads.
-inline constexpr int kJournalSchemaVersion = 3;
+inline constexpr int kJournalSchemaVersion = 4;
 
 // DIR/sub-<label>/journal.sqlite.
 std::filesystem::path JournalPath(const std::filesystem::path& dir,

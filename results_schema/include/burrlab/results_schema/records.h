@@ -76,6 +76,12 @@ struct TrialRecord {
   // station, e.g. "station falcon") or "simulated observer"; empty = not
   // recorded (journals of schema version 1).
   std::string source;
+  // A practice (familiarization) trial: recorded, never scored. Journals
+  // before schema version 4 and exports before the column had none.
+  bool practice = false;
+  // The answer came after the block's response deadline (it is kept and
+  // scored); none when the block has no deadline or the time is unknown.
+  std::optional<bool> late;
 
   // Field-by-field equality (extra compared as text).
   bool operator==(const TrialRecord&) const = default;

@@ -385,110 +385,110 @@ TEST_F(AnalyzeResults, ResponseTimesSkipAndCountTrialsWithoutOne) {
                               ".txt: the file name must end in .tsv (its "
                               "column descriptions go to the .json beside "
                               "it)\n");
+}
 
-  // Practice trials are never scored and the output says how many were left
-  // out; late answers are counted per block (truth: the exported marks).
-  TEST_F(AnalyzeResults, ScoresLeaveOutPracticeAndCountLateAnswers) {
-    const std::string protocol = (dir_ / "paced.toml").string();
-    std::ofstream(protocol) << PacedProtocol(0.5, 0.25, 0.5, 1.0);
-    const std::string results = (dir_ / "out").string();
-    ASSERT_EQ(RunBurrlab({"study", protocol, "--simulated-subjects", "2",
-                          "--out", results, "--seed", "3", "--jobs", "1"})
-                  .code,
-              0);
-    auto files = results_schema::ReadBidsDataset(results);
-    ASSERT_TRUE(files.ok()) << files.error().message;
-    int late = 0, practice = 0;
-    for (const auto& f : *files) {
-      for (const auto& t : f.table.trials) {
-        practice += t.practice ? 1 : 0;
-        if (!t.practice) {
-          ASSERT_TRUE(t.late.has_value()) << t.trial_index;
-          late += *t.late ? 1 : 0;
-        } else {
-          EXPECT_EQ(t.late, std::nullopt);  // no deadline in practice
-        }
+// Practice trials are never scored and the output says how many were left
+// out; late answers are counted per block (truth: the exported marks).
+TEST_F(AnalyzeResults, ScoresLeaveOutPracticeAndCountLateAnswers) {
+  const std::string protocol = (dir_ / "paced.toml").string();
+  std::ofstream(protocol) << PacedProtocol(0.5, 0.25, 0.5, 1.0);
+  const std::string results = (dir_ / "out").string();
+  ASSERT_EQ(RunBurrlab({"study", protocol, "--simulated-subjects", "2", "--out",
+                        results, "--seed", "3", "--jobs", "1"})
+                .code,
+            0);
+  auto files = results_schema::ReadBidsDataset(results);
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  int late = 0, practice = 0;
+  for (const auto& f : *files) {
+    for (const auto& t : f.table.trials) {
+      practice += t.practice ? 1 : 0;
+      if (!t.practice) {
+        ASSERT_TRUE(t.late.has_value()) << t.trial_index;
+        late += *t.late ? 1 : 0;
+      } else {
+        EXPECT_EQ(t.late, std::nullopt);  // no deadline in practice
       }
     }
-    EXPECT_EQ(practice, 8);
-    EXPECT_GT(late, 0);  // simulated answers take about 1 s: some are late
-    EXPECT_LT(late, 16);
-    const CliRun text = RunBurrlab({"analyze", "scores", results});
-    ASSERT_EQ(text.code, 0) << text.err;
-    EXPECT_TRUE(text.out.starts_with(
-        "left out 8 practice trials, never scored: familiarize (8)\n\nblock "
-        "main (same_different, probe): 2 subjects, 8 trials each\n"))
-        << text.out;
-    EXPECT_NE(text.out.find("  late       " + std::to_string(late) +
-                            " of 16 answers after the response deadline (kept "
-                            "and scored)\n"),
-              std::string::npos)
-        << text.out;
-    const CliRun json = RunBurrlab({"analyze", "scores", results, "--json"});
-    ASSERT_EQ(json.code, 0) << json.err;
-    const Json j = Json::parse(json.out);
-    EXPECT_EQ(j["practice_left_out"],
-              Json::parse(R"([{"block": "familiarize", "trials": 8}])"));
-    ASSERT_EQ(j["blocks"].size(), 1u);
-    EXPECT_EQ(j["blocks"][0]["late_answers"], late);
-    EXPECT_EQ(j["blocks"][0]["answers_with_deadline"], 16);
   }
+  EXPECT_EQ(practice, 8);
+  EXPECT_GT(late, 0);  // simulated answers take about 1 s: some are late
+  EXPECT_LT(late, 16);
+  const CliRun text = RunBurrlab({"analyze", "scores", results});
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_TRUE(text.out.starts_with(
+      "left out 8 practice trials, never scored: familiarize (8)\n\nblock "
+      "main (same_different, probe): 2 subjects, 8 trials each\n"))
+      << text.out;
+  EXPECT_NE(text.out.find("  late       " + std::to_string(late) +
+                          " of 16 answers after the response deadline (kept "
+                          "and scored)\n"),
+            std::string::npos)
+      << text.out;
+  const CliRun json = RunBurrlab({"analyze", "scores", results, "--json"});
+  ASSERT_EQ(json.code, 0) << json.err;
+  const Json j = Json::parse(json.out);
+  EXPECT_EQ(j["practice_left_out"],
+            Json::parse(R"([{"block": "familiarize", "trials": 8}])"));
+  ASSERT_EQ(j["blocks"].size(), 1u);
+  EXPECT_EQ(j["blocks"][0]["late_answers"], late);
+  EXPECT_EQ(j["blocks"][0]["answers_with_deadline"], 16);
+}
 
-  // A subject whose run stopped before its export (here: its exports
-  // removed) is named on every analysis, never left out silently. Truth: the
-  // journal's own trial count.
-  TEST_F(AnalyzeResults, SubjectsWithTrialsMissingFromTheExportsAreNamed) {
-    // Two subjects of a 10-trial protocol with 0.5 s intervals (a fraction of
-    // a second to run); sub-02's exports are then lost.
-    const std::string protocol = (dir_ / "protocol.toml").string();
-    std::ofstream(protocol) << TwoBlockProtocol("left out", 4, 6, 0.5);
-    const std::string results = (dir_ / "out").string();
-    for (const std::string subject : {"01", "02"}) {
-      ASSERT_EQ(RunBurrlab({"run", protocol, "--subject", subject, "--out",
-                            results, "--observer", "simulated"})
-                    .code,
-                0);
-    }
-    fs::remove_all(fs::path(results) / "sub-02" / "beh");
-    int journal_trials = 0;
-    {
-      auto journal = results_schema::Journal::Open(results, "02");
-      ASSERT_TRUE(journal.ok());
-      journal_trials = journal->NextTrialIndex().value();
-    }
-    ASSERT_GT(journal_trials, 0);
-    const std::string warning =
-        "burrlab: warning: sub-02's journal holds " +
-        std::to_string(journal_trials) +
-        " trials but its exports only 0, and analyses read the exports; "
-        "`burrlab run PROTOCOL --subject 02 --out " +
-        results +
-        " --resume` exports them (and finishes the session if it can)\n";
-    for (const std::string command :
-         {"scores", "rt", "thresholds", "kinematics"}) {
-      const CliRun run = RunBurrlab({"analyze", command, results});
-      EXPECT_EQ(run.code, 0) << command << run.err;
-      EXPECT_EQ(run.err, warning) << command;
-    }
-    fs::remove_all(fs::path(results) / "sub-01" / "beh");
-    const CliRun none = RunBurrlab({"analyze", "thresholds", results});
-    EXPECT_EQ(none.code, 1);
-    EXPECT_TRUE(
-        none.err.starts_with("burrlab: warning: sub-01's journal holds"))
-        << none.err;
-    EXPECT_NE(none.err.find(warning + "burrlab: " + results + " holds no "),
-              std::string::npos)
-        << none.err;
+// A subject whose run stopped before its export (here: its exports
+// removed) is named on every analysis, never left out silently. Truth: the
+// journal's own trial count.
+TEST_F(AnalyzeResults, SubjectsWithTrialsMissingFromTheExportsAreNamed) {
+  // Two subjects of a 10-trial protocol with 0.5 s intervals (a fraction of
+  // a second to run); sub-02's exports are then lost.
+  const std::string protocol = (dir_ / "protocol.toml").string();
+  std::ofstream(protocol) << TwoBlockProtocol("left out", 4, 6, 0.5);
+  const std::string results = (dir_ / "out").string();
+  for (const std::string subject : {"01", "02"}) {
+    ASSERT_EQ(RunBurrlab({"run", protocol, "--subject", subject, "--out",
+                          results, "--observer", "simulated"})
+                  .code,
+              0);
   }
+  fs::remove_all(fs::path(results) / "sub-02" / "beh");
+  int journal_trials = 0;
+  {
+    auto journal = results_schema::Journal::Open(results, "02");
+    ASSERT_TRUE(journal.ok());
+    journal_trials = journal->NextTrialIndex().value();
+  }
+  ASSERT_GT(journal_trials, 0);
+  const std::string warning =
+      "burrlab: warning: sub-02's journal holds " +
+      std::to_string(journal_trials) +
+      " trials but its exports only 0, and analyses read the exports; "
+      "`burrlab run PROTOCOL --subject 02 --out " +
+      results +
+      " --resume` exports them (and finishes the session if it can)\n";
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
+    const CliRun run = RunBurrlab({"analyze", command, results});
+    EXPECT_EQ(run.code, 0) << command << run.err;
+    EXPECT_EQ(run.err, warning) << command;
+  }
+  fs::remove_all(fs::path(results) / "sub-01" / "beh");
+  const CliRun none = RunBurrlab({"analyze", "thresholds", results});
+  EXPECT_EQ(none.code, 1);
+  EXPECT_TRUE(none.err.starts_with("burrlab: warning: sub-01's journal holds"))
+      << none.err;
+  EXPECT_NE(none.err.find(warning + "burrlab: " + results + " holds no "),
+            std::string::npos)
+      << none.err;
+}
 
-  // A subject whose session stopped on an error has all its saved trials
-  // exported, but its session is incomplete: every analysis names it once,
-  // with the trials done of those planned and the command that finishes it,
-  // and analyses its trials all the same. Truth: the journal's own trial
-  // count; 3 levels x 4 repetitions = 12 planned trials.
-  TEST_F(AnalyzeResults, SubjectsWhoseSessionStoppedEarlyAreNamed) {
-    const std::string protocol = (dir_ / "protocol.toml").string();
-    std::ofstream(protocol) << R"(format = "burrlab-protocol/1"
+// A subject whose session stopped on an error has all its saved trials
+// exported, but its session is incomplete: every analysis names it once,
+// with the trials done of those planned and the command that finishes it,
+// and analyses its trials all the same. Truth: the journal's own trial
+// count; 3 levels x 4 repetitions = 12 planned trials.
+TEST_F(AnalyzeResults, SubjectsWhoseSessionStoppedEarlyAreNamed) {
+  const std::string protocol = (dir_ / "protocol.toml").string();
+  std::ofstream(protocol) << R"(format = "burrlab-protocol/1"
 [study]
 name = "stopped early"
 [recording]
@@ -510,144 +510,141 @@ repetitions = 4
 response = "2afc"
 interval_s = 0.5
 )";
-    const std::string results = (dir_ / "out").string();
-    ASSERT_EQ(RunBurrlab({"run", protocol, "--subject", "01", "--out", results,
-                          "--observer", "simulated"})
-                  .code,
-              0);
-    // sub-02's journal fills up part way: the run stops on the error.
-    Result<LoadedProtocol> loaded = LoadProtocol(protocol);
-    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    SessionOptions options;
-    options.out_dir = results;
-    options.subject = "02";
-    options.subject_index = 1;
-    options.journal_limit_bytes_for_testing = 64 * 1024;
-    ASSERT_FALSE(RunSession(*loaded, options).ok());
-    int saved = 0;
-    {
-      auto journal = results_schema::Journal::Open(results, "02");
-      ASSERT_TRUE(journal.ok());
-      saved = journal->NextTrialIndex().value();
-    }
-    ASSERT_GT(saved, 0);
-    ASSERT_LT(saved, 12);
-    const std::string warning =
-        "burrlab: warning: sub-02's session is incomplete: it stopped after " +
-        std::to_string(saved) + " of 12 planned trials; its " +
-        std::to_string(saved) +
-        " trials are analysed, and `burrlab run PROTOCOL --subject 02 --out " +
-        results + " --resume` finishes it\n";
-    for (const std::string command :
-         {"scores", "rt", "thresholds", "kinematics"}) {
-      const CliRun run = RunBurrlab({"analyze", command, results, "--json"});
-      EXPECT_EQ(run.code, 0) << command << run.err;
-      EXPECT_EQ(run.err, warning) << command;
-      EXPECT_NE(run.out.find("\"02\""), std::string::npos) << command;
-    }
-    const std::string beh =
-        results + "/sub-02/beh/sub-02_task-constant_beh.tsv";
-    const CliRun fit =
-        RunBurrlab({"analyze", "fit", "--data", beh, "--task", "2afc",
-                    "--sigmoid", "logistic", "--bootstrap", "0"});
-    EXPECT_TRUE(fit.err.starts_with(warning)) << fit.err;
-    // sub-01 ran to its end: no warning for its file.
-    const CliRun fit01 = RunBurrlab(
-        {"analyze", "fit", "--data",
-         results + "/sub-01/beh/sub-01_task-constant_beh.tsv", "--task", "2afc",
-         "--sigmoid", "logistic", "--bootstrap", "0"});
-    EXPECT_EQ(fit01.err.find("sub-01"), std::string::npos) << fit01.err;
-    // Finishing it ends the warnings.
-    options.journal_limit_bytes_for_testing = 0;
-    options.resume = true;
-    ASSERT_TRUE(RunSession(*loaded, options).ok());
-    EXPECT_EQ(RunBurrlab({"analyze", "scores", results}).err, "");
+  const std::string results = (dir_ / "out").string();
+  ASSERT_EQ(RunBurrlab({"run", protocol, "--subject", "01", "--out", results,
+                        "--observer", "simulated"})
+                .code,
+            0);
+  // sub-02's journal fills up part way: the run stops on the error.
+  Result<LoadedProtocol> loaded = LoadProtocol(protocol);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  SessionOptions options;
+  options.out_dir = results;
+  options.subject = "02";
+  options.subject_index = 1;
+  options.journal_limit_bytes_for_testing = 64 * 1024;
+  ASSERT_FALSE(RunSession(*loaded, options).ok());
+  int saved = 0;
+  {
+    auto journal = results_schema::Journal::Open(results, "02");
+    ASSERT_TRUE(journal.ok());
+    saved = journal->NextTrialIndex().value();
   }
-
-  // Every session of a subject is analysed: scores pool a subject's sessions
-  // (the subject stays the unit of the t-test), thresholds and kinematics are
-  // given per session, and warnings name the session and its --session.
-  TEST_F(AnalyzeResults, EverySessionOfASubjectIsAnalysed) {
-    const std::string protocol = (dir_ / "protocol.toml").string();
-    std::ofstream(protocol) << TwoBlockProtocol("two sessions", 4, 6, 0.3);
-    const std::string results = (dir_ / "out").string();
-    for (const char* subject : {"01", "02"}) {
-      for (const char* session : {"1", "2"}) {
-        const CliRun run =
-            RunBurrlab({"run", protocol, "--subject", subject, "--session",
-                        session, "--out", results, "--observer", "simulated",
-                        "--seed", std::string(subject) + session});
-        ASSERT_EQ(run.code, 0) << run.err;
-      }
-    }
-    const CliRun scores = RunBurrlab({"analyze", "scores", results, "--json"});
-    ASSERT_EQ(scores.code, 0) << scores.err;
-    EXPECT_EQ(scores.err, "");
-    const Json sd = Json::parse(scores.out)["blocks"][0];
-    EXPECT_EQ(sd["block"], "sd");
-    ASSERT_EQ(sd["subjects"].size(), 2u);
-    EXPECT_EQ(sd["subjects"][0]["subject"], "01");
-    EXPECT_EQ(sd["subjects"][0]["trials"], 8);  // 4 of each session
-    EXPECT_EQ(sd["trials_per_subject"], 8);
-
-    const CliRun thresholds = RunBurrlab({"analyze", "thresholds", results});
-    ASSERT_EQ(thresholds.code, 0) << thresholds.err;
-    std::vector<std::string> who;
-    std::istringstream lines(thresholds.out);
-    for (std::string line; std::getline(lines, line);) {
-      who.push_back(line.substr(0, line.find(':')));
-    }
-    EXPECT_EQ(who,
-              (std::vector<std::string>{"sub-01 ses-1 stairs staircase 0",
-                                        "sub-01 ses-2 stairs staircase 0",
-                                        "sub-02 ses-1 stairs staircase 0",
-                                        "sub-02 ses-2 stairs staircase 0"}));
-    const Json json = Json::parse(
-        RunBurrlab({"analyze", "thresholds", results, "--json"}).out);
-    EXPECT_EQ(json["thresholds"][1]["subject"], "01");
-    EXPECT_EQ(json["thresholds"][1]["session"], "2");
-
-    const std::string plots = (dir_ / "plots").string();
-    const CliRun kinematics =
-        RunBurrlab({"analyze", "kinematics", results, "--plots", plots});
-    ASSERT_EQ(kinematics.code, 0) << kinematics.err;
-    EXPECT_NE(kinematics.out.find("sub-02 ses-2 stairs"), std::string::npos)
-        << kinematics.out;
-    EXPECT_TRUE(fs::exists(dir_ / "plots" / "sub-01_ses-2_stairs_force.png"));
-    EXPECT_TRUE(fs::exists(dir_ / "plots" / "sub-01_ses-1_stairs_speed.png"));
-
-    // ses-2 of sub-02 lost its exports: the warning names it and how to
-    // export it again.
-    fs::remove_all(dir_ / "out" / "sub-02" / "ses-2" / "beh");
-    const CliRun warned = RunBurrlab({"analyze", "scores", results});
-    ASSERT_EQ(warned.code, 0) << warned.err;
-    EXPECT_EQ(
-        warned.err,
-        "burrlab: warning: sub-02 ses-2's journal holds 10 trials but its "
-        "exports only 0, and analyses read the exports; `burrlab run "
-        "PROTOCOL --subject 02 --session 2 --out " +
-            results +
-            " --resume` exports them (and finishes the session if it "
-            "can)\n");
+  ASSERT_GT(saved, 0);
+  ASSERT_LT(saved, 12);
+  const std::string warning =
+      "burrlab: warning: sub-02's session is incomplete: it stopped after " +
+      std::to_string(saved) + " of 12 planned trials; its " +
+      std::to_string(saved) +
+      " trials are analysed, and `burrlab run PROTOCOL --subject 02 --out " +
+      results + " --resume` finishes it\n";
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
+    const CliRun run = RunBurrlab({"analyze", command, results, "--json"});
+    EXPECT_EQ(run.code, 0) << command << run.err;
+    EXPECT_EQ(run.err, warning) << command;
+    EXPECT_NE(run.out.find("\"02\""), std::string::npos) << command;
   }
+  const std::string beh = results + "/sub-02/beh/sub-02_task-constant_beh.tsv";
+  const CliRun fit =
+      RunBurrlab({"analyze", "fit", "--data", beh, "--task", "2afc",
+                  "--sigmoid", "logistic", "--bootstrap", "0"});
+  EXPECT_TRUE(fit.err.starts_with(warning)) << fit.err;
+  // sub-01 ran to its end: no warning for its file.
+  const CliRun fit01 = RunBurrlab(
+      {"analyze", "fit", "--data",
+       results + "/sub-01/beh/sub-01_task-constant_beh.tsv", "--task", "2afc",
+       "--sigmoid", "logistic", "--bootstrap", "0"});
+  EXPECT_EQ(fit01.err.find("sub-01"), std::string::npos) << fit01.err;
+  // Finishing it ends the warnings.
+  options.journal_limit_bytes_for_testing = 0;
+  options.resume = true;
+  ASSERT_TRUE(RunSession(*loaded, options).ok());
+  EXPECT_EQ(RunBurrlab({"analyze", "scores", results}).err, "");
+}
 
-  TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {
-    for (const std::string command :
-         {"scores", "rt", "thresholds", "kinematics"}) {
-      const CliRun run = RunBurrlab({"analyze", command, dir_.string()});
-      EXPECT_EQ(run.code, 1) << command;
-      EXPECT_EQ(run.out, "");
-      EXPECT_EQ(run.err, "burrlab: " + dir_.string() +
-                             " holds no burrlab results (no "
-                             "sub-*/beh/sub-*_task-*_beh.tsv); give the --out "
-                             "folder of 'burrlab run' or 'burrlab study'\n");
+// Every session of a subject is analysed: scores pool a subject's sessions
+// (the subject stays the unit of the t-test), thresholds and kinematics are
+// given per session, and warnings name the session and its --session.
+TEST_F(AnalyzeResults, EverySessionOfASubjectIsAnalysed) {
+  const std::string protocol = (dir_ / "protocol.toml").string();
+  std::ofstream(protocol) << TwoBlockProtocol("two sessions", 4, 6, 0.3);
+  const std::string results = (dir_ / "out").string();
+  for (const char* subject : {"01", "02"}) {
+    for (const char* session : {"1", "2"}) {
+      const CliRun run =
+          RunBurrlab({"run", protocol, "--subject", subject, "--session",
+                      session, "--out", results, "--observer", "simulated",
+                      "--seed", std::string(subject) + session});
+      ASSERT_EQ(run.code, 0) << run.err;
     }
-    const CliRun missing =
-        RunBurrlab({"analyze", "scores", (dir_ / "nope").string()});
-    EXPECT_EQ(missing.code, 1);
-    EXPECT_EQ(missing.err, "burrlab: cannot read " + (dir_ / "nope").string() +
-                               ": not a folder\n");
   }
+  const CliRun scores = RunBurrlab({"analyze", "scores", results, "--json"});
+  ASSERT_EQ(scores.code, 0) << scores.err;
+  EXPECT_EQ(scores.err, "");
+  const Json sd = Json::parse(scores.out)["blocks"][0];
+  EXPECT_EQ(sd["block"], "sd");
+  ASSERT_EQ(sd["subjects"].size(), 2u);
+  EXPECT_EQ(sd["subjects"][0]["subject"], "01");
+  EXPECT_EQ(sd["subjects"][0]["trials"], 8);  // 4 of each session
+  EXPECT_EQ(sd["trials_per_subject"], 8);
+
+  const CliRun thresholds = RunBurrlab({"analyze", "thresholds", results});
+  ASSERT_EQ(thresholds.code, 0) << thresholds.err;
+  std::vector<std::string> who;
+  std::istringstream lines(thresholds.out);
+  for (std::string line; std::getline(lines, line);) {
+    who.push_back(line.substr(0, line.find(':')));
+  }
+  EXPECT_EQ(who, (std::vector<std::string>{"sub-01 ses-1 stairs staircase 0",
+                                           "sub-01 ses-2 stairs staircase 0",
+                                           "sub-02 ses-1 stairs staircase 0",
+                                           "sub-02 ses-2 stairs staircase 0"}));
+  const Json json =
+      Json::parse(RunBurrlab({"analyze", "thresholds", results, "--json"}).out);
+  EXPECT_EQ(json["thresholds"][1]["subject"], "01");
+  EXPECT_EQ(json["thresholds"][1]["session"], "2");
+
+  const std::string plots = (dir_ / "plots").string();
+  const CliRun kinematics =
+      RunBurrlab({"analyze", "kinematics", results, "--plots", plots});
+  ASSERT_EQ(kinematics.code, 0) << kinematics.err;
+  EXPECT_NE(kinematics.out.find("sub-02 ses-2 stairs"), std::string::npos)
+      << kinematics.out;
+  EXPECT_TRUE(fs::exists(dir_ / "plots" / "sub-01_ses-2_stairs_force.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "plots" / "sub-01_ses-1_stairs_speed.png"));
+
+  // ses-2 of sub-02 lost its exports: the warning names it and how to
+  // export it again.
+  fs::remove_all(dir_ / "out" / "sub-02" / "ses-2" / "beh");
+  const CliRun warned = RunBurrlab({"analyze", "scores", results});
+  ASSERT_EQ(warned.code, 0) << warned.err;
+  EXPECT_EQ(warned.err,
+            "burrlab: warning: sub-02 ses-2's journal holds 10 trials but its "
+            "exports only 0, and analyses read the exports; `burrlab run "
+            "PROTOCOL --subject 02 --session 2 --out " +
+                results +
+                " --resume` exports them (and finishes the session if it "
+                "can)\n");
+}
+
+TEST_F(AnalyzeResults, FoldersWithoutResultsAreOneErrorLine) {
+  for (const std::string command :
+       {"scores", "rt", "thresholds", "kinematics"}) {
+    const CliRun run = RunBurrlab({"analyze", command, dir_.string()});
+    EXPECT_EQ(run.code, 1) << command;
+    EXPECT_EQ(run.out, "");
+    EXPECT_EQ(run.err, "burrlab: " + dir_.string() +
+                           " holds no burrlab results (no "
+                           "sub-*/beh/sub-*_task-*_beh.tsv); give the --out "
+                           "folder of 'burrlab run' or 'burrlab study'\n");
+  }
+  const CliRun missing =
+      RunBurrlab({"analyze", "scores", (dir_ / "nope").string()});
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_EQ(missing.err, "burrlab: cannot read " + (dir_ / "nope").string() +
+                             ": not a folder\n");
+}
 
 }  // namespace
 }  // namespace burrlab::runner

@@ -142,16 +142,7 @@ Result<Table> ParseTable(std::string_view path, std::string_view text) {
                                         offset + 1, what)
                           : fmt::format("{}: error: {}", path, what)};
   };
-  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
-  std::vector<std::string_view> lines;
-  for (std::size_t start = 0; start < text.size();) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    if (line.ends_with('\r')) line.remove_suffix(1);
-    lines.push_back(line);
-    start = end + 1;
-  }
+  const std::vector<std::string_view> lines = TextLines(text);
   if (lines.empty() || Trimmed(lines[0]).empty()) {
     return fail(0, 0,
                 "the file is empty; expected a header line naming the "

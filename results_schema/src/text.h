@@ -4,6 +4,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace burrlab::results_schema {
 
@@ -22,6 +23,11 @@ bool IsValidUtf8(std::string_view text);
 
 // True for [a-z][a-z0-9_]*.
 bool IsSnakeCase(std::string_view text);
+
+// The lines of a table file as a spreadsheet may save it: a UTF-8 byte order
+// mark at the start is skipped, lines end at '\n' with a '\r' before it
+// dropped (CRLF), and no empty line follows a final '\n'.
+std::vector<std::string_view> TextLines(std::string_view text);
 
 // Shortest text that reads back as exactly `value` ("0.1", "1", "1e+20").
 std::string FormatDouble(double value);

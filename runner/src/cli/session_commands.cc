@@ -388,15 +388,6 @@ std::optional<std::string> CheckRunFlags(const StationFlags& f,
 int RunAtStation(const protocols::LoadedProtocol& loaded,
                  SessionOptions options, const StationFlags& f,
                  std::ostream& out, std::ostream& err) {
-  for (const protocols::Block& b : loaded.protocol.blocks) {
-    if (b.method == protocols::Method::kAdjustment) {
-      return Fail(err,
-                  fmt::format("{}: block \"{}\" uses the adjustment method, "
-                              "which a station does not run yet (run it with "
-                              "--observer or at the prompt)",
-                              loaded.path, b.name));
-    }
-  }
   std::optional<StationConfig> station;
   if (!f.station_path.empty()) {
     Result<std::string> text = ReadSmallFile(f.station_path, "station file");

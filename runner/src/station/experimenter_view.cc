@@ -17,8 +17,12 @@ ExperimenterAction DrawExperimenterView(const ExperimenterView& view,
                ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                    ImGuiWindowFlags_NoCollapse |
                    ImGuiWindowFlags_NoSavedSettings);
+  // An adaptive protocol's length is not known ahead: then the count only.
   const std::string progress =
-      fmt::format("{} of {} trials", view.trials_done, view.trials_total);
+      view.trials_total > 0
+          ? fmt::format("{} of {} trials", view.trials_done, view.trials_total)
+          : fmt::format("{} trials done (adaptive: total not known ahead)",
+                        view.trials_done);
   ImGui::TextUnformatted("Progress");
   ImGui::ProgressBar(view.trials_total > 0
                          ? static_cast<float>(view.trials_done) /

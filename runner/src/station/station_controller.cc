@@ -101,6 +101,10 @@ std::vector<ResponseButton> ResponseButtonsFor(
   return buttons;
 }
 
+std::vector<ResponseButton> AdjustmentButtons() {
+  return {{"+", "UP"}, {"-", "DOWN"}, {"=", "ENTER"}};
+}
+
 StationController::StationController(int trials_total, std::string device_name,
                                      double max_force_n) {
   frame_.experimenter.trials_total = trials_total;
@@ -129,7 +133,11 @@ void StationController::BeginTrial(const protocols::TrialSpec& trial,
   SubjectView& s = frame_.subject;
   s.title = TrialTitle();
   s.question = trial.question;
-  s.buttons = ResponseButtonsFor(trial.response_options);
+  const bool adjustment = trial.method == protocols::Method::kAdjustment;
+  s.buttons = adjustment ? AdjustmentButtons()
+                         : ResponseButtonsFor(trial.response_options);
+  adjustment_path_.clear();
+  pending_step_.reset();
   ExperimenterView& e = frame_.experimenter;
   e.trials_done = trials_done;
   e.trial_line = fmt::format(
@@ -213,8 +221,17 @@ void StationController::EnterInterval(std::size_t index, double now_s) {
   s.phase = StationPhase::kInterval;
   s.panel_heading.clear();
   s.panel_text.clear();
-  s.interval_label =
-      fmt::format("Interval {} of {}", index + 1, trial_->intervals.size());
+  if (trial_->method == protocols::Method::kAdjustment) {
+    // The standard, the comparison at its start, then the comparison after
+    // each step.
+    s.interval_label = index == 0 ? std::string("Standard")
+                       : index == 1
+                           ? std::string("Comparison")
+                           : fmt::format("Comparison after step {}", index - 1);
+  } else {
+    s.interval_label =
+        fmt::format("Interval {} of {}", index + 1, trial_->intervals.size());
+  }
   const double duration = trial_->intervals[index].duration_s;
   s.time_left_s = duration;
   const bool drill = trial_->task == protocols::Task::kDrill;
@@ -257,7 +274,35 @@ void StationController::EnterResponse(double now_s) {
   s.interval_label.clear();
   s.time_left_s = 0.0;
   s.force_n = 0.0;
-  s.message = "Answer with a key or click a button.";
+  if (trial_->method == protocols::Method::kAdjustment) {
+    if (adjustment_path_.empty()) adjustment_start_s_ = now_s;
+    s.message = fmt::format(
+        "UP raises the comparison one step, DOWN lowers it; you then feel it "
+        "again. ENTER when it matches. Steps taken: {}.",
+        adjustment_path_.size());
+  } else {
+    s.message = "Answer with a key or click a button.";
+  }
+}
+
+std::optional<int> StationController::TakeAdjustmentStep() {
+  const std::optional<int> step = pending_step_;
+  pending_step_.reset();
+  return step;
+}
+
+void StationController::PresentAdjustedComparison(
+    protocols::PlannedInterval comparison, char step, double now_s) {
+  if (!trial_.has_value() || phase() != StationPhase::kResponse) return;
+  adjustment_path_ += step;
+  trial_->intervals.push_back(std::move(comparison));
+  EnterInterval(trial_->intervals.size() - 1, now_s);
+}
+
+void StationController::RefuseAdjustmentStep() {
+  frame_.subject.message = fmt::format(
+      "No more steps: this adjustment allows {}. Press ENTER to finish.",
+      adjustment_path_.size());
 }
 
 void StationController::Start(double now_s) {
@@ -309,9 +354,12 @@ void StationController::Advance(double now_s) {
       if (now_s < gap_start_s_ + trial_->iti_s) return;
       EndAfterAnswer();
     } else {
+      const double asked_s = trial_->method == protocols::Method::kAdjustment
+                                 ? adjustment_start_s_
+                                 : question_start_s_;
       if (s.phase == StationPhase::kResponse &&
           trial_->response_deadline_s.has_value() &&
-          now_s - question_start_s_ > *trial_->response_deadline_s) {
+          now_s - asked_s > *trial_->response_deadline_s) {
         s.message = "Time is up: please answer now.";
       }
       return;
@@ -385,6 +433,26 @@ std::optional<protocols::Response> StationController::OnInput(
     return std::nullopt;
   }
   if (phase != StationPhase::kResponse) return std::nullopt;
+  if (trial_->method == protocols::Method::kAdjustment) {
+    for (const ResponseButton& b : frame_.subject.buttons) {
+      if (b.key != key && b.answer != key_or_answer) continue;
+      if (b.answer != "=") {
+        pending_step_ = b.answer == "+" ? 1 : -1;
+        return std::nullopt;
+      }
+      // The adjustment's time runs from its first question to ENTER, the
+      // comparisons felt after each step included.
+      const double rt = std::max(0.0, now_s - adjustment_start_s_);
+      const bool late = trial_->response_deadline_s.has_value() &&
+                        rt > *trial_->response_deadline_s;
+      frame_.experimenter.last_event = fmt::format(
+          "trial {}: adjusted {}= in {:.2f} s{}", trial_->trial_index + 1,
+          adjustment_path_, rt, late ? " (late)" : "");
+      frame_.subject.message = "Thank you.";
+      return protocols::Response{adjustment_path_ + "=", rt};
+    }
+    return std::nullopt;
+  }
   for (const ResponseButton& b : frame_.subject.buttons) {
     if (b.key == key || b.answer == key_or_answer) {
       const double rt = std::max(0.0, now_s - question_start_s_);
@@ -408,6 +476,10 @@ void StationController::MarkQuestionShown(double now_s) {
   }
   question_start_s_ = now_s;
   question_shown_ = true;
+  if (trial_->method == protocols::Method::kAdjustment &&
+      adjustment_path_.empty()) {
+    adjustment_start_s_ = now_s;
+  }
 }
 
 void StationController::Pause(std::string reason) {

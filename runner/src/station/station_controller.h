@@ -23,6 +23,10 @@ namespace burrlab::runner {
 std::vector<ResponseButton> ResponseButtonsFor(
     const std::vector<std::string>& options);
 
+// The buttons of an adjustment's question: "+" (UP) steps the comparison
+// level up, "-" (DOWN) down, "=" (ENTER) ends the adjustment.
+std::vector<ResponseButton> AdjustmentButtons();
+
 // How long "Correct" or "Wrong" stays up unless a key ends it, s.
 inline constexpr double kFeedbackS = 1.0;
 
@@ -46,9 +50,23 @@ class StationController {
   // A key (as named in ResponseButton::key, or "SPACE") or a clicked answer.
   // Returns the response when it answers the question; the response time is
   // from the moment the question appeared. Any key ends a rest break and
-  // feedback; SPACE goes on from instructions.
+  // feedback; SPACE goes on from instructions. In an adjustment, "+" and "-"
+  // ask for a step (TakeAdjustmentStep) and "=" answers with the path taken
+  // ("++-="), timed from the adjustment's first question.
   std::optional<protocols::Response> OnInput(std::string_view key_or_answer,
                                              double now_s);
+  // Adjustment trials: the step asked for by the last key (+1 up, -1 down),
+  // once; none when no step is waiting.
+  std::optional<int> TakeAdjustmentStep();
+  // The steps taken so far ('+' and '-').
+  const std::string& adjustment_path() const { return adjustment_path_; }
+  // Takes the step (`step` is '+' or '-') and presents the comparison at the
+  // level it reaches as the trial's next interval, from now_s.
+  void PresentAdjustedComparison(protocols::PlannedInterval comparison,
+                                 char step, double now_s);
+  // The step cannot be taken (the block's max_steps): says so and keeps
+  // asking.
+  void RefuseAdjustmentStep();
   // After the trial's answer was saved: "Correct" or "Wrong" for kFeedbackS
   // (or until a key) when the trial gives feedback and `correct` is known,
   // then the trial's gap after the answer (iti_s), from now_s.
@@ -83,6 +101,9 @@ class StationController {
                std::int64_t missed);
 
   const StationFrame& frame() const { return frame_; }
+  // The trial shown, with an adjustment's comparisons after each step
+  // appended to its intervals (only after BeginTrial).
+  const protocols::TrialSpec& trial() const { return *trial_; }
   StationPhase phase() const { return frame_.subject.phase; }
   // The interval shown (0-based; meaningful in kInterval).
   std::size_t interval_index() const { return interval_; }
@@ -120,7 +141,10 @@ class StationController {
   double interval_start_s_ = 0.0;
   double gap_start_s_ = 0.0;  // kIsi, kFeedback, kIti: when it began
   double question_start_s_ = 0.0;
-  bool question_shown_ = false;  // MarkQuestionShown came in this phase
+  bool question_shown_ = false;      // MarkQuestionShown came in this phase
+  std::string adjustment_path_;      // steps taken in this adjustment
+  std::optional<int> pending_step_;  // asked for, not yet taken
+  double adjustment_start_s_ = 0.0;  // its first question appeared
   bool after_answer_ = false;
   bool trial_aborted_ = false;
   int aborted_trials_ = 0;

@@ -237,8 +237,9 @@ void StationSession::StopInterval(LiveTrial* out, bool keep) {
   running_.reset();
 }
 
-Status StationSession::SyncInterval(const protocols::TrialSpec& trial,
-                                    LiveTrial* out) {
+Status StationSession::SyncInterval(LiveTrial* out) {
+  // The controller's copy: an adjustment appends a comparison per step.
+  const protocols::TrialSpec& trial = controller_.trial();
   std::optional<std::size_t> wanted;
   if (controller_.phase() == StationPhase::kInterval &&
       trial.intervals[controller_.interval_index()].material.has_value() &&
@@ -260,8 +261,12 @@ Status StationSession::SyncInterval(const protocols::TrialSpec& trial,
       grid, {kBlockHalfWidthMm, kBlockHalfWidthMm, kBlockSurfaceMm},
       {0.0, 0.0, 1.0});
   if (!volume.ok()) return volume.error();
-  const std::uint64_t seed =
-      static_cast<std::uint64_t>(trial.trial_index) * 16 + *wanted + 1;
+  // One erosion seed per interval: trial * 16 + interval + 1 (as before
+  // adjustments); an adjustment's 16th and later comparisons above 2^32.
+  const auto trial_number = static_cast<std::uint64_t>(trial.trial_index);
+  const std::uint64_t seed = *wanted < 15
+                                 ? trial_number * 16 + *wanted + 1
+                                 : ((trial_number + 1) << 32) + *wanted + 1;
   Result<sim::State> state =
       sim::State::Create(model, std::move(volume.value()), seed);
   if (!state.ok()) return state.error();
@@ -354,7 +359,8 @@ std::vector<StationSession::Key> StationSession::CollectKeys(
 }
 
 StationSession::Ending StationSession::RunPresentation(
-    const protocols::TrialSpec& trial, LiveTrial* out) {
+    const protocols::TrialSpec& trial, const AdjustedComparison& adjusted,
+    LiveTrial* out) {
   StationWindow& w = *options_.window;
   const StationScript* script = options_.script;
   std::string last_screen = controller_.screen();
@@ -380,9 +386,10 @@ StationSession::Ending StationSession::RunPresentation(
     // loop has run them all (it started a little after the interval).
     double advance_s = now_s;
     if (interval_ != nullptr && !interval_->loop().ended()) {
-      advance_s =
-          std::min(now_s, controller_.interval_start_s() +
-                              trial.intervals[*running_].duration_s - 1e-6);
+      advance_s = std::min(
+          now_s, controller_.interval_start_s() +
+                     controller_.trial().intervals[*running_].duration_s -
+                     1e-6);
     }
     controller_.Advance(advance_s);
     if (controller_.screen() != last_screen) {
@@ -390,7 +397,7 @@ StationSession::Ending StationSession::RunPresentation(
       phase_since_s_ = now_s;
       question_shown_s_ = -1.0;
     }
-    if (Status s = SyncInterval(trial, out); !s.ok()) {
+    if (Status s = SyncInterval(out); !s.ok()) {
       StopInterval(out, false);
       out->stop_reason = "the station failed: " + s.error().message;
       return Ending::kStopped;
@@ -432,7 +439,9 @@ StationSession::Ending StationSession::RunPresentation(
       const StationPhase phase = controller_.phase();
       const bool paced_interval =
           phase == StationPhase::kInterval &&
-          trial.intervals[controller_.interval_index()].duration_s <= 0.0;
+          controller_.trial()
+                  .intervals[controller_.interval_index()]
+                  .duration_s <= 0.0;
       const bool goes_on =
           phase == StationPhase::kInstructions || phase == StationPhase::kBreak;
       if ((phase == StationPhase::kReady || paced_interval) &&
@@ -459,8 +468,23 @@ StationSession::Ending StationSession::RunPresentation(
         out->duration_s = k.t_s - trial_start_s_;
         return Ending::kAnswered;
       }
+      if (const std::optional<int> step = controller_.TakeAdjustmentStep()) {
+        const char c = *step > 0 ? '+' : '-';
+        Result<std::optional<protocols::PlannedInterval>> next =
+            adjusted ? adjusted(controller_.adjustment_path() + c)
+                     : Error{"no comparison levels for an adjustment"};
+        if (!next.ok()) {
+          out->stop_reason = "the station failed: " + next.error().message;
+          return Ending::kStopped;
+        }
+        if (next->has_value()) {
+          controller_.PresentAdjustedComparison(std::move(**next), c, k.t_s);
+          break;  // keys after the step wait for the comparison
+        }
+        controller_.RefuseAdjustmentStep();
+      }
     }
-    if (Status s = SyncInterval(trial, out); !s.ok()) {  // start at once
+    if (Status s = SyncInterval(out); !s.ok()) {  // start at once
       StopInterval(out, false);
       out->stop_reason = "the station failed: " + s.error().message;
       return Ending::kStopped;
@@ -546,14 +570,15 @@ StationSession::Ending StationSession::WaitForResume(
 }
 
 Result<LiveTrial> StationSession::PresentTrial(
-    const protocols::TrialSpec& trial, int trials_done) {
+    const protocols::TrialSpec& trial, int trials_done,
+    const AdjustedComparison& adjusted) {
   LiveTrial result;
   for (;;) {
     ++presentations_;
     controller_.BeginTrial(trial, trials_done);
     trial_start_s_ = NowS();
     LiveTrial attempt;
-    const Ending ending = RunPresentation(trial, &attempt);
+    const Ending ending = RunPresentation(trial, adjusted, &attempt);
     if (ending == Ending::kAnswered) {
       attempt.aborted_presentations = result.aborted_presentations;
       for (results_schema::TraceSamples& t : attempt.traces) {

@@ -67,7 +67,8 @@ class StationSession final : public LiveStation {
   StationSession& operator=(const StationSession&) = delete;
 
   Result<LiveTrial> PresentTrial(const protocols::TrialSpec& trial,
-                                 int trials_done) override;
+                                 int trials_done,
+                                 const AdjustedComparison& adjusted) override;
   std::string AfterAnswer(const protocols::TrialSpec& trial,
                           std::optional<bool> correct) override;
   void Finish() override;
@@ -85,14 +86,16 @@ class StationSession final : public LiveStation {
   };
 
   double NowS() const;
-  Ending RunPresentation(const protocols::TrialSpec& trial, LiveTrial* out);
+  Ending RunPresentation(const protocols::TrialSpec& trial,
+                         const AdjustedComparison& adjusted, LiveTrial* out);
   // `answered`: the pause came after the trial's answer was saved (the next
   // trial follows), not during it (the trial is presented again).
   Ending WaitForResume(const protocols::TrialSpec& trial,
                        std::string* stop_reason, bool answered = false);
   void Pause(const protocols::TrialSpec& trial, std::string reason);
-  // Starts or stops the interval's loop to match the controller.
-  Status SyncInterval(const protocols::TrialSpec& trial, LiveTrial* out);
+  // Starts or stops the interval's loop to match the controller (its trial:
+  // an adjustment's comparisons are appended there).
+  Status SyncInterval(LiveTrial* out);
   // Stops the running interval's loop; `keep` adds its record and trace.
   void StopInterval(LiveTrial* out, bool keep);
   WindowInput DrawFrame();

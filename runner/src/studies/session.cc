@@ -158,6 +158,10 @@ class SessionRunner {
                : stimuli::PresentSimulatedInterval(o);
   }
   Result<Presented> PresentTrial(const TrialSpec& trial);
+  // An adjustment trial's comparison after `path` (LiveStation), or none
+  // past the block's max_steps.
+  Result<std::optional<PlannedInterval>> AdjustedComparisonAt(
+      const TrialSpec& trial, std::string_view path) const;
   // The cue of the standard of a one-interval trial's block, rendered.
   Result<double> StandardCue(const TrialSpec& trial);
   Result<protocols::Response> SimulatedResponse(const TrialSpec& trial,
@@ -305,6 +309,27 @@ Result<double> SessionRunner::StandardCue(const TrialSpec& trial) {
   Result<stimuli::IntervalResult> r = Render(o);
   if (!r.ok()) return r.error();
   return protocols::FeltCue(r->cue);
+}
+
+Result<std::optional<PlannedInterval>> SessionRunner::AdjustedComparisonAt(
+    const TrialSpec& trial, std::string_view path) const {
+  if (trial.method != protocols::Method::kAdjustment ||
+      trial.intervals.size() < 2) {
+    return Error{
+        fmt::format("trial {} is not an adjustment", trial.trial_index + 1)};
+  }
+  // The engine refuses a step only past the block's max_steps (a step at a
+  // bound stays at the bound).
+  Result<double> level = engine_.PreviewAdjustment(path);
+  if (!level.ok()) return std::optional<PlannedInterval>();
+  Result<stimuli::MaterialSet> set = engine_.MaterialAt(level.value());
+  if (!set.ok()) return set.error();
+  PlannedInterval comparison = trial.intervals[1];
+  comparison.material_id = fmt::format(
+      "{}@{:.8g}", loaded_.protocol.blocks[trial.block_index].axis, *level);
+  comparison.material = std::move(set.value());
+  comparison.level = *level;
+  return std::optional<PlannedInterval>(std::move(comparison));
 }
 
 Result<protocols::Response> SessionRunner::SimulatedResponse(
@@ -463,7 +488,10 @@ Result<SessionSummary> SessionRunner::Run() {
     nlohmann::ordered_json live_intervals;
     if (options_.responder == Responder::kStation) {
       Result<LiveTrial> live = options_.station->PresentTrial(
-          trial, summary.trials_resumed + summary.trials_run);
+          trial, summary.trials_resumed + summary.trials_run,
+          [&](std::string_view path) -> Result<std::optional<PlannedInterval>> {
+            return AdjustedComparisonAt(trial, path);
+          });
       if (!live.ok()) return live.error();
       if (!live->response.has_value()) {
         summary.stop_reason = live->stop_reason;

@@ -17,6 +17,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "burrlab/base/result.h"
@@ -99,14 +100,23 @@ struct LiveTrial {
                                   // again (a device fault, a pause)
 };
 
+// Adjustment trials: the comparison at the level that `path` ('+' and '-'
+// steps from the trial's start) reaches, or none when the block allows no
+// more steps (max_steps).
+using AdjustedComparison =
+    std::function<Result<std::optional<protocols::PlannedInterval>>(
+        std::string_view path)>;
+
 // A subject station: presents trials to a person and brings back answers.
 class LiveStation {
  public:
   virtual ~LiveStation() = default;
   // Presents `trial` (after trials_done completed trials) until the subject
   // answers or the session stops; an error is a failure of the station.
-  virtual Result<LiveTrial> PresentTrial(const protocols::TrialSpec& trial,
-                                         int trials_done) = 0;
+  // `adjusted` gives an adjustment trial's comparison after each step.
+  virtual Result<LiveTrial> PresentTrial(
+      const protocols::TrialSpec& trial, int trials_done,
+      const AdjustedComparison& adjusted) = 0;
   // After the trial's answer is saved: feedback (when the trial gives it;
   // `correct` is the engine's verdict) and the gap after the answer. Returns
   // why the session stops there (the window was closed, the experimenter

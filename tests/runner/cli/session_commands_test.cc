@@ -245,15 +245,6 @@ TEST_F(RunAtStationTest, ReportsABadStationFileAndScriptWithTheirPlaces) {
           ": No such file or directory\n");
 }
 
-TEST_F(RunAtStationTest, RefusesAnAdjustmentProtocolAtAStation) {
-  protocol_ = ExamplePath("adjustment_alpha.toml");
-  ExpectRefused({"--device", "mouse"},
-                "burrlab: " + protocol_ +
-                    ": block \"adjust\" uses the adjustment method, which a "
-                    "station does not run yet (run it with --observer or at "
-                    "the prompt)\n");
-}
-
 TEST_F(RunAtStationTest, FalconWithoutHardwareSaysWhatIsMissing) {
   const Result<int> falcons = falcon::LibusbTransport::CountFalcons();
   if (falcons.ok() && falcons.value() > 0) {

@@ -290,5 +290,64 @@ TEST(StationController, ALateAnswerIsTakenAndShownAsLate) {
             "trial 5: answered 2 after 3.00 s (late)");
 }
 
+// An adjustment: UP and DOWN (or the + and - buttons) ask for a step; the
+// station presents the comparison at the level it reaches as one more
+// interval and asks again; a step past max_steps is refused with a message;
+// ENTER answers with the path, timed from the first question.
+TEST(StationController, AdjustmentStepsPresentTheComparisonAgainUntilEnter) {
+  StationController c(0, "mouse", 8.0);
+  protocols::TrialSpec t = TwoIntervals(2.0);
+  t.method = protocols::Method::kAdjustment;
+  t.response_options.clear();
+  t.intervals[0].role = "standard";
+  t.intervals[1].role = "comparison";
+  c.BeginTrial(t, 0);
+  ASSERT_EQ(c.frame().subject.buttons.size(), 3u);
+  EXPECT_EQ(c.frame().subject.buttons[0].answer, "+");
+  EXPECT_EQ(c.frame().subject.buttons[0].key, "UP");
+  EXPECT_EQ(c.frame().subject.buttons[2].key, "ENTER");
+  (void)c.OnInput("SPACE", 10.0);
+  EXPECT_EQ(c.frame().subject.interval_label, "Standard");
+  c.Advance(12.5);
+  EXPECT_EQ(c.frame().subject.interval_label, "Comparison");
+  c.Advance(14.0);  // asked at 14 s
+  ASSERT_EQ(c.phase(), StationPhase::kResponse);
+  EXPECT_FALSE(c.TakeAdjustmentStep().has_value());
+  EXPECT_FALSE(c.OnInput("up", 15.0).has_value());
+  EXPECT_EQ(c.TakeAdjustmentStep(), std::optional<int>(1));
+  EXPECT_FALSE(c.TakeAdjustmentStep().has_value());  // taken once
+  protocols::PlannedInterval after = t.intervals[1];
+  after.level = 1.1;
+  c.PresentAdjustedComparison(after, '+', 15.0);
+  EXPECT_EQ(c.phase(), StationPhase::kInterval);
+  EXPECT_EQ(c.interval_index(), 2u);
+  EXPECT_EQ(c.screen(), "interval3");
+  EXPECT_EQ(c.frame().subject.interval_label, "Comparison after step 1");
+  ASSERT_EQ(c.trial().intervals.size(), 3u);
+  EXPECT_EQ(c.trial().intervals[2].level, std::optional<double>(1.1));
+  c.Advance(17.0);
+  ASSERT_EQ(c.phase(), StationPhase::kResponse);
+  EXPECT_EQ(c.frame().subject.message,
+            "UP raises the comparison one step, DOWN lowers it; you then feel "
+            "it again. ENTER when it matches. Steps taken: 1.");
+  (void)c.OnInput("-", 18.0);  // a clicked button
+  EXPECT_EQ(c.TakeAdjustmentStep(), std::optional<int>(-1));
+  c.RefuseAdjustmentStep();
+  EXPECT_EQ(c.phase(), StationPhase::kResponse);
+  EXPECT_EQ(c.frame().subject.message,
+            "No more steps: this adjustment allows 1. Press ENTER to finish.");
+  EXPECT_EQ(c.adjustment_path(), "+");
+  const auto r = c.OnInput("ENTER", 19.5);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->answer, "+=");
+  EXPECT_NEAR(*r->response_time_s, 5.5, 1e-12);
+  EXPECT_EQ(c.frame().experimenter.last_event,
+            "trial 5: adjusted += in 5.50 s");
+  // Presented again (after a pause), the adjustment starts afresh.
+  c.BeginTrial(t, 0);
+  EXPECT_EQ(c.adjustment_path(), "");
+  EXPECT_EQ(c.trial().intervals.size(), 2u);
+}
+
 }  // namespace
 }  // namespace burrlab::runner

@@ -452,6 +452,102 @@ TEST_F(StationRunTest, PacesTheSessionWithInstructionsGapsFeedbackAndBreaks) {
   EXPECT_EQ(shots, expected);
 }
 
+// The method of adjustment at the station: the standard (PVC), the
+// comparison at twice its stiffness, then UP/DOWN keys (or the +/- buttons)
+// each step the comparison's c_e by 10^0.1 and present it again; ENTER ends.
+constexpr const char* kAdjustmentProtocol = R"(format = "burrlab-protocol/1"
+
+[study]
+name = "Station adjustment check"
+
+[recording]
+trace_hz = 100
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[axes.ce]
+kind = "ratio"
+parameter = "c_e_n_per_mm2"
+reference = "pvc"
+
+[[blocks]]
+name = "adjust"
+method = "adjustment"
+task = "probe"
+axis = "ce"
+standard_level = 1.0
+start_level = 2.0
+step = 0.1
+step_scale = "log10"
+floor = 0.5
+ceiling = 4.0
+max_steps = 3
+interval_s = 0.4
+question = "Step the second surface until it feels as stiff as the first."
+)";
+
+// Three steps (a key, a clicked button, a key), a fourth refused at
+// max_steps, then ENTER: the journal keeps the path and the level it reached
+// (closed form: 2 x 10^(0.1 (1 - 2)) = 1.5849), and every comparison felt
+// after a step was rendered at the level that step reached, its trace kept.
+TEST_F(StationRunTest, AdjustsTheComparisonWithKeysAndRendersEachStep) {
+  Write(dir_ / "adjust.toml", kAdjustmentProtocol);
+  const ProcessRun run =
+      RunProtocol("adjust.toml",
+                  "answers = [\"UP\", \"-\", \"DOWN\", \"DOWN\", \"ENTER\"]\n");
+  ASSERT_EQ(run.code, 0) << run.out << run.err;
+  const std::vector<rs::TrialRecord> trials = Trials();
+  ASSERT_EQ(trials.size(), 1u);
+  const rs::TrialRecord& t = trials[0];
+  EXPECT_EQ(t.method, "adjustment");
+  EXPECT_EQ(t.response, "+--=");
+  ASSERT_TRUE(t.stim_level.has_value());
+  EXPECT_NEAR(*t.stim_level, 2.0 * std::pow(10.0, -0.1), 1e-9);
+  // Timed from the first question to ENTER, the three 0.4 s comparisons and
+  // five 0.1 s response delays included.
+  ASSERT_TRUE(t.response_time_s.has_value());
+  EXPECT_GE(*t.response_time_s, 3 * 0.4 + 4 * 0.1);
+  EXPECT_LT(*t.response_time_s, 30.0);
+  const auto extra = nlohmann::json::parse(t.extra);
+  ASSERT_EQ(extra["intervals"].size(), 5u) << t.extra;
+  // Levels felt: the standard, the start, then after +, -, -.
+  const std::vector<double> levels = {1.0, 2.0, 2.0 * std::pow(10.0, 0.1), 2.0,
+                                      2.0 * std::pow(10.0, -0.1)};
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    SCOPED_TRACE(i);
+    const auto& iv = extra["intervals"][i];
+    EXPECT_EQ(iv["interval_index"], static_cast<int>(i));
+    EXPECT_EQ(iv["loop"]["ticks"], 400);
+    EXPECT_NEAR(iv["c_e_n_per_mm2"].get<double>(), 0.462 * levels[i], 1e-9);
+  }
+  auto journal = rs::Journal::Open(dir_ / "out", "01");
+  ASSERT_TRUE(journal.ok());
+  auto traces = journal->Traces(0);
+  ASSERT_TRUE(traces.ok());
+  ASSERT_EQ(traces->size(), 5u);
+  for (std::size_t i = 0; i < traces->size(); ++i) {
+    EXPECT_EQ((*traces)[i].interval_index, static_cast<int>(i));
+    EXPECT_EQ((*traces)[i].rows.size(), 40u);
+    if (i > 0) {
+      EXPECT_GT((*traces)[i].start_time_s, (*traces)[i - 1].start_time_s);
+    }
+  }
+  std::vector<std::string> shots;
+  for (const auto& e : fs::directory_iterator(dir_ / "shots")) {
+    shots.push_back(e.path().filename().string());
+  }
+  std::sort(shots.begin(), shots.end());
+  const std::vector<std::string> expected = {
+      "001_trial1_ready.png",     "002_trial1_interval1.png",
+      "003_trial1_interval2.png", "004_trial1_response.png",
+      "005_trial1_interval3.png", "006_trial1_response.png",
+      "007_trial1_interval4.png", "008_trial1_response.png",
+      "009_trial1_interval5.png", "010_trial1_response.png",
+      "011_finished.png"};
+  EXPECT_EQ(shots, expected);
+}
+
 TEST_F(StationRunTest, UnplugMidTrialPausesStopsAndResumeLosesNothing) {
   // The device goes away 0.1 s into the first interval of the second trial;
   // nobody resumes: the session stops paused with trial 1 saved.

@@ -416,6 +416,84 @@ TEST_F(StationWindowTest, ScreenshotsOfThePacingPhasesMatchTheGoldenImages) {
   Shoot("13_break");
 }
 
+// Drilling bone, then a comparison whose erosion rate the subject steps.
+constexpr const char* kAdjustmentProtocol = R"(format = "burrlab-protocol/1"
+
+[study]
+name = "Station adjustment view"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[axes.alpha_ratio]
+kind = "ratio"
+parameter = "alpha_per_s"
+reference = "bone"
+
+[[blocks]]
+name = "adjust"
+method = "adjustment"
+task = "drill"
+axis = "alpha_ratio"
+standard_level = 1.0
+start_level = 2.0
+step = 0.05
+step_scale = "log10"
+max_steps = 40
+interval_s = 2
+question = "Step the second block until it drills like the first."
+)";
+
+// The method of adjustment as the subject sees it: the question with its
+// three keys, and the comparison felt again after a step; the experimenter
+// sees the count of trials done (an adaptive session's length is not known
+// ahead).
+TEST_F(StationWindowTest, ScreenshotsOfAnAdjustmentMatchTheGoldenImages) {
+  Result<std::unique_ptr<StationWindow>> opened = StationWindow::Open({});
+  ASSERT_TRUE(opened.ok()) << opened.error().message;
+  window_ = std::move(opened.value());
+  protocols::ParseOutcome parsed =
+      protocols::ParseProtocol("adjust.toml", kAdjustmentProtocol);
+  ASSERT_TRUE(parsed.protocol.has_value());
+  protocol_ = std::move(*parsed.protocol);
+  Result<protocols::Engine> engine =
+      protocols::Engine::Create(protocol_, 0, 11);
+  ASSERT_TRUE(engine.ok()) << engine.error().message;
+  controller_.emplace(0, "mouse", 8.0);
+
+  const protocols::TrialSpec trial = engine->current();
+  controller_->BeginTrial(trial, 0);
+  NewBlock(trial.intervals[0].material->material);
+  double now_s = 0.0;
+  (void)controller_->OnInput("SPACE", now_s);
+  Drill(1.0, {0.5, 0.5}, -6.0);
+  now_s += 2.0;
+  controller_->Advance(now_s);
+  NewBlock(trial.intervals[1].material->material);
+  Drill(1.0, {0.45, 0.5}, -6.0);
+  now_s += 2.0;
+  controller_->Advance(now_s);
+  ASSERT_EQ(controller_->phase(), StationPhase::kResponse);
+  Shoot("14_adjustment_question");
+
+  (void)controller_->OnInput("DOWN", now_s + 1.0);
+  ASSERT_EQ(controller_->TakeAdjustmentStep(), std::optional<int>(-1));
+  Result<double> level = engine->PreviewAdjustment("-");
+  ASSERT_TRUE(level.ok()) << level.error().message;
+  EXPECT_NEAR(*level, 2.0 * std::pow(10.0, -0.05), 1e-9);
+  Result<stimuli::MaterialSet> set = engine->MaterialAt(*level);
+  ASSERT_TRUE(set.ok()) << set.error().message;
+  protocols::PlannedInterval comparison = trial.intervals[1];
+  comparison.material = *set;
+  comparison.level = *level;
+  controller_->PresentAdjustedComparison(comparison, '-', now_s + 1.0);
+  NewBlock(set->material);
+  Drill(1.2, {0.55, 0.45}, -6.0);
+  controller_->Advance(now_s + 2.2);
+  ASSERT_EQ(controller_->screen(), "interval3");
+  Shoot("15_adjustment_step");
+}
+
 TEST(StationWindow, TheGoldenComparisonSeesAnotherPhase) {
   const std::string dir =
       std::string(BURRLAB_SOURCE_DIR) + "/tests/runner/station/golden/";

@@ -4,10 +4,14 @@
 // read back as balanced same-different blocks; and the reference design
 // (protocols/examples/reference_pettigrew.toml, §13.5.2) run as the
 // dissertation ran it, 5 subjects of 10 trials, end to end through
-// `analyze scores`.
+// `analyze scores`; and the method of adjustment
+// (protocols/examples/adjustment_alpha.toml), every step rendered.
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -202,6 +206,76 @@ TEST(ReferenceExample, FiveSubjectsMatchTheRealPettigrewAgainstPvc) {
   EXPECT_THAT(so.str(),
               ::testing::HasSubstr("block association (two_interval, drill): 5 "
                                    "subjects, 10 trials each"));
+}
+
+// `burrlab study` on the adjustment example: each simulated subject steps
+// the comparison's erosion rate (x 10^0.05 per key press) from a jittered
+// start of 2 x 10^(0.05 j), |j| <= 2. Closed form: the recorded final level
+// is 2 x 10^(0.05 (j + ups - downs)) within [0.25, 4], the estimate is the
+// running mean of the final levels, and `analyze thresholds` prints their
+// mean. Behaviour: an observer who steps toward a match ends no farther from
+// the standard (1) than it started, give or take the step that overshoots.
+TEST(AdjustmentExample, SimulatedSubjectsStepFromTheirStartsTowardTheStandard) {
+  const fs::path out =
+      fs::path(BURRLAB_BINARY_DIR) / "test_tmp" / "adjustment_study";
+  fs::remove_all(out);
+  const std::string protocol = std::string(BURRLAB_SOURCE_DIR) +
+                               "/protocols/examples/adjustment_alpha.toml";
+  std::ostringstream o, e;
+  ASSERT_EQ(burrlab::runner::RunCli(
+                {"study", protocol, "--simulated-subjects", "2", "--out",
+                 out.string(), "--seed", "3", "--jobs", "2"},
+                o, e),
+            0)
+      << e.str();
+  std::vector<std::string> expected;
+  int steps_taken = 0;
+  for (int s = 1; s <= 2; ++s) {
+    const std::string label = "0" + std::to_string(s);
+    SCOPED_TRACE(label);
+    const auto table =
+        ParseTsv(ReadFile(out / ("sub-" + label) / "beh" /
+                          ("sub-" + label + "_task-adjust_beh.tsv")));
+    ASSERT_EQ(table.size(), 4u);  // header + 3 adjustments
+    std::map<std::string, std::size_t> column;
+    for (std::size_t i = 0; i < table[0].size(); ++i) column[table[0][i]] = i;
+    double sum = 0.0;
+    for (std::size_t r = 1; r < table.size(); ++r) {
+      const auto& row = table[r];
+      EXPECT_EQ(row[column["method"]], "adjustment");
+      const std::string& path = row[column["response"]];
+      ASSERT_FALSE(path.empty());
+      EXPECT_EQ(path.back(), '=');
+      const auto extra = nlohmann::json::parse(row[column["extra"]]);
+      const int jitter = extra["jitter_steps"];
+      EXPECT_LE(std::abs(jitter), 2);
+      int net = jitter;
+      for (char c : path) net += c == '+' ? 1 : c == '-' ? -1 : 0;
+      steps_taken += static_cast<int>(path.size()) - 1;
+      const double level = std::stod(row[column["stim_level"]]);
+      EXPECT_NEAR(level,
+                  std::clamp(2.0 * std::pow(10.0, 0.05 * net), 0.25, 4.0), 1e-9)
+          << path;
+      const double start = 2.0 * std::pow(10.0, 0.05 * jitter);
+      EXPECT_LE(std::abs(std::log10(level)), std::log10(start) + 0.05) << path;
+      sum += level;
+      EXPECT_NEAR(std::stod(row[column["estimate"]]),
+                  sum / static_cast<double>(r), 1e-9);
+    }
+    // The mean adjusted level as `analyze thresholds` prints it (4
+    // significant digits).
+    expected.push_back(
+        fmt::format("sub-{} adjust: {:.4g} ratio", label, sum / 3.0));
+  }
+  EXPECT_GT(steps_taken, 0);  // they did adjust
+  std::ostringstream to, te;
+  ASSERT_EQ(
+      burrlab::runner::RunCli({"analyze", "thresholds", out.string()}, to, te),
+      0)
+      << te.str();
+  for (const std::string& line : expected) {
+    EXPECT_THAT(to.str(), ::testing::HasSubstr(line));
+  }
 }
 
 }  // namespace

@@ -93,6 +93,7 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
   const int level_at = find("level"), correct_at = find("n_correct"),
             total_at = find("n_total");
   const int stim_at = find("stim_level"), trial_at = find("correct");
+  const int practice_at = find("practice");
   if (level_at >= 0 && correct_at >= 0 && total_at >= 0) {
     file.format = PsychometricDataFile::Format::kCounts;
   } else if (stim_at >= 0 && trial_at >= 0) {
@@ -162,6 +163,10 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
       continue;
     }
     const Cell level = cell(stim_at), correct = cell(trial_at);
+    if (practice_at >= 0 && cell(practice_at).text == "1") {
+      ++file.practice_rows;  // familiarization (§13.5.1): never fitted
+      continue;
+    }
     if (level.text == kNa || correct.text == kNa) {
       ++file.skipped_rows;
       continue;
@@ -194,8 +199,13 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
                 file.format == PsychometricDataFile::Format::kCounts
                     ? std::string("no data rows after the header")
                     : fmt::format("no trial with a stim_level and a correct "
-                                  "answer ({} rows with n/a skipped)",
-                                  file.skipped_rows));
+                                  "answer ({} rows with n/a skipped{})",
+                                  file.skipped_rows,
+                                  file.practice_rows > 0
+                                      ? fmt::format(", {} practice trials "
+                                                    "left out",
+                                                    file.practice_rows)
+                                      : std::string()));
   }
   return file;
 }

@@ -269,6 +269,7 @@ Result<std::vector<ThresholdEstimate>> EstimateThresholds(
     std::vector<std::string> blocks;
     std::map<std::string, std::vector<const TrialRecord*>> by_block;
     for (const TrialRecord& t : file.table.trials) {
+      if (t.practice) continue;  // familiarization: never estimated
       auto& list = by_block[t.block];
       if (list.empty()) blocks.push_back(t.block);
       list.push_back(&t);

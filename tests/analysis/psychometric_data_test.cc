@@ -139,6 +139,32 @@ TEST(ParsePsychometricData, PoolsBehTsvTrialsByLevelSkippingNa) {
   EXPECT_EQ(f->blocks[1].n_total, 3);
 }
 
+// Familiarization trials (practice = 1) are never fitted: left out and
+// counted; a practice column of 0 keeps the row.
+TEST(ParsePsychometricData, LeavesOutPracticeTrialsOfABehTsv) {
+  const std::string text =
+      "trial_index\tblock\tpractice\tstim_level\tcorrect\n"
+      "0\twarm\t1\t2\t1\n"
+      "1\twarm\t1\t1\t0\n"
+      "2\tmain\t0\t2\t0\n"
+      "3\tmain\t0\t1\t1\n";
+  Result<PsychometricDataFile> f = ParsePsychometricData("s_beh.tsv", text);
+  ASSERT_TRUE(f.ok()) << f.error().message;
+  EXPECT_EQ(f->practice_rows, 2);
+  EXPECT_EQ(f->rows, 2u);
+  ASSERT_EQ(f->blocks.size(), 2u);
+  EXPECT_EQ(f->blocks[0].n_correct, 1);  // level 1: the scored trial 3
+  EXPECT_EQ(f->blocks[1].n_correct, 0);  // level 2: the scored trial 2
+  Result<PsychometricDataFile> only = ParsePsychometricData(
+      "p_beh.tsv", "practice\tstim_level\tcorrect\n1\t2\t1\n");
+  ASSERT_FALSE(only.ok());
+  EXPECT_NE(only.error().message.find(
+                "no trial with a stim_level and a correct answer (0 rows with "
+                "n/a skipped, 1 practice trials left out)"),
+            std::string::npos)
+      << only.error().message;
+}
+
 TEST(ParsePsychometricData, ControlBytesOfACellAreEscapedInTheMessage) {
   // The exact text: an ESC sequence and a BEL in a cell reach the terminal
   // as \x1b and \x07, in the message and in the quoted line alike.

@@ -135,7 +135,8 @@ Json AnalysisJson(const analysis::PsychometricAnalysis& a,
                      : "trials"},
       {"levels", file.blocks.size()},
       {"rows", file.rows},
-      {"skipped_rows", file.skipped_rows}};
+      {"skipped_rows", file.skipped_rows},
+      {"practice_rows_left_out", file.practice_rows}};
   return j;
 }
 
@@ -312,9 +313,13 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
         << '\n';
   } else {
     out << fmt::format(
-        "data       {} ({} levels{})\n", data_path, file->blocks.size(),
+        "data       {} ({} levels{}{})\n", data_path, file->blocks.size(),
         file->skipped_rows > 0
             ? fmt::format(", {} rows with n/a skipped", file->skipped_rows)
+            : std::string(),
+        file->practice_rows > 0
+            ? fmt::format(", {} practice trials left out (never fitted)",
+                          file->practice_rows)
             : std::string());
     if (file->rows > file->blocks.size()) {
       out << fmt::format("pooled     {} rows into {} levels\n", file->rows,

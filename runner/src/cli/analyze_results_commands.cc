@@ -113,6 +113,21 @@ Status MakePlotDir(const std::string& dir) {
 
 std::string P(double p) { return fmt::format("{:.3g}", p); }
 
+// "left out 4 practice trials, never scored: practice (4)": the practice
+// trials per block, never `what` (familiarization, §13.5.1).
+std::string PracticeLine(const std::vector<analysis::PracticeLeftOut>& practice,
+                         std::string_view what) {
+  int n = 0;
+  std::string which;
+  for (const analysis::PracticeLeftOut& p : practice) {
+    n += p.trials;
+    which +=
+        fmt::format("{}{} ({})", which.empty() ? "" : ", ", p.block, p.trials);
+  }
+  return fmt::format("left out {} practice trial{}, never {}: {}", n,
+                     n == 1 ? "" : "s", what, which);
+}
+
 Json RatesJson(const analysis::SameDifferentRates& r) {
   return {{"hits", r.hits},
           {"different_trials", r.different_trials},
@@ -346,17 +361,7 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
   }
-  if (!practice.empty()) {
-    int n = 0;
-    std::string which;
-    for (const analysis::PracticeLeftOut& p : practice) {
-      n += p.trials;
-      which += fmt::format("{}{} ({})", which.empty() ? "" : ", ", p.block,
-                           p.trials);
-    }
-    out << fmt::format("left out {} practice trial{}, never scored: {}\n\n", n,
-                       n == 1 ? "" : "s", which);
-  }
+  if (!practice.empty()) out << PracticeLine(practice, "scored") << "\n\n";
   for (std::size_t i = 0; i < blocks->size(); ++i) {
     if (i > 0) out << '\n';
     PrintScores(out, (*blocks)[i], plot_paths[i]);
@@ -554,9 +559,16 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
   if (!estimates.ok()) {
     return Fail(err, "analyze thresholds: " + estimates.error().message);
   }
+  const std::vector<analysis::PracticeLeftOut> practice =
+      analysis::PracticeTrials(*files);
   if (json) {
     Json j;
     j["results"] = dir;
+    j["practice_left_out"] = Json::array();
+    for (const analysis::PracticeLeftOut& p : practice) {
+      j["practice_left_out"].push_back(
+          Json{{"block", p.block}, {"trials", p.trials}});
+    }
     j["thresholds"] = Json::array();
     for (const analysis::ThresholdEstimate& e : *estimates) {
       Json t = {{"subject", e.subject}};
@@ -607,6 +619,7 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
     out << fmt::format("{}: {}  - {}, n = {}{}\n", who, value, e.estimator, e.n,
                        e.note.empty() ? "" : "; " + e.note);
   }
+  if (!practice.empty()) out << PracticeLine(practice, "estimated") << '\n';
   return 0;
 }
 

@@ -2,6 +2,7 @@
 #include "cli/session_commands.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -215,6 +216,51 @@ int DefaultSubjectIndex(std::string_view label) {
   return value > 0 ? value - 1 : 0;
 }
 
+namespace {
+
+// What the subject meets before trial `t` besides the trial itself, in order
+// (protocols/README.md, "Pacing, practice and breaks"): the study's
+// instructions, a rest break, and at a block's first trial how the block is
+// paced and its instructions.
+std::vector<std::string> PacingBefore(const protocols::TrialSpec& t,
+                                      const protocols::Block& block) {
+  std::vector<std::string> lines;
+  if (!t.study_instructions.empty()) {
+    lines.push_back("the study's instructions, until SPACE");
+  }
+  if (t.break_before) lines.push_back("a rest break, until a key");
+  if (t.trial_in_block == 0) {
+    std::vector<std::string> pacing;
+    if (block.practice) pacing.push_back("practice (recorded, never scored)");
+    if (block.feedback) pacing.push_back("feedback after each answer");
+    if (block.isi_s > 0.0) {
+      pacing.push_back(fmt::format("{} s between intervals", block.isi_s));
+    }
+    if (block.iti_s > 0.0) {
+      pacing.push_back(fmt::format("{} s after each answer", block.iti_s));
+    }
+    if (block.response_deadline_s.has_value()) {
+      pacing.push_back(fmt::format("answers after {} s are late",
+                                   *block.response_deadline_s));
+    }
+    if (block.break_every.has_value()) {
+      pacing.push_back(
+          fmt::format("a rest break every {} trials", *block.break_every));
+    }
+    if (!pacing.empty()) {
+      lines.push_back(
+          fmt::format("block {}: {}", t.block, fmt::join(pacing, ", ")));
+    }
+    if (!t.block_instructions.empty()) {
+      lines.push_back(
+          fmt::format("block {}'s instructions, until SPACE", t.block));
+    }
+  }
+  return lines;
+}
+
+}  // namespace
+
 int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Print the trial sequence a protocol produces for one subject and "
@@ -261,6 +307,8 @@ int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
       "correct", "response", "estimate");
   while (!engine->finished()) {
     const protocols::TrialSpec t = engine->current();
+    const std::vector<std::string> before =
+        PacingBefore(t, loaded->protocol.blocks[t.block_index]);
     protocols::Response response;
     if (used < script.size()) {
       Result<protocols::Response> r =
@@ -303,7 +351,10 @@ int RunPlanCommand(const Args& args, std::ostream& out, std::ostream& err) {
       j["estimate"] = outcome->estimate.has_value() ? Json(*outcome->estimate)
                                                     : Json(nullptr);
     }
+    if (t.practice) j["practice"] = true;
+    if (!before.empty()) j["before"] = before;
     trials.push_back(j);
+    for (const std::string& line : before) table += "   -- " + line + '\n';
     std::string joined;
     for (const std::string& id : ids)
       joined += (joined.empty() ? "" : "|") + id;

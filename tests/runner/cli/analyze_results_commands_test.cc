@@ -435,6 +435,100 @@ TEST_F(AnalyzeResults, ScoresLeaveOutPracticeAndCountLateAnswers) {
   EXPECT_EQ(j["blocks"][0]["answers_with_deadline"], 16);
 }
 
+// A practice staircase (familiarization) followed by the scored one: the
+// practice block gets no threshold and the output says how many of its
+// trials were left out; the scored block's threshold is the engine's own
+// estimate (truth: the exported estimate column).
+TEST_F(AnalyzeResults, ThresholdsLeaveOutThePracticeStaircase) {
+  const std::string protocol = (dir_ / "practice_stairs.toml").string();
+  std::ofstream(protocol) << R"(format = "burrlab-protocol/1"
+[study]
+name = "A practice staircase, then the scored one"
+[materials.bone]
+builtin = "human_temporal_bone"
+[axes.ce_increment]
+kind = "increment"
+parameter = "c_e_n_per_mm2"
+reference = "bone"
+[[blocks]]
+name = "warmup"
+method = "staircase"
+task = "probe"
+axis = "ce_increment"
+response = "2afc"
+step_scale = "log10"
+step_down = 0.2
+step_up = 0.2
+floor = 0.01
+ceiling = 4.0
+start_level = 1.0
+max_trials = 6
+threshold_reversals = 2
+interval_s = 1
+practice = true
+[[blocks]]
+name = "stairs"
+method = "staircase"
+task = "probe"
+axis = "ce_increment"
+response = "2afc"
+n_down = 3
+step_scale = "log10"
+step_down = 0.2
+step_up = 0.2
+floor = 0.01
+ceiling = 4.0
+start_level = 1.0
+max_trials = 30
+threshold_reversals = 4
+interval_s = 1
+)";
+  const std::string results = (dir_ / "out").string();
+  const CliRun study =
+      RunBurrlab({"study", protocol, "--simulated-subjects", "1", "--out",
+                  results, "--seed", "5", "--jobs", "1"});
+  ASSERT_EQ(study.code, 0) << study.err;
+  auto files = results_schema::ReadBidsDataset(results);
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  int practice = 0;
+  std::optional<double> engine;
+  for (const auto& file : *files) {  // one file per block (BIDS task)
+    for (const auto& t : file.table.trials) {
+      practice += t.practice ? 1 : 0;
+      if (!t.practice && t.estimate) engine = t.estimate;
+    }
+  }
+  EXPECT_EQ(practice, 6);
+  ASSERT_TRUE(engine.has_value());
+  const CliRun text = RunBurrlab({"analyze", "thresholds", results});
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_EQ(text.out.find("warmup:"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("sub-01 stairs staircase 0: "), std::string::npos)
+      << text.out;
+  EXPECT_TRUE(text.out.ends_with(
+      "left out 6 practice trials, never estimated: warmup (6)\n"))
+      << text.out;
+  const CliRun json = RunBurrlab({"analyze", "thresholds", results, "--json"});
+  ASSERT_EQ(json.code, 0) << json.err;
+  const Json j = Json::parse(json.out);
+  EXPECT_EQ(j["practice_left_out"],
+            Json::parse(R"([{"block": "warmup", "trials": 6}])"));
+  ASSERT_EQ(j["thresholds"].size(), 1u);
+  EXPECT_EQ(j["thresholds"][0]["block"], "stairs");
+  EXPECT_NEAR(j["thresholds"][0]["value"].get<double>(), *engine, 1e-12);
+  // `analyze fit` on the practice block's _beh.tsv has nothing to fit.
+  const std::string beh = results + "/sub-01/beh/sub-01_task-warmup_beh.tsv";
+  const CliRun fit =
+      RunBurrlab({"analyze", "fit", "--data", beh, "--task", "2afc",
+                  "--sigmoid", "logistic", "--bootstrap", "0"});
+  EXPECT_EQ(fit.code, 1);
+  EXPECT_EQ(fit.err, beh +
+                         ": error: no trial with a stim_level and a correct "
+                         "answer (0 rows with n/a skipped, 6 practice trials "
+                         "left out)\n")
+      << fit.out;
+}
+
 // A subject whose run stopped before its export (here: its exports
 // removed) is named on every analysis, never left out silently. Truth: the
 // journal's own trial count.

@@ -643,6 +643,57 @@ TEST_F(SessionTest, PlanStopsWhereAdaptiveResponsesRunOut) {
                         "ran out (0 given)"));
 }
 
+// The plan shows what surrounds the trials, where it comes: the study's and
+// the blocks' instructions, how each block is paced, and the rest breaks
+// (between the blocks and after the 4th scored trial).
+TEST_F(SessionTest, PlanShowsThePacingBeforeTheTrials) {
+  const fs::path protocol = dir_ / "paced.toml";
+  std::ofstream(protocol) << PacedProtocol(0.5, 0.25, 0.75, 2.0);
+  const CliRun run = RunBurrlab({"plan", protocol.string(), "--seed", "3"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  std::vector<std::string> pacing;
+  std::istringstream lines(run.out);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.starts_with("   -- ")) {
+      pacing.push_back(line.substr(6));
+    } else if (!line.starts_with("trial")) {
+      pacing.push_back("trial of block " + line.substr(7, 11));
+    }
+  }
+  const std::vector<std::string> expected = {
+      "the study's instructions, until SPACE",
+      "block familiarize: practice (recorded, never scored), feedback after "
+      "each answer, 0.25 s between intervals, 0.75 s after each answer",
+      "block familiarize's instructions, until SPACE",
+      "trial of block familiarize",
+      "trial of block familiarize",
+      "trial of block familiarize",
+      "trial of block familiarize",
+      "a rest break, until a key",
+      "block main: 0.25 s between intervals, 0.75 s after each answer, "
+      "answers after 2 s are late, a rest break every 4 trials",
+      "block main's instructions, until SPACE",
+      "trial of block main       ",
+      "trial of block main       ",
+      "trial of block main       ",
+      "trial of block main       ",
+      "a rest break, until a key",
+      "trial of block main       ",
+      "trial of block main       ",
+      "trial of block main       ",
+      "trial of block main       "};
+  EXPECT_EQ(pacing, expected) << run.out;
+  const CliRun json =
+      RunBurrlab({"plan", protocol.string(), "--seed", "3", "--json"});
+  ASSERT_EQ(json.code, 0) << json.err;
+  const auto doc = nlohmann::json::parse(json.out);
+  EXPECT_EQ(doc["trials"][0]["practice"], true);
+  EXPECT_EQ(doc["trials"][0]["before"].size(), 3u);
+  EXPECT_FALSE(doc["trials"][1].contains("before"));
+  EXPECT_EQ(doc["trials"][8]["before"],
+            nlohmann::json::parse(R"(["a rest break, until a key"])"));
+}
+
 TEST_F(SessionTest, StudyRunsEverySubjectAndRefusesToOverwrite) {
   const fs::path out = dir_ / "study";
   const CliRun run = RunBurrlab({"study", protocol_, "--simulated-subjects",

@@ -30,6 +30,9 @@ struct PsychometricDataFile {
   std::vector<int> lines;
   std::size_t rows = 0;  // data rows pooled into blocks (kTrials: trials)
   int skipped_rows = 0;  // kTrials: rows with n/a in stim_level or correct
+  // kTrials: practice trials (a `practice` column of 1), left out: a
+  // familiarization block is never fitted.
+  int practice_rows = 0;
 };
 
 // Parses `text` (the whole file). The delimiter is a tab when the header line
@@ -37,7 +40,8 @@ struct PsychometricDataFile {
 // UTF-8 byte-order mark are accepted; other columns are ignored. Counts:
 // level a finite number, n_total a whole number >= 1, n_correct a whole
 // number in [0, n_total]. Trials: stim_level a finite number or n/a, correct
-// 1, 0 or n/a. The rows of one level may add up to at most INT_MAX trials.
+// 1, 0 or n/a; a row whose `practice` column is 1 is left out (counted in
+// practice_rows). The rows of one level may add up to at most INT_MAX trials.
 // The error is a formatted diagnostic (up to three lines).
 Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
                                                    std::string_view text);

@@ -56,7 +56,9 @@ struct ThresholdEstimate {
 
 // One estimate per subject, block (and staircase), in the files' order.
 // Blocks of same-different and two-interval designs have no threshold and
-// are left out. An error when no block has one, or for bad options.
+// are left out, and so are practice trials (a practice block has no
+// estimate: familiarization, §13.5.1). An error when no block has one, or for
+// bad options.
 Result<std::vector<ThresholdEstimate>> EstimateThresholds(
     std::span<const results_schema::BehFile> files,
     const ThresholdOptions& options);

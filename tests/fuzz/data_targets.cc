@@ -1,12 +1,16 @@
 // Fuzz targets of the data formats: NRRD volumes, the CSV/TSV readers of
 // analysis (measured descent velocities, descent traces, psychometric data)
-// and of results_schema (_beh.tsv, _physio.json sidecars, _physio.tsv rows).
+// and of results_schema (_beh.tsv, _physio.json sidecars, _physio.tsv rows,
+// the participants table an experimenter keeps).
 #include <cmath>
+#include <set>
 
 #include "burrlab/analysis/model_gap/measured_data.h"
 #include "burrlab/analysis/model_gap/trace_data.h"
 #include "burrlab/analysis/psychometric_data.h"
 #include "burrlab/results_schema/bids_read.h"
+#include "burrlab/results_schema/participants.h"
+#include "burrlab/results_schema/records.h"
 #include "burrlab/sim/nrrd.h"
 #include "fuzz_targets.h"
 #include "property_checks.h"
@@ -165,6 +169,45 @@ Violations FuzzBehTsv(std::string_view input) {
              "beh_tsv: a negative response time", v);
       Expect(results_schema::IsKnownTask(t.task),
              "beh_tsv: an unknown task accepted", v);
+    }
+  });
+}
+
+Violations FuzzParticipants(std::string_view input) {
+  return Guarded("participants", [&](Violations* v) {
+    // `--participant KEY=VALUE`: the input's first line as one pair.
+    const std::string_view pair = input.substr(0, input.find('\n'));
+    const Result<results_schema::ParticipantValue> one =
+        results_schema::ParseParticipantPair(pair);
+    if (!one.ok()) {
+      CheckMessageLine(one.error().message, "participants: a pair's error", v);
+    } else {
+      Expect(results_schema::CheckParticipantColumn(one->column).ok() &&
+                 results_schema::CheckParticipantValue(one->column, one->value)
+                     .ok(),
+             "participants: a pair that its own checks refuse", v);
+    }
+    // `--participants FILE`.
+    const Result<std::vector<results_schema::ParticipantRow>> rows =
+        results_schema::ParseParticipantsTable(kInputPath, input);
+    if (Failed(rows, input, "participants", v)) return;
+    std::set<std::string> subjects;
+    for (const results_schema::ParticipantRow& row : rows.value()) {
+      Expect(results_schema::ValidateSubjectLabel(row.subject).ok(),
+             "participants: a subject label that is not a label", v);
+      Expect(subjects.insert(row.subject).second,
+             "participants: a subject listed twice", v);
+      std::set<std::string> columns;
+      for (const results_schema::ParticipantValue& c : row.values) {
+        Expect(columns.insert(c.column).second,
+               "participants: a column twice in one row", v);
+        Expect(results_schema::CheckParticipantColumn(c.column).ok(),
+               "participants: a column its own check refuses (a name, a date "
+               "of birth, participant_id or not snake_case)",
+               v);
+        Expect(results_schema::CheckParticipantValue(c.column, c.value).ok(),
+               "participants: a cell its own check refuses", v);
+      }
     }
   });
 }

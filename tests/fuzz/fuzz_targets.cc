@@ -8,7 +8,7 @@ namespace burrlab::fuzz {
 std::span<const Target> Targets() {
   // max_len: a few times the largest seed, so mutations can grow inputs
   // without the run spending its time on megabytes.
-  static constexpr std::array<Target, 11> kTargets = {{
+  static constexpr std::array<Target, 12> kTargets = {{
       {"protocol", &FuzzProtocol, 8192},
       {"station", &FuzzStation, 4096},
       {"station_script", &FuzzStationScript, 4096},
@@ -18,6 +18,7 @@ std::span<const Target> Targets() {
       {"traces", &FuzzTraces, 4096},
       {"psychometric", &FuzzPsychometric, 4096},
       {"beh_tsv", &FuzzBehTsv, 4096},
+      {"participants", &FuzzParticipants, 4096},
       {"physio_sidecar", &FuzzPhysioSidecar, 4096},
       {"physio_rows", &FuzzPhysioRows, 4096},
   }};

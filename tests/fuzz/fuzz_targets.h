@@ -43,6 +43,7 @@ Violations FuzzPsychometric(std::string_view input);
 Violations FuzzBehTsv(std::string_view input);
 Violations FuzzPhysioSidecar(std::string_view input);
 Violations FuzzPhysioRows(std::string_view input);
+Violations FuzzParticipants(std::string_view input);
 
 }  // namespace burrlab::fuzz
 

@@ -10,7 +10,8 @@ shift $(($# < 2 ? $# : 2))
 here=$(cd "$(dirname "$0")" && pwd)
 # target and longest input (bytes), as in fuzz_targets.cc
 all=(protocol:8192 station:4096 station_script:4096 material:4096 nrrd:4096 measured:4096
-     traces:4096 psychometric:4096 beh_tsv:4096 physio_sidecar:4096 physio_rows:4096)
+     traces:4096 psychometric:4096 beh_tsv:4096 physio_sidecar:4096 physio_rows:4096
+     participants:4096)
 # A single input taking longer than this (s) is a timeout.
 timeout_s=10
 work=$build/fuzz-runs

@@ -293,7 +293,8 @@ Status WritePhysio(sqlite3* db, const fs::path& journal_path,
                    const fs::path& path, const TraceGroup& group,
                    const std::vector<const TrialRecord*>& trials) {
   const fs::path temp = TempPathFor(path);
-  gzFile gz = gzopen(temp.c_str(), "wb6");
+  const std::string mode = "wb" + std::to_string(kTraceDeflateLevel);
+  gzFile gz = gzopen(temp.c_str(), mode.c_str());
   if (gz == nullptr) return WriteError(temp, errno != 0 ? errno : ENOMEM);
   auto fail = [&](Error error) {
     gzclose(gz);

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "burrlab/results_schema/journal.h"
+#include "file_writes.h"
 #include "text.h"
 
 namespace burrlab::results_schema::db {
@@ -111,7 +112,7 @@ Result<std::string> EncodeSamples(const TraceSamples& trace) {
   std::string packed(size, '\0');
   if (compress2(reinterpret_cast<Bytef*>(packed.data()), &size,
                 reinterpret_cast<const Bytef*>(raw.data()),
-                static_cast<uLong>(raw.size()), 6) != Z_OK) {
+                static_cast<uLong>(raw.size()), kTraceDeflateLevel) != Z_OK) {
     return Error{
         fmt::format("trial {}, interval {}: cannot compress the trace samples",
                     trace.trial_index, trace.interval_index)};

@@ -24,16 +24,30 @@ if(CCACHE_PROGRAM)
   set(CMAKE_CXX_COMPILER_LAUNCHER "${CCACHE_PROGRAM}")
 endif()
 
-# burrlab_library(NAME SOURCES ... DEPS ...) declares burrlab::NAME with its public headers
-# in <folder>/include and private sources in <folder>/src.
+# BURRLAB_HOT_CXX_FLAGS: compile options appended for the libraries declared HOT, those the
+# tests spend their CPU time in (the simulator: sim/, sim/base/, stimuli/; the simulated
+# observers of protocols/ and runner's studies layer; the fits of analysis/ and its model gap).
+# `make test` builds the sanitizer build at -O0 with -O1 here: -O0 compiles faster under
+# ASan+UBSan, and elsewhere the tests run too little code for the difference to show in ctest
+# (figures in the Makefile).
+set(BURRLAB_HOT_CXX_FLAGS "" CACHE STRING
+    "Compile options for the libraries the tests spend their time in, e.g. -O1")
+
+# burrlab_library(NAME [HOT] SOURCES ... DEPS ...) declares burrlab::NAME with its public
+# headers in <folder>/include and private sources in <folder>/src; HOT appends
+# BURRLAB_HOT_CXX_FLAGS to its sources' options.
 function(burrlab_library name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "HOT" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
   if(ARG_SOURCES)
     add_library(burrlab_${name} STATIC ${ARG_SOURCES})
     target_include_directories(burrlab_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include
                                                PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
     target_link_libraries(burrlab_${name} PUBLIC ${ARG_PUBLIC_DEPS}
                                           PRIVATE burrlab_options ${ARG_PRIVATE_DEPS})
+    if(ARG_HOT AND BURRLAB_HOT_CXX_FLAGS)
+      separate_arguments(flags UNIX_COMMAND "${BURRLAB_HOT_CXX_FLAGS}")
+      target_compile_options(burrlab_${name} PRIVATE ${flags})
+    endif()
   else()
     add_library(burrlab_${name} INTERFACE)
     target_include_directories(burrlab_${name} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)

@@ -231,6 +231,16 @@ class StationRunTest : public ::testing::Test {
     return Burrlab(args, dir_);
   }
 
+  // The screenshots the run saved, by name (they sort in the order shown).
+  std::vector<std::string> Screenshots() const {
+    std::vector<std::string> shots;
+    for (const auto& e : fs::directory_iterator(dir_ / "shots")) {
+      shots.push_back(e.path().filename().string());
+    }
+    std::sort(shots.begin(), shots.end());
+    return shots;
+  }
+
   std::vector<rs::TrialRecord> Trials() {
     auto journal = rs::Journal::Open(dir_ / "out", "01");
     EXPECT_TRUE(journal.ok()) << journal.error().message;
@@ -362,11 +372,7 @@ TEST_F(StationRunTest, RunsTheProtocolAndStoresLoopStatisticsPerInterval) {
 
   // A screenshot of every phase: ready, two intervals, response per trial,
   // and the end.
-  std::vector<std::string> shots;
-  for (const auto& e : fs::directory_iterator(dir_ / "shots")) {
-    shots.push_back(e.path().filename().string());
-  }
-  std::sort(shots.begin(), shots.end());
+  const std::vector<std::string> shots = Screenshots();
   const std::vector<std::string> expected = {
       "001_trial1_ready.png",     "002_trial1_interval1.png",
       "003_trial1_interval2.png", "004_trial1_response.png",
@@ -417,11 +423,7 @@ TEST_F(StationRunTest, PacesTheSessionWithInstructionsGapsFeedbackAndBreaks) {
   // Every screen, in order: the study's and the block's instructions, then
   // per practice trial the gap between intervals, the feedback and the gap
   // after the answer; the rest break before the scored block.
-  std::vector<std::string> shots;
-  for (const auto& e : fs::directory_iterator(dir_ / "shots")) {
-    shots.push_back(e.path().filename().string());
-  }
-  std::sort(shots.begin(), shots.end());
+  const std::vector<std::string> shots = Screenshots();
   const std::vector<std::string> expected = {
       "001_trial1_instructions_study.png",
       "002_trial1_instructions_block.png",
@@ -533,11 +535,7 @@ TEST_F(StationRunTest, AdjustsTheComparisonWithKeysAndRendersEachStep) {
       EXPECT_GT((*traces)[i].start_time_s, (*traces)[i - 1].start_time_s);
     }
   }
-  std::vector<std::string> shots;
-  for (const auto& e : fs::directory_iterator(dir_ / "shots")) {
-    shots.push_back(e.path().filename().string());
-  }
-  std::sort(shots.begin(), shots.end());
+  const std::vector<std::string> shots = Screenshots();
   const std::vector<std::string> expected = {
       "001_trial1_ready.png",     "002_trial1_interval1.png",
       "003_trial1_interval2.png", "004_trial1_response.png",

@@ -59,10 +59,11 @@ $(BUILD_DIR)/release/build.ninja: | deps
 # time in at -O1 (BURRLAB_HOT_CXX_FLAGS, cmake/BurrlabOptions.cmake: sim/, sim/base/, stimuli/,
 # protocols/, analysis/ with its model gap, runner's studies layer). The build, not the tests,
 # is most of the sanitizer half of `make test`; every ASan+UBSan check is kept and reports
-# still carry file:line. Measured on the 2-core machine, both sharing it with another build,
+# still carry file:line. Measured on the 2-core machine, sharing it with another build,
 # CPU-s (user+sys): clean build all -O1 1189, -O1 for the simulator only 984; ctest all -O1
 # 473, -O1 for the simulator only 834 (analysis/, protocols/ and the studies at -O0 doubled
-# their tests), with the libraries above at -O1 455.
+# their tests), with the libraries above at -O1 455. On an idle machine the gain is small:
+# the build's summed ninja job time was 874 s all -O1 (2beebcf) and 859 s so (f4d6a43).
 $(BUILD_DIR)/asan/build.ninja: | deps
 	cmake -S . -B $(BUILD_DIR)/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O0 -g1 -DNDEBUG" -DBURRLAB_HOT_CXX_FLAGS=-O1 \

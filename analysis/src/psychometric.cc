@@ -24,14 +24,17 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <numeric>
 #include <random>
 #include <set>
+#include <span>
 #include <system_error>
 #include <thread>
+#include <utility>
 
 #include "burrlab/analysis/bootstrap.h"
 #include "nlopt_ptr.h"
@@ -1051,12 +1054,44 @@ PsychometricFit MakeFit(const Fitter& fitter, const Outcome& outcome) {
 }
 
 std::string FormatLimits(const std::vector<double>& conf,
-                         const std::vector<double>& limits) {
+                         const std::vector<double>& limits,
+                         const std::vector<bool>& at_search_limit) {
   std::string text;
   for (std::size_t k = 0; k < conf.size(); ++k) {
-    text += fmt::format("{}{}: {:.6g}", k == 0 ? "" : ", ", conf[k], limits[k]);
+    const bool at_limit = k < at_search_limit.size() && at_search_limit[k];
+    text += at_limit
+                ? fmt::format("{}{}: search limit", k == 0 ? "" : ", ", conf[k])
+                : fmt::format("{}{}: {:.6g}", k == 0 ? "" : ", ", conf[k],
+                              limits[k]);
   }
   return text;
+}
+
+// Whether bound `x` of the replicates comes from one that stopped at the
+// search range: one of the order statistics next to x (the one it equals, or
+// the two it lies between) is such a replicate.
+bool FromSearchLimit(double x,
+                     std::span<const std::pair<double, bool>> sorted) {
+  if (!std::isfinite(x) || sorted.empty()) return false;
+  const auto hi = std::lower_bound(
+      sorted.begin(), sorted.end(), x,
+      [](const std::pair<double, bool>& r, double v) { return r.first < v; });
+  bool limited = false;
+  if (hi != sorted.end()) {
+    // Every replicate equal to the order statistic at or above x.
+    for (auto it = hi; it != sorted.end() && it->first == hi->first; ++it) {
+      limited = limited || it->second;
+    }
+  }
+  if (hi != sorted.begin() && (hi == sorted.end() || hi->first > x)) {
+    const double below = std::prev(hi)->first;
+    for (auto it = std::prev(hi);; --it) {
+      if (it->first != below) break;
+      limited = limited || it->second;
+      if (it == sorted.begin()) break;
+    }
+  }
+  return limited;
 }
 
 }  // namespace
@@ -1354,6 +1389,8 @@ Result<PsychometricAnalysis> AnalyzePsychometric(
   std::vector<std::vector<double>> scores(2 * cuts, std::vector<double>(count));
   std::vector<double> deviances(count);
   std::vector<char> refit_converged(count);
+  // The refit's location or scale stopped at the search range.
+  std::vector<char> refit_at_search_limit(count);
   std::atomic<std::size_t> next_sample{0};
   std::mutex progress_mutex;
   int done = 0;
@@ -1386,6 +1423,9 @@ Result<PsychometricAnalysis> AnalyzePsychometric(
       const Eigen::Vector4d ldot = to_user.transpose() * model.gradient;
       const Outcome refit = worker.RefitByScoring(best.v, model);
       refit_converged[b] = refit.converged;
+      const std::array<Bound, 4> bounds = worker.BoundsOf(refit.v);
+      refit_at_search_limit[b] =
+          bounds[0] != Bound::kNone || bounds[1] != Bound::kNone;
       const PsychometricParams p = worker.ToParams(refit.v);
       deviances[b] = 2.0 * (saturated - refit.log_likelihood);
       for (std::size_t c = 0; c < cuts; ++c) {
@@ -1445,10 +1485,30 @@ Result<PsychometricAnalysis> AnalyzePsychometric(
     e.acceleration = limits.acceleration;
     e.bca = std::move(limits.bca);
     e.percentile = std::move(limits.percentile);
+    std::vector<std::pair<double, bool>> sorted(count);
+    for (std::size_t b = 0; b < count; ++b) {
+      sorted[b] = {values[q][b], refit_at_search_limit[b] != 0};
+    }
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t k = 0; k < conf; ++k) {
+      e.bca_at_search_limit.push_back(FromSearchLimit(e.bca[k], sorted));
+      e.percentile_at_search_limit.push_back(
+          FromSearchLimit(e.percentile[k], sorted));
+    }
     e.replicates = std::move(values[q]);
     if (bca_possible) e.scores = std::move(scores[q]);
     const char* what = q < cuts ? "threshold" : "slope";
     for (std::size_t k = 0; k < conf; ++k) {
+      for (const auto& [kind, flagged] :
+           {std::pair{"BCa", bca_possible && e.bca_at_search_limit[k]},
+            std::pair{"percentile", e.percentile_at_search_limit[k] != 0}}) {
+        if (!flagged) continue;
+        out.warnings.push_back(fmt::format(
+            "the {} bound at {} of the {} at cut {} is a search limit: "
+            "bootstrap refits there stopped at the edge of the fit's search "
+            "range, so the data do not bound the {} on that side",
+            kind, options.conf[k], what, e.cut, what));
+      }
       if (bca_possible && !std::isfinite(e.bca[k])) {
         out.warnings.push_back(fmt::format(
             "the BCa bound at {} of the {} at cut {} lies beyond the {} "
@@ -1513,9 +1573,12 @@ std::string PsychometricAnalysis::FullReport(bool with_warnings) const {
       text += fmt::format("{} at cut {}: {:.6g}\n",
                           is_threshold ? "threshold" : "slope", e.cut, e.value);
       if (bootstrap_samples > 0) {
-        text += "  BCa        " + FormatLimits(options.conf, e.bca) + "\n";
-        text +=
-            "  percentile " + FormatLimits(options.conf, e.percentile) + "\n";
+        text += "  BCa        " +
+                FormatLimits(options.conf, e.bca, e.bca_at_search_limit) + "\n";
+        text += "  percentile " +
+                FormatLimits(options.conf, e.percentile,
+                             e.percentile_at_search_limit) +
+                "\n";
       }
     }
   }

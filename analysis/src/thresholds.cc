@@ -234,6 +234,9 @@ ThresholdEstimate ConstantStimuli(const std::string& subject,
   if (std::isfinite(a->thresholds[0].bca[1])) {
     e.ci_high = a->thresholds[0].bca[1];
   }
+  const std::vector<bool>& limited = a->thresholds[0].bca_at_search_limit;
+  e.ci_low_at_search_limit = !limited.empty() && limited[0];
+  e.ci_high_at_search_limit = limited.size() > 1 && limited[1];
   if (std::isfinite(a->deviance_p)) e.deviance_p = a->deviance_p;
   std::string notes;
   for (const std::string& w : a->warnings)

@@ -3,6 +3,7 @@
 // psignifit's own bootstrap samples, and the errors and warnings users see.
 #include "burrlab/analysis/psychometric.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -231,6 +232,7 @@ TEST(AnalyzePsychometric, MatchesPsignifitOnEveryFixture) {
       slope_percentile("slope percentile", false);
   std::map<std::string, int> strict_count;
   std::string short_of_maximum;
+  int search_limited = 0;  // threshold bounds flagged as a search limit
   for (const std::string& name : names) {
     SCOPED_TRACE(name);
     const std::vector<DataBlock> data =
@@ -311,8 +313,13 @@ TEST(AnalyzePsychometric, MatchesPsignifitOnEveryFixture) {
         slope_percentile.Compare(a.slopes[k], j, ps["SL_QUANT"][j][k], false,
                                  at);
       }
+      for (bool flagged : a.thresholds[k].bca_at_search_limit) {
+        search_limited += flagged ? 1 : 0;
+      }
     }
   }
+  // psignifit printed a number for every bound of these data sets.
+  EXPECT_EQ(search_limited, 0);
   for (const char* sigmoid : {"logistic", "cumnorm", "weibull", "gumbel"}) {
     for (const char* task : {"2afc", "yesno"}) {
       EXPECT_GE(strict_count[std::string(sigmoid) + "_" + task], 6)
@@ -601,6 +608,55 @@ TEST(AnalyzePsychometric, ReportsAFitAtABoundWithAWarning) {
             "information is singular at the fit, e.g. for a step between two "
             "neighbouring levels); BCa intervals are unavailable")
       << a->FullReport();
+}
+
+// A simulated subject of a ratio-axis constant-stimuli study (Weber 1.5,
+// levels 1.05-2 x bone's c_e, 10 trials each) whose bootstrap refits often
+// put the threshold at the upper edge of the search range: the upper bound
+// is that edge, so it is flagged and printed as "search limit", never as a
+// number. Truth from the replicates themselves, not the flagging code: the
+// bound equals the largest replicate and more than 2.5 % of the replicates
+// pile up there; the lower bound lies among ordinary replicates.
+TEST(AnalyzePsychometric, NamesABoundThatIsTheSearchLimit) {
+  const std::vector<DataBlock> data = {{1.05, 4, 10}, {1.1, 3, 10},
+                                       {1.2, 7, 10},  {1.3, 7, 10},
+                                       {1.5, 6, 10},  {2.0, 7, 10}};
+  PsychometricOptions o;
+  o.sigmoid = Sigmoid::kLogistic;
+  o.n_intervals = 2;
+  o.cuts = {0.5};
+  o.conf = {0.025, 0.975};
+  o.bootstrap_samples = 999;
+  o.seed = 1;
+  Result<PsychometricAnalysis> a = AnalyzePsychometric(data, o);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  const BootstrapEstimate& t = a->thresholds[0];
+  const double top =
+      *std::max_element(t.replicates.begin(), t.replicates.end());
+  const auto at_top = std::count(t.replicates.begin(), t.replicates.end(), top);
+  EXPECT_GT(static_cast<double>(at_top), 0.025 * 999);
+  EXPECT_EQ(t.bca[1], top);
+  EXPECT_LT(t.bca[0], top);
+  EXPECT_EQ(t.bca_at_search_limit, (std::vector<bool>{false, true}));
+  EXPECT_EQ(t.percentile_at_search_limit, (std::vector<bool>{false, true}));
+  const std::string report = a->FullReport();
+  EXPECT_NE(report.find(fmt::format("  BCa        0.025: {:.6g}, 0.975: "
+                                    "search limit\n",
+                                    t.bca[0])),
+            std::string::npos)
+      << report;
+  for (const char* kind : {"BCa", "percentile"}) {
+    EXPECT_NE(report.find(fmt::format(
+                  "warning: the {} bound at 0.975 of the threshold at cut 0.5 "
+                  "is a search limit: bootstrap refits there stopped at the "
+                  "edge of the fit's search range, so the data do not bound "
+                  "the threshold on that side\n",
+                  kind)),
+              std::string::npos)
+        << report;
+  }
+  EXPECT_EQ(report.find(fmt::format("{:.6g}\n", top)), std::string::npos)
+      << report;
 }
 
 TEST(FitPsychometric, FindsAStepBetweenNeighbouringLevelsAmongManyLevels) {

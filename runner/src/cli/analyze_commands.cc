@@ -77,12 +77,17 @@ std::string TaskName(int n_intervals) {
   return n_intervals == 1 ? "yesno" : fmt::format("{}afc", n_intervals);
 }
 
-// One BootstrapEstimate's bounds as an object keyed by conf ("0.023": ...).
+// One BootstrapEstimate's bounds as an object keyed by conf ("0.023": ...);
+// a bound at the fit's search range is "search limit", not a number.
 Json Bounds(const PsychometricOptions& options,
-            const std::vector<double>& bounds) {
+            const std::vector<double>& bounds,
+            const std::vector<bool>& at_search_limit) {
   Json object = Json::object();
   for (std::size_t k = 0; k < options.conf.size(); ++k) {
-    object[fmt::format("{}", options.conf[k])] = JsonNumber(bounds[k]);
+    object[fmt::format("{}", options.conf[k])] =
+        k < at_search_limit.size() && at_search_limit[k]
+            ? Json("search limit")
+            : JsonNumber(bounds[k]);
   }
   return object;
 }
@@ -102,10 +107,12 @@ Json AnalysisJson(const analysis::PsychometricAnalysis& a,
   j["converged"] = a.fit.converged;
   j["thresholds"] = Json::array();
   for (const analysis::BootstrapEstimate& t : a.thresholds) {
-    j["thresholds"].push_back({{"cut", t.cut},
-                               {"value", JsonNumber(t.value)},
-                               {"ci", Bounds(o, t.bca)},
-                               {"ci_percentile", Bounds(o, t.percentile)}});
+    j["thresholds"].push_back(
+        {{"cut", t.cut},
+         {"value", JsonNumber(t.value)},
+         {"ci", Bounds(o, t.bca, t.bca_at_search_limit)},
+         {"ci_percentile",
+          Bounds(o, t.percentile, t.percentile_at_search_limit)}});
   }
   j["slopes"] = Json::array();
   for (const analysis::BootstrapEstimate& s : a.slopes) {

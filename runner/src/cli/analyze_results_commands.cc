@@ -573,20 +573,27 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
     for (const analysis::ThresholdEstimate& e : *estimates) {
       Json t = {{"subject", e.subject}};
       if (!e.session.empty()) t["session"] = e.session;
-      t.update(Json{{"block", e.block},
-                    {"method", e.method},
-                    {"task", e.task},
-                    {"staircase_id",
-                     e.staircase_id ? Json(*e.staircase_id) : Json(nullptr)},
-                    {"estimator", e.estimator},
-                    {"value", Optional(e.value)},
-                    {"unit", e.stim_unit},
-                    {"spread", Optional(e.spread)},
-                    {"spread_unit", e.spread_unit},
-                    {"n", e.n},
-                    {"ci", e.fit ? Json{Optional(e.ci_low), Optional(e.ci_high)}
-                                 : Json(nullptr)},
-                    {"note", e.note}});
+      t.update(Json{
+          {"block", e.block},
+          {"method", e.method},
+          {"task", e.task},
+          {"staircase_id",
+           e.staircase_id ? Json(*e.staircase_id) : Json(nullptr)},
+          {"estimator", e.estimator},
+          {"value", Optional(e.value)},
+          {"unit", e.stim_unit},
+          {"spread", Optional(e.spread)},
+          {"spread_unit", e.spread_unit},
+          {"n", e.n},
+          {"ci", e.fit ? Json{e.ci_low_at_search_limit ? Json(nullptr)
+                                                       : Optional(e.ci_low),
+                              e.ci_high_at_search_limit ? Json(nullptr)
+                                                        : Optional(e.ci_high)}
+                       : Json(nullptr)},
+          {"ci_at_search_limit",
+           e.fit ? Json{e.ci_low_at_search_limit, e.ci_high_at_search_limit}
+                 : Json(nullptr)},
+          {"note", e.note}});
       if (e.fit) {
         t["fit"] = {{"alpha", e.fit->params.alpha},
                     {"beta", e.fit->params.beta},
@@ -610,8 +617,14 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
     if (e.value) {
       value = fmt::format("{:.4g} {}", *e.value, e.stim_unit);
       if (e.ci_low && e.ci_high) {
-        value +=
-            fmt::format(" [{:.4g}, {:.4g}] 95 % CI", *e.ci_low, *e.ci_high);
+        // A bound at the fit's search range is no number of the data's.
+        const auto bound = [](double x, bool at_limit) {
+          return at_limit ? std::string("search limit")
+                          : fmt::format("{:.4g}", x);
+        };
+        value += fmt::format(" [{}, {}] 95 % CI",
+                             bound(*e.ci_low, e.ci_low_at_search_limit),
+                             bound(*e.ci_high, e.ci_high_at_search_limit));
       } else if (e.spread) {
         value += fmt::format(" (SD {:.3g} {})", *e.spread, e.spread_unit);
       }

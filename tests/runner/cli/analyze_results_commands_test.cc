@@ -13,6 +13,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -82,6 +83,82 @@ TEST_F(AnalyzeResults, StaircaseThresholdsEqualTheEngineEstimates) {
       EXPECT_EQ(t["note"].get<std::string>().substr(0, 5), "only ");
     }
   }
+}
+
+// Constant stimuli on a ratio axis with observers too coarse for the levels
+// (Weber 1.5 against comparisons 1.05-2 x bone): bootstrap refits run into
+// the edge of the fit's search range, which the notes name ("alpha = X is at
+// the upper limit of the search range"). No interval printed may be that
+// edge as a number: such a bound reads "search limit", and is null in JSON
+// with ci_at_search_limit saying which side.
+TEST_F(AnalyzeResults, NoIntervalIsTheSearchLimitPrintedAsANumber) {
+  const std::string results = (dir_ / "coarse").string();
+  const CliRun study = RunBurrlab(
+      {"study",
+       std::string(BURRLAB_SOURCE_DIR) +
+           "/protocols/examples/constant_stimuli_ce_ratio.toml",
+       "--simulated-subjects", "6", "--out", results, "--seed", "7", "--jobs",
+       "1", "--renderings", "4", "--observer", "simulated:weber=1.5"});
+  ASSERT_EQ(study.code, 0) << study.err;
+  const CliRun text = RunBurrlab({"analyze", "thresholds", results});
+  ASSERT_EQ(text.code, 0) << text.err;
+  // The edges the notes name: "alpha = X is at the upper limit of the
+  // search range" (std::regex is avoided: GCC 12 warns inside it under the
+  // sanitizers).
+  std::set<std::string> edges;
+  const std::string note_start = "alpha = ";
+  for (std::size_t at = text.out.find(note_start); at != std::string::npos;
+       at = text.out.find(note_start, at + 1)) {
+    const std::size_t value = at + note_start.size();
+    const std::size_t end = text.out.find(" is at the ", value);
+    const std::size_t line_end = text.out.find('\n', value);
+    if (end == std::string::npos || end > line_end) continue;
+    if (text.out.compare(
+            end, 52, " is at the upper limit of the search range: the data") ==
+            0 ||
+        text.out.compare(
+            end, 52, " is at the lower limit of the search range: the data") ==
+            0) {
+      edges.insert(text.out.substr(value, end - value));
+    }
+  }
+  ASSERT_FALSE(edges.empty()) << text.out;
+  int flagged = 0, numbers = 0;
+  std::istringstream lines(text.out);
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t ci = line.find("] 95 % CI");
+    if (ci == std::string::npos) continue;
+    const std::size_t open = line.rfind('[', ci);
+    ASSERT_NE(open, std::string::npos) << line;
+    const std::string inside = line.substr(open + 1, ci - open - 1);
+    const std::size_t comma = inside.find(", ");
+    ASSERT_NE(comma, std::string::npos) << line;
+    for (const std::string& bound :
+         {inside.substr(0, comma), inside.substr(comma + 2)}) {
+      if (bound == "search limit") {
+        ++flagged;
+      } else {
+        ++numbers;
+        EXPECT_FALSE(edges.contains(bound)) << line;
+      }
+    }
+  }
+  EXPECT_GE(flagged, 1) << text.out;
+  EXPECT_GE(numbers, 1) << text.out;
+  const CliRun json = RunBurrlab({"analyze", "thresholds", results, "--json"});
+  ASSERT_EQ(json.code, 0) << json.err;
+  int json_flagged = 0;
+  const Json doc = Json::parse(json.out);
+  for (const Json& t : doc["thresholds"]) {
+    if (t["ci"].is_null()) continue;
+    for (int side = 0; side < 2; ++side) {
+      if (t["ci_at_search_limit"][side].get<bool>()) {
+        ++json_flagged;
+        EXPECT_TRUE(t["ci"][side].is_null()) << t.dump();
+      }
+    }
+  }
+  EXPECT_EQ(json_flagged, flagged);
 }
 
 TEST_F(AnalyzeResults, ScoresJsonHasTheTestsAndTheHistogram) {

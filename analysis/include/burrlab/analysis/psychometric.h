@@ -124,6 +124,12 @@ struct BootstrapEstimate {
   // the bound falls outside the bootstrap sample (then a warning says so).
   std::vector<double> bca;
   std::vector<double> percentile;
+  // Per bound: it comes from a bootstrap refit whose location or scale
+  // stopped at the edge of the fit's search range (the refit's own estimate
+  // is then that edge, not a property of the data): the data do not bound
+  // the estimate on that side, and reports say "search limit", not a number.
+  std::vector<bool> bca_at_search_limit;
+  std::vector<bool> percentile_at_search_limit;
   double cpe = 0.0;           // #(bootstrap values < value) / (R + 1)
   double bias_z0 = 0.0;       // Phi^-1(cpe)
   double acceleration = 0.0;  // Efron's a along the least-favourable direction

@@ -49,6 +49,9 @@ struct ThresholdEstimate {
   // Constant stimuli: 95 % BCa bootstrap interval of the threshold, and the
   // fit behind it.
   std::optional<double> ci_low, ci_high;
+  // A bound that is a search limit (BootstrapEstimate::bca_at_search_limit):
+  // its number is the fit's search range, not the data's; printed as such.
+  bool ci_low_at_search_limit = false, ci_high_at_search_limit = false;
   std::optional<PsychometricFit> fit;
   std::optional<double> deviance_p;
   std::string note;  // why there is no value, or a caveat

@@ -2,9 +2,11 @@
 #include "burrlab/analysis/thresholds.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -140,17 +142,41 @@ ThresholdEstimate Limits(const std::string& subject,
                          const std::vector<const TrialRecord*>& trials) {
   ThresholdEstimate e = Base(subject, trials);
   e.estimator = "mean of the series' transition levels";
-  std::vector<double> transitions;
+  std::vector<double> transitions, ascending, descending;
   int series = 0;
+  // The current series' first level and answer, and its second level (the
+  // direction: ascending series step up); NaN until seen.
+  constexpr double kUnseen = std::numeric_limits<double>::quiet_NaN();
+  double first_level = kUnseen, second_level = kUnseen;
+  int seen = 0;  // trials of the current series so far
+  std::string first_answer;
   for (const TrialRecord* t : trials) {
     const Json extra = Extra(*t);
+    if (seen == 0) {
+      first_level = t->stim_level.value_or(kUnseen);
+      first_answer = t->response;
+    } else if (seen == 1) {
+      second_level = t->stim_level.value_or(kUnseen);
+    }
+    ++seen;
     if (!extra.value("ends_series", false)) continue;
     ++series;
-    if (const std::optional<double> level =
-            NumberIn(extra, "transition_level")) {
-      transitions.push_back(*level);
+    const std::optional<double> level = NumberIn(extra, "transition_level");
+    if (level.has_value()) transitions.push_back(*level);
+    if (std::isfinite(first_level) && std::isfinite(second_level) &&
+        second_level != first_level) {
+      const bool up = second_level > first_level;
+      if (level.has_value()) (up ? ascending : descending).push_back(*level);
+      // An ascending series stops at "yes", a descending one at "no".
+      if (first_answer == (up ? "yes" : "no")) ++e.started_on_stopping_answer;
     }
+    seen = 0;
+    first_level = second_level = kUnseen;
   }
+  if (!ascending.empty()) e.ascending_mean = Mean(ascending);
+  if (!descending.empty()) e.descending_mean = Mean(descending);
+  e.ascending_n = static_cast<int>(ascending.size());
+  e.descending_n = static_cast<int>(descending.size());
   e.n = static_cast<int>(transitions.size());
   if (transitions.empty()) {
     e.note = fmt::format(
@@ -159,10 +185,27 @@ ThresholdEstimate Limits(const std::string& subject,
         series);
     return e;
   }
+  std::vector<std::string> notes;
   if (e.n < series) {
-    e.note =
-        fmt::format("{} of {} series had no transition", series - e.n, series);
+    notes.push_back(
+        fmt::format("{} of {} series had no transition", series - e.n, series));
   }
+  notes.push_back(fmt::format(
+      "ascending {}, descending {}",
+      e.ascending_mean
+          ? fmt::format("{:.4g} (n = {})", *e.ascending_mean, e.ascending_n)
+          : std::string("n/a"),
+      e.descending_mean
+          ? fmt::format("{:.4g} (n = {})", *e.descending_mean, e.descending_n)
+          : std::string("n/a")));
+  if (e.started_on_stopping_answer > 0) {
+    notes.push_back(fmt::format(
+        "warning: {} of {} series started on their stopping answer (an "
+        "ascending series on \"yes\", a descending one on \"no\"): their "
+        "start was already past the threshold, so start them farther out",
+        e.started_on_stopping_answer, series));
+  }
+  e.note = fmt::format("{}", fmt::join(notes, "; "));
   e.value = Mean(transitions);
   e.spread = Spread(transitions);
   return e;

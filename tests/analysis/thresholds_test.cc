@@ -117,7 +117,55 @@ TEST(Thresholds, LimitsAverageTheTransitions) {
   ASSERT_TRUE(e.ok());
   EXPECT_NEAR(*(*e)[0].value, 0.3, 1e-12);
   EXPECT_EQ((*e)[0].n, 2);
-  EXPECT_EQ((*e)[0].note, "1 of 3 series had no transition");
+  // Only the first series shows its direction (two levels, stepping up).
+  EXPECT_EQ((*e)[0].note,
+            "1 of 3 series had no transition; ascending 0.125 (n = 1), "
+            "descending n/a");
+}
+
+// The ascending and descending series apart (Gescheider 1997, ch. 3), and a
+// warning for a series that began on its stopping answer. By hand: ascending
+// transitions 0.175 and 0.075 (mean 0.125), descending 0.525 and 0.475
+// (0.5), all four 0.3125; the third series, ascending, began on "yes".
+TEST(Thresholds, LimitsSplitAscendingFromDescendingAndNameBadStarts) {
+  struct Step {
+    double level;
+    const char* answer;
+    const char* extra;
+  };
+  const std::vector<Step> steps = {
+      {0.1, "no", R"({"ends_series":false})"},
+      {0.15, "no", R"({"ends_series":false})"},
+      {0.2, "yes", R"({"ends_series":true,"transition_level":0.175})"},
+      {0.6, "yes", R"({"ends_series":false})"},
+      {0.55, "yes", R"({"ends_series":false})"},
+      {0.5, "no", R"({"ends_series":true,"transition_level":0.525})"},
+      {0.05, "yes", R"({"ends_series":false})"},
+      {0.1, "no", R"({"ends_series":true,"transition_level":0.075})"},
+      {0.5, "yes", R"({"ends_series":false})"},
+      {0.45, "no", R"({"ends_series":true,"transition_level":0.475})"}};
+  std::vector<TrialRecord> trials;
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    TrialRecord t =
+        Trial(static_cast<int>(i), "limits", steps[i].level, steps[i].extra);
+    t.response = steps[i].answer;
+    trials.push_back(t);
+  }
+  Result<std::vector<ThresholdEstimate>> e =
+      EstimateThresholds(std::vector<BehFile>{File(trials)}, {});
+  ASSERT_TRUE(e.ok());
+  const ThresholdEstimate& t = (*e)[0];
+  EXPECT_NEAR(*t.value, 0.3125, 1e-12);
+  EXPECT_NEAR(*t.ascending_mean, 0.125, 1e-12);
+  EXPECT_NEAR(*t.descending_mean, 0.5, 1e-12);
+  EXPECT_EQ(t.ascending_n, 2);
+  EXPECT_EQ(t.descending_n, 2);
+  EXPECT_EQ(t.started_on_stopping_answer, 1);
+  EXPECT_EQ(t.note,
+            "ascending 0.125 (n = 2), descending 0.5 (n = 2); warning: 1 of 4 "
+            "series started on their stopping answer (an ascending series on "
+            "\"yes\", a descending one on \"no\"): their start was already "
+            "past the threshold, so start them farther out");
 }
 
 TEST(Thresholds, AdjustmentAveragesTheFinalLevels) {

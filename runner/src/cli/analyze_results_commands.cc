@@ -594,6 +594,13 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
            e.fit ? Json{e.ci_low_at_search_limit, e.ci_high_at_search_limit}
                  : Json(nullptr)},
           {"note", e.note}});
+      if (e.method == "limits") {
+        t["ascending"] = {{"mean", Optional(e.ascending_mean)},
+                          {"n", e.ascending_n}};
+        t["descending"] = {{"mean", Optional(e.descending_mean)},
+                           {"n", e.descending_n}};
+        t["started_on_stopping_answer"] = e.started_on_stopping_answer;
+      }
       if (e.fit) {
         t["fit"] = {{"alpha", e.fit->params.alpha},
                     {"beta", e.fit->params.beta},

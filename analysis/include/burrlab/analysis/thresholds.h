@@ -54,6 +54,15 @@ struct ThresholdEstimate {
   bool ci_low_at_search_limit = false, ci_high_at_search_limit = false;
   std::optional<PsychometricFit> fit;
   std::optional<double> deviance_p;
+  // Limits: the mean transition of the ascending and of the descending
+  // series apart (a difference between them is the error of habituation or
+  // of expectation; Gescheider 1997, ch. 3), their counts, and the series
+  // that started on their stopping answer ("yes" ascending, "no"
+  // descending): their start was already past the threshold, so their
+  // transition says only that it lies below (above) the start.
+  std::optional<double> ascending_mean, descending_mean;
+  int ascending_n = 0, descending_n = 0;
+  int started_on_stopping_answer = 0;
   std::string note;  // why there is no value, or a caveat
 };
 

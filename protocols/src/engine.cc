@@ -522,6 +522,13 @@ Result<double> Engine::PreviewAdjustment(std::string_view path) const {
   return copy.level();
 }
 
+Result<PlannedInterval> Engine::AdjustedComparison(
+    std::string_view path) const {
+  Result<double> level = PreviewAdjustment(path);
+  if (!level.ok()) return level.error();
+  return impl_->AxisInterval("comparison", *level, 1);
+}
+
 Result<stimuli::MaterialSet> Engine::MaterialAt(double level) const {
   const Axis* axis = impl_->protocol->FindAxis(impl_->block().axis);
   if (impl_->finished || axis == nullptr) {

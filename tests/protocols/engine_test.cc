@@ -332,6 +332,17 @@ TEST(Engine, AdjustmentRecordsThePathAndTheFinalLevel) {
   Result<Engine> engine = Engine::Create(p, 0, 1);
   ASSERT_TRUE(engine.ok());
   EXPECT_NEAR(engine->PreviewAdjustment("---+").value(), 1.8, 1e-12);
+  // The comparison a station presents after a step: planned as the trial's
+  // own comparison, at the level reached.
+  Result<PlannedInterval> after = engine->AdjustedComparison("---+");
+  ASSERT_TRUE(after.ok()) << after.error().message;
+  const PlannedInterval& planned = engine->current().intervals[1];
+  EXPECT_EQ(after->role, planned.role);
+  EXPECT_EQ(after->material_id, "ce@1.8");
+  EXPECT_EQ(after->duration_s, planned.duration_s);
+  EXPECT_NEAR(*after->level, 1.8, 1e-12);
+  EXPECT_EQ(after->material->material.c_e_n_per_mm2,
+            engine->MaterialAt(*after->level)->material.c_e_n_per_mm2);
   Result<Outcome> out = engine->Respond({"----+=", 4.0});
   ASSERT_TRUE(out.ok()) << out.error().message;
   EXPECT_NEAR(*out->presented_level, 1.7, 1e-12);

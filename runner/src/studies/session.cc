@@ -318,18 +318,14 @@ Result<std::optional<PlannedInterval>> SessionRunner::AdjustedComparisonAt(
     return Error{
         fmt::format("trial {} is not an adjustment", trial.trial_index + 1)};
   }
-  // The engine refuses a step only past the block's max_steps (a step at a
-  // bound stays at the bound).
-  Result<double> level = engine_.PreviewAdjustment(path);
-  if (!level.ok()) return std::optional<PlannedInterval>();
-  Result<stimuli::MaterialSet> set = engine_.MaterialAt(level.value());
-  if (!set.ok()) return set.error();
-  PlannedInterval comparison = trial.intervals[1];
-  comparison.material_id = fmt::format(
-      "{}@{:.8g}", loaded_.protocol.blocks[trial.block_index].axis, *level);
-  comparison.material = std::move(set.value());
-  comparison.level = *level;
-  return std::optional<PlannedInterval>(std::move(comparison));
+  // The path holds only '+' and '-', so the engine refuses it only past the
+  // block's max_steps (a step at a bound stays at the bound).
+  if (!engine_.PreviewAdjustment(path).ok()) {
+    return std::optional<PlannedInterval>();
+  }
+  Result<PlannedInterval> comparison = engine_.AdjustedComparison(path);
+  if (!comparison.ok()) return comparison.error();
+  return std::optional<PlannedInterval>(std::move(comparison.value()));
 }
 
 Result<protocols::Response> SessionRunner::SimulatedResponse(

@@ -114,6 +114,10 @@ class Engine {
   // Adjustment trials: the comparison level after applying `path` ('+'/'-'
   // steps, without the final '=') to the current trial's start level.
   Result<double> PreviewAdjustment(std::string_view path) const;
+  // Adjustment trials: the comparison interval (material, id, duration,
+  // level) at the level `path` reaches, planned as the trial's own
+  // comparison is; an error past the block's max_steps.
+  Result<PlannedInterval> AdjustedComparison(std::string_view path) const;
   // The comparison material at an adjustment level (for presenting it).
   Result<stimuli::MaterialSet> MaterialAt(double level) const;
   // Serialized state of the trial-order and jitter streams (opaque text,

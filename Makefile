@@ -12,7 +12,8 @@ PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchm
   fonts-dejavu-core \
   nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev libsqlite3-dev \
   nettle-dev libnlopt-dev libusb-1.0-0-dev \
-  libglfw3-dev libimgui-dev libhidapi-dev xvfb xauth libgl1-mesa-dri umockdev libumockdev-dev
+  libglfw3-dev libimgui-dev libhidapi-dev xvfb xauth libgl1-mesa-dri umockdev libumockdev-dev \
+  python3-pandas
 
 # Packages wanted for a command rather than by name, as COMMAND:PACKAGE: the BIDS validator
 # test (tests/runner/bids_validator/) needs node and npm. Debian 12 has them as nodejs (Node 18)

@@ -1285,6 +1285,99 @@ std::array<double, 4> Score(std::span<const DataBlock> data,
   return score;
 }
 
+namespace {
+
+// "a", "a and b", "a, b and c".
+std::string JoinAnd(const std::vector<std::string>& items) {
+  std::string text;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) text += i + 1 == items.size() ? " and " : ", ";
+    text += items[i];
+  }
+  return text;
+}
+
+// The warnings about one estimate's bounds, one sentence per kind of
+// problem, naming every bound it concerns ("the BCa and percentile bounds at
+// 0.025 and 0.975 of the threshold at cut 0.5 are search limits: ...").
+std::vector<std::string> BoundWarnings(const BootstrapEstimate& e,
+                                       const std::vector<double>& conf,
+                                       const char* what, bool bca_possible,
+                                       int samples) {
+  // Per bound level, which kinds are flagged, as "BCa and percentile".
+  const auto phrase = [&](const auto& flagged) {
+    std::vector<std::string> levels, kinds_at_level;
+    for (std::size_t k = 0; k < conf.size(); ++k) {
+      std::vector<std::string> kinds;
+      for (const char* kind : {"BCa", "percentile"}) {
+        if (flagged(kind, k)) kinds.push_back(kind);
+      }
+      if (kinds.empty()) continue;
+      levels.push_back(fmt::format("{}", conf[k]));
+      kinds_at_level.push_back(JoinAnd(kinds));
+    }
+    struct Phrase {
+      std::string text;
+      std::size_t bounds = 0;
+      std::size_t levels = 0;
+    } out;
+    if (levels.empty()) return out;
+    std::size_t bounds = 0;
+    for (const std::string& k : kinds_at_level) {
+      bounds += k.find(" and ") == std::string::npos ? 1 : 2;
+    }
+    out.bounds = bounds;
+    out.levels = levels.size();
+    const bool same_kinds = std::all_of(
+        kinds_at_level.begin(), kinds_at_level.end(),
+        [&](const std::string& k) { return k == kinds_at_level[0]; });
+    if (same_kinds) {
+      out.text = fmt::format("the {} bound{} at {}", kinds_at_level[0],
+                             bounds > 1 ? "s" : "", JoinAnd(levels));
+    } else {
+      std::vector<std::string> parts;
+      for (std::size_t i = 0; i < levels.size(); ++i) {
+        parts.push_back(fmt::format(
+            "{} bound{} at {}", kinds_at_level[i],
+            kinds_at_level[i].find(" and ") == std::string::npos ? "" : "s",
+            levels[i]));
+      }
+      out.text = "the " + JoinAnd(parts);
+    }
+    return out;
+  };
+  std::vector<std::string> warnings;
+  const auto at_limit = phrase([&](const char* kind, std::size_t k) {
+    return std::string(kind) == "BCa"
+               ? bca_possible && e.bca_at_search_limit[k]
+               : static_cast<bool>(e.percentile_at_search_limit[k]);
+  });
+  if (at_limit.bounds > 0) {
+    const bool one = at_limit.bounds == 1;
+    warnings.push_back(fmt::format(
+        "{} of the {} at cut {} {}: bootstrap refits there stopped at the "
+        "edge of the fit's search range, so the data do not bound the {} on "
+        "{}",
+        at_limit.text, what, e.cut,
+        one ? "is a search limit" : "are search limits", what,
+        at_limit.levels == 1 ? "that side" : "either side"));
+  }
+  const auto beyond = phrase([&](const char* kind, std::size_t k) {
+    return std::string(kind) == "BCa" ? bca_possible && !std::isfinite(e.bca[k])
+                                      : !std::isfinite(e.percentile[k]);
+  });
+  if (beyond.bounds > 0) {
+    warnings.push_back(fmt::format(
+        "{} of the {} at cut {} {} beyond the {} bootstrap samples (reported "
+        "as null; more samples may help)",
+        beyond.text, what, e.cut, beyond.bounds == 1 ? "lies" : "lie",
+        samples));
+  }
+  return warnings;
+}
+
+}  // namespace
+
 Result<PsychometricAnalysis> AnalyzePsychometric(
     std::span<const DataBlock> data, const PsychometricOptions& options) {
   if (Status s = options.Validate(); !s.ok()) return s.error();
@@ -1498,30 +1591,9 @@ Result<PsychometricAnalysis> AnalyzePsychometric(
     e.replicates = std::move(values[q]);
     if (bca_possible) e.scores = std::move(scores[q]);
     const char* what = q < cuts ? "threshold" : "slope";
-    for (std::size_t k = 0; k < conf; ++k) {
-      for (const auto& [kind, flagged] :
-           {std::pair{"BCa", bca_possible && e.bca_at_search_limit[k]},
-            std::pair{"percentile", e.percentile_at_search_limit[k] != 0}}) {
-        if (!flagged) continue;
-        out.warnings.push_back(fmt::format(
-            "the {} bound at {} of the {} at cut {} is a search limit: "
-            "bootstrap refits there stopped at the edge of the fit's search "
-            "range, so the data do not bound the {} on that side",
-            kind, options.conf[k], what, e.cut, what));
-      }
-      if (bca_possible && !std::isfinite(e.bca[k])) {
-        out.warnings.push_back(fmt::format(
-            "the BCa bound at {} of the {} at cut {} lies beyond the {} "
-            "bootstrap samples (reported as null; more samples may help)",
-            options.conf[k], what, e.cut, samples));
-      }
-      if (!std::isfinite(e.percentile[k])) {
-        out.warnings.push_back(fmt::format(
-            "the percentile bound at {} of the {} at cut {} lies beyond the {} "
-            "bootstrap samples (reported as null)",
-            options.conf[k], what, e.cut, samples));
-      }
-    }
+    e.warnings = BoundWarnings(e, options.conf, what, bca_possible, samples);
+    out.warnings.insert(out.warnings.end(), e.warnings.begin(),
+                        e.warnings.end());
   }
   return out;
 }

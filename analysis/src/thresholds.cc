@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -281,9 +282,17 @@ ThresholdEstimate ConstantStimuli(const std::string& subject,
   e.ci_low_at_search_limit = !limited.empty() && limited[0];
   e.ci_high_at_search_limit = limited.size() > 1 && limited[1];
   if (std::isfinite(a->deviance_p)) e.deviance_p = a->deviance_p;
+  // The fit's own warnings and those about the threshold's bounds; the
+  // slope's interval is not reported here, nor its warnings.
+  std::vector<std::string> skip;
+  for (const BootstrapEstimate& b : a->slopes) {
+    skip.insert(skip.end(), b.warnings.begin(), b.warnings.end());
+  }
   std::string notes;
-  for (const std::string& w : a->warnings)
+  for (const std::string& w : a->warnings) {
+    if (std::find(skip.begin(), skip.end(), w) != skip.end()) continue;
     notes += (notes.empty() ? "" : "; ") + w;
+  }
   if (!a->fit.converged) {
     notes = "the fit did not converge" + (notes.empty() ? "" : "; " + notes);
   }
@@ -352,6 +361,86 @@ Result<std::vector<ThresholdEstimate>> EstimateThresholds(
         "scored with burrlab analyze scores"};
   }
   return out;
+}
+
+namespace {
+
+// The two-sided 95 % Student t interval of a mean: mean -+ t(0.975, n - 1) sem.
+std::pair<double, double> TInterval95(const MeanSem& m) {
+  const boost::math::students_t_distribution<double> t(m.n - 1);
+  const double half = boost::math::quantile(t, 0.975) * m.sem;
+  return {m.mean - half, m.mean + half};
+}
+
+}  // namespace
+
+std::vector<GroupThreshold> GroupThresholds(
+    std::span<const ThresholdEstimate> estimates) {
+  std::vector<GroupThreshold> groups;
+  for (const ThresholdEstimate& e : estimates) {
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) {
+      return g.session == e.session && g.block == e.block &&
+             g.staircase_id == e.staircase_id;
+    });
+    if (it == groups.end()) {
+      GroupThreshold g;
+      g.session = e.session;
+      g.block = e.block;
+      g.staircase_id = e.staircase_id;
+      g.method = e.method;
+      g.estimator = e.estimator;
+      g.stim_unit = e.stim_unit;
+      // Ratios, or levels averaged in a log step domain.
+      g.geometric = e.stim_unit == "ratio" || e.spread_unit == "log10" ||
+                    e.spread_unit == "dB";
+      groups.push_back(std::move(g));
+      it = groups.end() - 1;
+    }
+    if (e.value && std::isfinite(*e.value)) {
+      it->subjects.push_back(e.subject);
+      it->values.push_back(*e.value);
+      if (e.ci_low_at_search_limit || e.ci_high_at_search_limit) {
+        it->unbounded.push_back(e.subject);
+      }
+    } else {
+      it->without_value.emplace_back(e.subject, e.note);
+    }
+  }
+  for (GroupThreshold& g : groups) {
+    g.n = static_cast<int>(g.values.size());
+    if (g.n == 0) continue;
+    g.mean = Mean(g.values);
+    if (g.geometric) {
+      g.geometric = std::all_of(g.values.begin(), g.values.end(),
+                                [](double v) { return v > 0.0; });
+    }
+    std::vector<double> logs;
+    if (g.geometric) {
+      for (double v : g.values) logs.push_back(std::log(v));
+      g.geometric_mean = std::exp(Mean(logs));
+    }
+    if (g.n < 2) continue;
+    // Boost.Math reports domain errors by throwing; with n >= 2 finite
+    // values none is expected, and none may leave the library.
+    try {
+      const MeanSem m = *MeanAndSem(g.values);
+      g.sd = m.sd;
+      g.sem = m.sem;
+      std::tie(g.ci_low, g.ci_high) = TInterval95(m);
+      if (g.geometric) {
+        const MeanSem l = *MeanAndSem(logs);
+        g.geometric_sd_factor = std::exp(l.sd);
+        g.geometric_sem_factor = std::exp(l.sem);
+        const auto [low, high] = TInterval95(l);
+        g.geometric_ci_low = std::exp(low);
+        g.geometric_ci_high = std::exp(high);
+      }
+    } catch (const std::exception&) {
+      g.ci_low = g.ci_high = g.geometric_ci_low = g.geometric_ci_high =
+          GroupThreshold::kNone;
+    }
+  }
+  return groups;
 }
 
 }  // namespace burrlab::analysis

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -221,6 +222,85 @@ TEST(Thresholds, SameDifferentOnlyIsAnError) {
             "no block has a threshold (staircase, quest, limits, adjustment "
             "or constant_stimuli); same-different and two-interval blocks are "
             "scored with burrlab analyze scores");
+}
+
+// A ratio axis' group, checked against closed forms: thresholds 1, 2 and 4
+// have arithmetic mean 7/3 and SD sqrt(7/3); their logs are ln 2 x {0, 1, 2},
+// so the geometric mean is 2, the SD factor 2 and the SEM factor
+// 2^(1/sqrt 3). With 2 degrees of freedom Student's t has the closed-form
+// CDF 1/2 + t / (2 sqrt(t^2 + 2)), so its 0.975 quantile is
+// sqrt(2 * 0.95^2 / (1 - 0.95^2)). A subject without a
+// value is named and left out; another session is its own group.
+TEST(GroupThresholds, RatioAxisGroupsHaveArithmeticAndGeometricMeans) {
+  std::vector<ThresholdEstimate> estimates;
+  const auto add = [&](std::string subject, std::string session,
+                       std::optional<double> value, bool unbounded = false) {
+    ThresholdEstimate e;
+    e.subject = std::move(subject);
+    e.session = std::move(session);
+    e.block = "constant";
+    e.method = "constant_stimuli";
+    e.estimator = "logistic fit";
+    e.stim_unit = "ratio";
+    e.spread_unit = "ratio";
+    e.value = value;
+    e.ci_high_at_search_limit = unbounded;
+    if (!value) e.note = "no fit: too few levels";
+    estimates.push_back(e);
+  };
+  add("01", "1", 1.0);
+  add("02", "1", 2.0, true);
+  add("03", "1", std::nullopt);
+  add("04", "1", 4.0);
+  add("01", "2", 1.5);
+  const std::vector<GroupThreshold> groups = GroupThresholds(estimates);
+  ASSERT_EQ(groups.size(), 2u);
+  const GroupThreshold& g = groups[0];
+  EXPECT_EQ(g.session, "1");
+  EXPECT_EQ(g.n, 3);
+  EXPECT_EQ(g.subjects, (std::vector<std::string>{"01", "02", "04"}));
+  ASSERT_EQ(g.without_value.size(), 1u);
+  EXPECT_EQ(g.without_value[0].first, "03");
+  EXPECT_EQ(g.without_value[0].second, "no fit: too few levels");
+  EXPECT_EQ(g.unbounded, (std::vector<std::string>{"02"}));
+  EXPECT_NEAR(g.mean, 7.0 / 3.0, 1e-14);
+  EXPECT_NEAR(g.sd, std::sqrt(7.0 / 3.0), 1e-14);
+  EXPECT_NEAR(g.sem, std::sqrt(7.0 / 9.0), 1e-14);
+  const double t = std::sqrt(2.0 * 0.95 * 0.95 / (1.0 - 0.95 * 0.95));
+  EXPECT_NEAR(g.ci_low, 7.0 / 3.0 - t * std::sqrt(7.0 / 9.0), 1e-12);
+  EXPECT_NEAR(g.ci_high, 7.0 / 3.0 + t * std::sqrt(7.0 / 9.0), 1e-12);
+  ASSERT_TRUE(g.geometric);
+  EXPECT_NEAR(g.geometric_mean, 2.0, 1e-14);
+  EXPECT_NEAR(g.geometric_sd_factor, 2.0, 1e-14);
+  EXPECT_NEAR(g.geometric_sem_factor, std::pow(2.0, 1.0 / std::sqrt(3.0)),
+              1e-14);
+  EXPECT_NEAR(g.geometric_ci_low, std::pow(2.0, 1.0 - t / std::sqrt(3.0)),
+              1e-12);
+  EXPECT_NEAR(g.geometric_ci_high, std::pow(2.0, 1.0 + t / std::sqrt(3.0)),
+              1e-12);
+  // One subject: a mean without spread.
+  EXPECT_EQ(groups[1].n, 1);
+  EXPECT_EQ(groups[1].mean, 1.5);
+  EXPECT_TRUE(std::isnan(groups[1].sem));
+  EXPECT_EQ(groups[1].geometric_mean, 1.5);
+}
+
+// A linear axis (N/mm^2) has no geometric mean; a log-stepping staircase's
+// group has one.
+TEST(GroupThresholds, GeometricOnlyForRatiosAndLogStaircases) {
+  ThresholdEstimate e;
+  e.block = "b";
+  e.stim_unit = "N/mm^2";
+  e.spread_unit = "N/mm^2";
+  e.subject = "01";
+  e.value = 2.0;
+  std::vector<ThresholdEstimate> linear = {e, e};
+  linear[1].subject = "02";
+  linear[1].value = 3.0;
+  EXPECT_FALSE(GroupThresholds(linear)[0].geometric);
+  EXPECT_TRUE(std::isnan(GroupThresholds(linear)[0].geometric_mean));
+  for (ThresholdEstimate& x : linear) x.spread_unit = "log10";
+  EXPECT_NEAR(GroupThresholds(linear)[0].geometric_mean, std::sqrt(6.0), 1e-14);
 }
 
 }  // namespace

@@ -516,6 +516,105 @@ int RunResponseTimes(const Args& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+// A number of a group summary; NaN (not computed) is null.
+Json GroupNumber(double x) {
+  return std::isfinite(x) ? Json(x) : Json(nullptr);
+}
+
+Json GroupThresholdJson(const analysis::GroupThreshold& g) {
+  Json j;
+  if (!g.session.empty()) j["session"] = g.session;
+  j.update(Json{
+      {"block", g.block},
+      {"staircase_id", g.staircase_id ? Json(*g.staircase_id) : Json(nullptr)},
+      {"method", g.method},
+      {"estimator", g.estimator},
+      {"unit", g.stim_unit},
+      {"n", g.n},
+      {"subjects", g.subjects},
+      {"values", g.values},
+      {"unbounded", g.unbounded},
+      {"mean", GroupNumber(g.mean)},
+      {"sd", GroupNumber(g.sd)},
+      {"sem", GroupNumber(g.sem)},
+      {"ci", Json{GroupNumber(g.ci_low), GroupNumber(g.ci_high)}}});
+  j["without_value"] = Json::array();
+  for (const auto& [subject, note] : g.without_value) {
+    j["without_value"].push_back(Json{{"subject", subject}, {"note", note}});
+  }
+  j["geometric"] =
+      g.geometric ? Json{{"mean", GroupNumber(g.geometric_mean)},
+                         {"sd_factor", GroupNumber(g.geometric_sd_factor)},
+                         {"sem_factor", GroupNumber(g.geometric_sem_factor)},
+                         {"ci", Json{GroupNumber(g.geometric_ci_low),
+                                     GroupNumber(g.geometric_ci_high)}}}
+                  : Json(nullptr);
+  return j;
+}
+
+// The group lines of `analyze thresholds`, and a key to their symbols.
+void PrintGroupThresholds(std::ostream& out,
+                          const std::vector<analysis::GroupThreshold>& groups) {
+  if (groups.empty()) return;
+  bool any_spread = false, any_geometric = false;
+  out << '\n';
+  for (const analysis::GroupThreshold& g : groups) {
+    const std::string what = fmt::format(
+        "group {}{}{}",
+        g.session.empty() ? std::string() : "ses-" + g.session + " ", g.block,
+        g.staircase_id ? fmt::format(" staircase {}", *g.staircase_id)
+                       : std::string());
+    if (g.n == 0) {
+      out << what << ": no subject has a threshold\n";
+    } else if (g.n == 1) {
+      out << fmt::format("{}: {:.4g} {}, 1 subject (sub-{}): no spread\n", what,
+                         g.mean, g.stim_unit, g.subjects.front());
+    } else {
+      std::string line = fmt::format(
+          "{}: mean {:.4g} {} ± {:.3g} SEM [{:.4g}, {:.4g}] 95 % CI, SD "
+          "{:.3g}",
+          what, g.mean, g.stim_unit, g.sem, g.ci_low, g.ci_high, g.sd);
+      any_spread = true;
+      if (g.geometric) {
+        any_geometric = true;
+        line += fmt::format(
+            "; geometric mean {:.4g} {} ×/÷ {:.4g} [{:.4g}, {:.4g}] 95 % CI, "
+            "SD factor {:.4g}",
+            g.geometric_mean, g.stim_unit, g.geometric_sem_factor,
+            g.geometric_ci_low, g.geometric_ci_high, g.geometric_sd_factor);
+      }
+      out << line << fmt::format("; n = {} subjects\n", g.n);
+    }
+    if (g.n > 0) {
+      std::vector<std::string> names;
+      for (const std::string& s : g.subjects) names.push_back("sub-" + s);
+      out << fmt::format("  subjects: {}\n", fmt::join(names, ", "));
+    }
+    if (!g.unbounded.empty()) {
+      std::vector<std::string> names;
+      for (const std::string& s : g.unbounded) names.push_back("sub-" + s);
+      out << fmt::format(
+          "  included, but their data do not bound their threshold (an "
+          "interval bound is a search limit): {}\n",
+          fmt::join(names, ", "));
+    }
+    for (const auto& [subject, note] : g.without_value) {
+      out << fmt::format("  left out, no threshold: sub-{}{}\n", subject,
+                         note.empty() ? std::string() : " (" + note + ")");
+    }
+  }
+  if (!any_spread) return;
+  out << "group: ± SEM is the standard error of the subjects' mean; 95 % CI "
+         "a Student t interval with n - 1 degrees of freedom";
+  if (any_geometric) {
+    out << "; the geometric mean is the mean of the log thresholds "
+           "transformed back, ×/÷ f its standard error as a factor (the mean "
+           "times or divided by f), its CI the t interval of the logs "
+           "transformed back";
+  }
+  out << ".\n";
+}
+
 int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Thresholds per subject and block of a study's results, by each "
@@ -561,9 +660,15 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
   }
   const std::vector<analysis::PracticeLeftOut> practice =
       analysis::PracticeTrials(*files);
+  const std::vector<analysis::GroupThreshold> groups =
+      analysis::GroupThresholds(*estimates);
   if (json) {
     Json j;
     j["results"] = dir;
+    j["group"] = Json::array();
+    for (const analysis::GroupThreshold& g : groups) {
+      j["group"].push_back(GroupThresholdJson(g));
+    }
     j["practice_left_out"] = Json::array();
     for (const analysis::PracticeLeftOut& p : practice) {
       j["practice_left_out"].push_back(
@@ -639,6 +744,7 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
     out << fmt::format("{}: {}  - {}, n = {}{}\n", who, value, e.estimator, e.n,
                        e.note.empty() ? "" : "; " + e.note);
   }
+  PrintGroupThresholds(out, groups);
   if (!practice.empty()) out << PracticeLine(practice, "estimated") << '\n';
   return 0;
 }

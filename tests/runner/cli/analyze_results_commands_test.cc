@@ -767,10 +767,16 @@ TEST_F(AnalyzeResults, EverySessionOfASubjectIsAnalysed) {
   for (std::string line; std::getline(lines, line);) {
     who.push_back(line.substr(0, line.find(':')));
   }
-  EXPECT_EQ(who, (std::vector<std::string>{"sub-01 ses-1 stairs staircase 0",
-                                           "sub-01 ses-2 stairs staircase 0",
-                                           "sub-02 ses-1 stairs staircase 0",
-                                           "sub-02 ses-2 stairs staircase 0"}));
+  // Each session's group apart (a session is its own measurement).
+  EXPECT_EQ(
+      who,
+      (std::vector<std::string>{
+          "sub-01 ses-1 stairs staircase 0", "sub-01 ses-2 stairs staircase 0",
+          "sub-02 ses-1 stairs staircase 0", "sub-02 ses-2 stairs staircase 0",
+          "", "group ses-1 stairs staircase 0", "  left out, no threshold",
+          "  left out, no threshold", "group ses-2 stairs staircase 0",
+          "  left out, no threshold", "  left out, no threshold"}))
+      << thresholds.out;
   const Json json =
       Json::parse(RunBurrlab({"analyze", "thresholds", results, "--json"}).out);
   EXPECT_EQ(json["thresholds"][1]["subject"], "01");

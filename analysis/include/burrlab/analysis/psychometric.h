@@ -138,6 +138,9 @@ struct BootstrapEstimate {
   // recompute the limits with ComputeBootstrapLimits (bootstrap.h).
   std::vector<double> replicates;
   std::vector<double> scores;
+  // What is wrong with these bounds (search limits, beyond the samples), one
+  // sentence per kind; PsychometricAnalysis::warnings holds them too.
+  std::vector<std::string> warnings;
 };
 
 struct PsychometricAnalysis {

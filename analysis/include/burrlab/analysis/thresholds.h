@@ -9,9 +9,11 @@
 #define BURRLAB_ANALYSIS_THRESHOLDS_H_
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "burrlab/analysis/psychometric.h"
@@ -74,6 +76,43 @@ struct ThresholdEstimate {
 Result<std::vector<ThresholdEstimate>> EstimateThresholds(
     std::span<const results_schema::BehFile> files,
     const ThresholdOptions& options);
+
+// One block's (and staircase's) thresholds across the subjects of a study:
+// the arithmetic mean +- SEM with its 95 % Student t interval, and where
+// thresholds are ratios or were averaged on a logarithmic step scale (ratio
+// axes; staircases stepping in log10 or dB) also the geometric mean: the
+// mean of log thresholds transformed back, with the SD and SEM of the logs
+// as factors (x/÷ f) and its t interval transformed back. Thresholds of
+// ratio stimuli spread on a log scale (Weber's law); Levitt (1971) averages
+// a staircase in the units it steps in, and so does the group.
+struct GroupThreshold {
+  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  std::string session;  // as the estimates' (empty: not labelled)
+  std::string block;
+  std::optional<int> staircase_id;
+  std::string method, estimator, stim_unit;
+  std::vector<std::string> subjects;  // with a value, in the files' order
+  std::vector<double> values;         // theirs, in stim_unit
+  // Subjects of the block left out of the group: their estimate has no
+  // value; each with the estimate's note.
+  std::vector<std::pair<std::string, std::string>> without_value;
+  // Subjects (among `subjects`) whose interval has a bound at a search
+  // limit: their data do not bound their threshold on that side.
+  std::vector<std::string> unbounded;
+  int n = 0;  // subjects.size()
+  // Arithmetic: the mean needs 1 value, the rest 2 (else kNone).
+  double mean = kNone, sd = kNone, sem = kNone, ci_low = kNone, ci_high = kNone;
+  // Geometric (only when `geometric`; every value > 0).
+  bool geometric = false;
+  double geometric_mean = kNone, geometric_sd_factor = kNone,
+         geometric_sem_factor = kNone, geometric_ci_low = kNone,
+         geometric_ci_high = kNone;
+};
+
+// Groups `estimates` by session, block and staircase, in order of first
+// appearance.
+std::vector<GroupThreshold> GroupThresholds(
+    std::span<const ThresholdEstimate> estimates);
 
 }  // namespace burrlab::analysis
 

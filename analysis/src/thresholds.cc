@@ -251,6 +251,21 @@ ThresholdEstimate ConstantStimuli(const std::string& subject,
   }
   std::vector<DataBlock> data;
   for (const auto& [level, block] : pooled) data.push_back(block);
+  // A ratio axis is fitted in log10(level) and its threshold and interval
+  // transformed back: ratios are perceived on a log scale (Weber's law), the
+  // fitted function is then symmetric where the observer's noise is, and no
+  // bound can be a ratio <= 0 (Kingdom & Prins 2016, ch. 4).
+  // The Weibull is left on the ratio itself: it is already a log-scale
+  // model (a Gumbel in log x).
+  const bool log_fit =
+      e.stim_unit == "ratio" && options.sigmoid != Sigmoid::kWeibull &&
+      std::all_of(data.begin(), data.end(),
+                  [](const DataBlock& b) { return b.level > 0.0; });
+  if (log_fit) {
+    for (DataBlock& b : data) b.level = std::log10(b.level);
+    e.fit_scale = "log10";
+  }
+  const auto back = [&](double x) { return log_fit ? std::pow(10.0, x) : x; };
   PsychometricOptions o;
   o.sigmoid = options.sigmoid;
   o.n_intervals = yes_no ? 1 : 2;
@@ -259,8 +274,9 @@ ThresholdEstimate ConstantStimuli(const std::string& subject,
   o.bootstrap_samples = options.bootstrap_samples;
   o.seed = options.seed;
   e.estimator =
-      fmt::format("{} fit ({}), threshold F^-1({})", SigmoidName(o.sigmoid),
-                  yes_no ? "yes/no" : "2AFC", options.cut);
+      fmt::format("{} fit{} ({}), threshold F^-1({})", SigmoidName(o.sigmoid),
+                  log_fit ? " in log10(level)" : "", yes_no ? "yes/no" : "2AFC",
+                  options.cut);
   e.n = static_cast<int>(trials.size());
   if (Status s = ValidateData(data, o.sigmoid); !s.ok()) {
     e.note = "no fit: " + s.error().message;
@@ -272,13 +288,17 @@ ThresholdEstimate ConstantStimuli(const std::string& subject,
     return e;
   }
   e.fit = a->fit;
-  e.value = a->thresholds[0].value;
-  if (std::isfinite(a->thresholds[0].bca[0]))
-    e.ci_low = a->thresholds[0].bca[0];
-  if (std::isfinite(a->thresholds[0].bca[1])) {
-    e.ci_high = a->thresholds[0].bca[1];
-  }
-  const std::vector<bool>& limited = a->thresholds[0].bca_at_search_limit;
+  const BootstrapEstimate& t = a->thresholds[0];
+  e.value = back(t.value);
+  // The BCa interval; the percentile interval when BCa has neither bound
+  // (e.g. the Fisher information is singular at the fit).
+  const bool percentile = !std::isfinite(t.bca[0]) && !std::isfinite(t.bca[1]);
+  if (percentile) e.ci_method = "percentile";
+  const std::vector<double>& bounds = percentile ? t.percentile : t.bca;
+  if (std::isfinite(bounds[0])) e.ci_low = back(bounds[0]);
+  if (std::isfinite(bounds[1])) e.ci_high = back(bounds[1]);
+  const std::vector<bool>& limited =
+      percentile ? t.percentile_at_search_limit : t.bca_at_search_limit;
   e.ci_low_at_search_limit = !limited.empty() && limited[0];
   e.ci_high_at_search_limit = limited.size() > 1 && limited[1];
   if (std::isfinite(a->deviance_p)) e.deviance_p = a->deviance_p;

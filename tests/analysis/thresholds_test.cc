@@ -201,16 +201,35 @@ TEST(Thresholds, ConstantStimuliFitsThePooledCounts) {
   Result<std::vector<ThresholdEstimate>> e =
       EstimateThresholds(std::vector<BehFile>{File(trials)}, o);
   ASSERT_TRUE(e.ok());
+  // A ratio axis is fitted in log10(level), the threshold and its interval
+  // transformed back.
+  std::vector<DataBlock> log_data = data;
+  for (DataBlock& b : log_data) b.level = std::log10(b.level);
   PsychometricOptions p;
   p.cuts = {0.5};
   p.conf = {0.025, 0.975};
   p.bootstrap_samples = 199;
-  Result<PsychometricAnalysis> direct = AnalyzePsychometric(data, p);
+  Result<PsychometricAnalysis> direct = AnalyzePsychometric(log_data, p);
   ASSERT_TRUE(direct.ok());
+  EXPECT_EQ((*e)[0].fit_scale, "log10");
+  EXPECT_EQ((*e)[0].estimator,
+            "logistic fit in log10(level) (2AFC), threshold F^-1(0.5)");
+  EXPECT_EQ((*e)[0].ci_method, "BCa");
+  EXPECT_EQ(*(*e)[0].value, std::pow(10.0, direct->thresholds[0].value));
+  EXPECT_EQ(*(*e)[0].ci_low, std::pow(10.0, direct->thresholds[0].bca[0]));
+  EXPECT_EQ(*(*e)[0].ci_high, std::pow(10.0, direct->thresholds[0].bca[1]));
+  EXPECT_EQ((*e)[0].n, 120);
+
+  // A linear axis is fitted in its own units.
+  for (TrialRecord& t : trials) t.stim_unit = "N/mm^2";
+  e = EstimateThresholds(std::vector<BehFile>{File(trials)}, o);
+  ASSERT_TRUE(e.ok());
+  direct = AnalyzePsychometric(data, p);
+  ASSERT_TRUE(direct.ok());
+  EXPECT_EQ((*e)[0].fit_scale, "linear");
   EXPECT_EQ(*(*e)[0].value, direct->thresholds[0].value);
   EXPECT_EQ(*(*e)[0].ci_low, direct->thresholds[0].bca[0]);
   EXPECT_EQ(*(*e)[0].ci_high, direct->thresholds[0].bca[1]);
-  EXPECT_EQ((*e)[0].n, 120);
 }
 
 TEST(Thresholds, SameDifferentOnlyIsAnError) {

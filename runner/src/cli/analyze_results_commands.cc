@@ -695,6 +695,7 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
                               e.ci_high_at_search_limit ? Json(nullptr)
                                                         : Optional(e.ci_high)}
                        : Json(nullptr)},
+          {"ci_method", e.fit ? Json(e.ci_method) : Json(nullptr)},
           {"ci_at_search_limit",
            e.fit ? Json{e.ci_low_at_search_limit, e.ci_high_at_search_limit}
                  : Json(nullptr)},
@@ -707,7 +708,8 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
         t["started_on_stopping_answer"] = e.started_on_stopping_answer;
       }
       if (e.fit) {
-        t["fit"] = {{"alpha", e.fit->params.alpha},
+        t["fit"] = {{"x_scale", e.fit_scale},
+                    {"alpha", e.fit->params.alpha},
                     {"beta", e.fit->params.beta},
                     {"gamma", e.fit->params.gamma},
                     {"lambda", e.fit->params.lambda},
@@ -734,9 +736,10 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
           return at_limit ? std::string("search limit")
                           : fmt::format("{:.4g}", x);
         };
-        value += fmt::format(" [{}, {}] 95 % CI",
+        value += fmt::format(" [{}, {}] 95 % CI{}",
                              bound(*e.ci_low, e.ci_low_at_search_limit),
-                             bound(*e.ci_high, e.ci_high_at_search_limit));
+                             bound(*e.ci_high, e.ci_high_at_search_limit),
+                             e.ci_method == "BCa" ? "" : " (percentile)");
       } else if (e.spread) {
         value += fmt::format(" (SD {:.3g} {})", *e.spread, e.spread_unit);
       }

@@ -85,7 +85,8 @@ TEST_F(AnalyzeResults, StaircaseThresholdsEqualTheEngineEstimates) {
   }
 }
 
-// Constant stimuli on a ratio axis with observers too coarse for the levels
+// Constant stimuli on a ratio axis (fitted in log10 units) with observers too
+// coarse for the levels
 // (Weber 1.5 against comparisons 1.05-2 x bone): bootstrap refits run into
 // the edge of the fit's search range, which the notes name ("alpha = X is at
 // the upper limit of the search range"). No interval printed may be that
@@ -119,7 +120,11 @@ TEST_F(AnalyzeResults, NoIntervalIsTheSearchLimitPrintedAsANumber) {
         text.out.compare(
             end, 52, " is at the lower limit of the search range: the data") ==
             0) {
-      edges.insert(text.out.substr(value, end - value));
+      // alpha is in log10(ratio) (a ratio axis is fitted in log units): the
+      // edge as a ratio, printed as the bounds are.
+      edges.insert(fmt::format(
+          "{:.4g}",
+          std::pow(10.0, std::stod(text.out.substr(value, end - value)))));
     }
   }
   ASSERT_FALSE(edges.empty()) << text.out;

@@ -51,10 +51,15 @@ struct ThresholdEstimate {
   // Constant stimuli: 95 % BCa bootstrap interval of the threshold, and the
   // fit behind it.
   std::optional<double> ci_low, ci_high;
+  // "BCa", or "percentile" when BCa gives neither bound.
+  std::string ci_method = "BCa";
   // A bound that is a search limit (BootstrapEstimate::bca_at_search_limit):
   // its number is the fit's search range, not the data's; printed as such.
   bool ci_low_at_search_limit = false, ci_high_at_search_limit = false;
   std::optional<PsychometricFit> fit;
+  // The x of `fit`: "linear" (the levels) or "log10" (log10 of the levels,
+  // on ratio axes; the value and interval are transformed back).
+  std::string fit_scale = "linear";
   std::optional<double> deviance_p;
   // Limits: the mean transition of the ascending and of the descending
   // series apart (a difference between them is the error of habituation or

@@ -422,15 +422,18 @@ bool CoversData(const LinePlot& plot, const PlotLayout& l, const PlotBox& box) {
   return false;
 }
 
-// Places the reference lines' labels where they hide no data and no other
-// label: a horizontal line's above or below it at its right or left end; a
-// vertical line's right or left of it, in the first free row from the top
-// (else from the bottom). When every place is taken, the first one.
+// Places the reference lines' labels where they hide no data, no other
+// label and not the legend: a horizontal line's above or below it at its
+// right or left end; a vertical line's right or left of it, in the first
+// free row from the top (else from the bottom). When every place is taken,
+// the first one.
 void PlaceReferenceLabels(cairo_t* cr, const LinePlot& plot, PlotLayout* l) {
   SetPlotFont(cr, kReferenceFontPx);
   const double height = kReferenceFontPx + 4.0;
   l->reference_label_boxes.clear();
   std::vector<PlotBox> placed;
+  std::vector<PlotBox> taken;  // other labels and the legend
+  if (l->legend) taken.push_back(l->legend_box);
   for (const ReferenceLine& r : plot.reference_lines) {
     if (r.label.empty()) {
       placed.push_back({-1e9, -1e9, -1e9, -1e9});  // nowhere
@@ -462,13 +465,14 @@ void PlaceReferenceLabels(cairo_t* cr, const LinePlot& plot, PlotLayout* l) {
           b.y1 > l->bottom - 2.0) {
         return false;
       }
-      for (const PlotBox& other : placed) {
+      for (const PlotBox& other : taken) {
         if (b.Overlaps(other)) return false;
       }
       return !CoversData(plot, *l, b);
     };
     const auto free = std::find_if(candidates.begin(), candidates.end(), fits);
     placed.push_back(free != candidates.end() ? *free : candidates.front());
+    taken.push_back(placed.back());
   }
   l->reference_label_boxes = std::move(placed);
 }
@@ -537,7 +541,6 @@ Result<PlotLayout> LayOut(cairo_t* cr, const LinePlot& plot) {
     return Error{fmt::format("plot '{}': {}x{} pixels leave no room for axes",
                              plot.title, plot.width_px, plot.height_px)};
   }
-  PlaceReferenceLabels(cr, plot, &l);
 
   SetPlotFont(cr, kLegendFontPx);
   double widest = 0.0;
@@ -547,7 +550,10 @@ Result<PlotLayout> LayOut(cairo_t* cr, const LinePlot& plot) {
     widest = std::max(widest, TextWidth(cr, s.label));
     ++entries;
   }
-  if (entries == 0) return l;
+  if (entries == 0) {
+    PlaceReferenceLabels(cr, plot, &l);
+    return l;
+  }
   l.legend = true;
   const double w = std::ceil(widest + 54.0), h = kLegendRowPx * entries + 8.0;
   const double gap = 10.0;
@@ -561,6 +567,7 @@ Result<PlotLayout> LayOut(cairo_t* cr, const LinePlot& plot) {
     if (b.x0 >= l.left && b.x1 <= l.right && b.y0 >= l.top &&
         b.y1 <= l.bottom && !CoversData(plot, l, b)) {
       l.legend_box = b;
+      PlaceReferenceLabels(cr, plot, &l);
       return l;
     }
   }
@@ -571,9 +578,9 @@ Result<PlotLayout> LayOut(cairo_t* cr, const LinePlot& plot) {
     return Error{fmt::format("plot '{}': the legend leaves no room for axes",
                              plot.title)};
   }
-  PlaceReferenceLabels(cr, plot, &l);
   l.legend_outside = true;
   l.legend_box = {l.right + 12.0, l.top, l.right + 12.0 + w, l.top + h};
+  PlaceReferenceLabels(cr, plot, &l);
   return l;
 }
 

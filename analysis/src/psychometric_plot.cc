@@ -59,8 +59,7 @@ LinePlot MakePsychometricPlot(std::span<const DataBlock> data,
   plot.x_label = x_label;
   plot.y_label = o.n_intervals == 1 ? "proportion 'yes'" : "proportion correct";
 
-  Series points{
-      "data, 95 % Wilson interval (area ~ trials)", {}, {}, false, true, 0};
+  Series points{"data ± 95 % Wilson (area ~ n)", {}, {}, false, true, 0};
   int most = 1;
   for (const DataBlock& b : data) most = std::max(most, b.n_total);
   double low = std::numeric_limits<double>::infinity(), high = -low;

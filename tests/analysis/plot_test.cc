@@ -3,6 +3,7 @@
 #include "burrlab/analysis/plot.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -427,7 +428,8 @@ std::string ReadFile(const std::filesystem::path& path) {
 
 TEST(WritePlot, WritesPdfAndSvgTheSameOnEveryWrite) {
   const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / "burrlab_plot_formats";
+      std::filesystem::temp_directory_path() /
+      ("burrlab_plot_formats_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   for (const char* name : {"a.pdf", "a.svg", "a.png", "b.PDF"}) {
     ASSERT_TRUE(WritePlot(SubjectsPlot(), (dir / name).string()).ok()) << name;

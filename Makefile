@@ -9,7 +9,7 @@ CMAKE_FLAGS ?=
 
 PACKAGES := cmake ninja-build g++ pkg-config libgtest-dev libgmock-dev libbenchmark-dev \
   libboost-random-dev libboost-math-dev libglm-dev zlib1g-dev libtomlplusplus-dev libstb-dev \
-  fonts-dejavu-core \
+  libcairo2-dev fonts-dejavu-core \
   nlohmann-json3-dev libcli11-dev libfmt-dev libeigen3-dev libsqlite3-dev \
   nettle-dev libnlopt-dev libusb-1.0-0-dev \
   libglfw3-dev libimgui-dev libhidapi-dev xvfb xauth libgl1-mesa-dri umockdev libumockdev-dev \

@@ -11,6 +11,9 @@ find_package(PkgConfig REQUIRED)
 # SHA-256 of protocol files (the journal's identity check on --resume); none of
 # the other listed libraries provides SHA-256.
 pkg_check_modules(NETTLE REQUIRED IMPORTED_TARGET nettle)  # PkgConfig::NETTLE
+# Plots (analysis/src/plot.cc) and the tests that read their PNGs back: PNG,
+# PDF and SVG surfaces from one drawing routine, and real text layout.
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)  # PkgConfig::CAIRO
 # The Novint Falcon's FTDI bridge over USB (runner/src/devices/libusb_transport).
 pkg_check_modules(LIBUSB REQUIRED IMPORTED_TARGET libusb-1.0)  # PkgConfig::LIBUSB, <libusb.h>
 # The subject window: GLFW 3.3 + OpenGL 3.3 core (no loader: GL_GLEXT_PROTOTYPES and

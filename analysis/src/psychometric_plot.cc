@@ -1,9 +1,11 @@
-// Data, fitted curve and threshold intervals as line-plot series.
+// Data with Wilson intervals, fitted curve, chance and threshold intervals as
+// line-plot series and reference lines.
 #include "burrlab/analysis/psychometric_plot.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <boost/math/distributions/normal.hpp>
 #include <cmath>
 #include <limits>
 
@@ -29,6 +31,17 @@ double IntervalBound(const PsychometricOptions& options,
   return kNaN;
 }
 
+// The 95 % Wilson score interval of `correct` successes in `total` trials
+// (Wilson, 1927; Brown, Cai & DasGupta, 2001).
+std::pair<double, double> WilsonInterval95(int correct, int total) {
+  const double z = boost::math::quantile(boost::math::normal(), 0.975);
+  const double n = total, p = correct / n, z2 = z * z;
+  const double centre = (p + z2 / (2 * n)) / (1 + z2 / n);
+  const double half =
+      z / (1 + z2 / n) * std::sqrt(p * (1 - p) / n + z2 / (4 * n * n));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
 }  // namespace
 
 LinePlot MakePsychometricPlot(std::span<const DataBlock> data,
@@ -46,13 +59,18 @@ LinePlot MakePsychometricPlot(std::span<const DataBlock> data,
   plot.x_label = x_label;
   plot.y_label = o.n_intervals == 1 ? "proportion 'yes'" : "proportion correct";
 
-  Series points{"data (marker area ~ trials)", {}, {}, false, true, 0};
+  Series points{"data ± 95 % Wilson (area ~ n)", {}, {}, false, true, 0};
   int most = 1;
   for (const DataBlock& b : data) most = std::max(most, b.n_total);
   double low = std::numeric_limits<double>::infinity(), high = -low;
   for (const DataBlock& b : data) {
     points.x.push_back(b.level);
     points.y.push_back(static_cast<double>(b.n_correct) / b.n_total);
+    const auto [wilson_low, wilson_high] =
+        b.n_total > 0 ? WilsonInterval95(b.n_correct, b.n_total)
+                      : std::pair(kNaN, kNaN);
+    points.y_low.push_back(wilson_low);
+    points.y_high.push_back(wilson_high);
     points.marker_px.push_back(std::max(
         kSmallestMarkerPx,
         kLargestMarkerPx * std::sqrt(static_cast<double>(b.n_total) / most)));
@@ -77,12 +95,24 @@ LinePlot MakePsychometricPlot(std::span<const DataBlock> data,
     const double y = Psi(o.sigmoid, analysis.fit.params, t.value);
     centres.x.push_back(t.value);
     centres.y.push_back(y);
+    if (std::isfinite(t.value)) {
+      plot.reference_lines.push_back(
+          {true, t.value,
+           fmt::format("{:.0f} % at {:.3g}", 100.0 * y, t.value)});
+    }
     const double lo = IntervalBound(o, t, 0.025),
                  hi = IntervalBound(o, t, 0.975);
     if (std::isfinite(lo) && std::isfinite(hi)) {
       bars.x.insert(bars.x.end(), {lo, hi, kNaN});
       bars.y.insert(bars.y.end(), {y, y, kNaN});
     }
+  }
+  const double gamma = analysis.fit.params.gamma;
+  if (gamma > 0.0) {
+    plot.reference_lines.push_back(
+        {false, gamma,
+         o.n_intervals == 1 ? fmt::format("guess rate {:.3g} %", 100.0 * gamma)
+                            : fmt::format("chance {:.3g} %", 100.0 * gamma)});
   }
   plot.series.push_back(std::move(curve));
   plot.series.push_back(std::move(points));

@@ -265,13 +265,11 @@ LinePlot ScoreHistogram(const BlockScores& block) {
     const double at = block.trials_per_subject.has_value()
                           ? *block.chance * *block.trials_per_subject
                           : *block.chance * 100.0;
-    const double top = *std::max_element(counts.begin(), counts.end());
-    Series chance;
-    chance.label = "chance";
-    chance.x = {at, at};
-    chance.y = {0.0, top};
-    chance.colour = 6;  // grey
-    plot.series.push_back(chance);
+    plot.reference_lines.push_back(
+        {true, at,
+         block.trials_per_subject.has_value()
+             ? fmt::format("chance {:.3g} of {}", at, *block.trials_per_subject)
+             : fmt::format("chance {:.3g} %", at)});
   }
   std::string stats;
   if (block.mean_score.has_value()) {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "golden.h"
+
 namespace burrlab::analysis {
 namespace {
 
@@ -37,6 +39,45 @@ TEST(MakePsychometricPlot, DrawsDataCurveAndThresholdBars) {
   EXPECT_DOUBLE_EQ(bars.y[3],
                    Psi(o.sigmoid, a->fit.params, a->thresholds[1].value));
   EXPECT_TRUE(RenderPlot(plot).ok());
+}
+
+const std::vector<DataBlock> kGoldenBlocks = {{1.0, 21, 40}, {2.0, 24, 40},
+                                              {3.0, 29, 40}, {4.0, 35, 40},
+                                              {5.0, 9, 10},  {6.0, 40, 40}};
+
+TEST(MakePsychometricPlot, DataHaveWilsonIntervalsAndChanceIsALine) {
+  PsychometricOptions o;
+  o.bootstrap_samples = 0;
+  Result<PsychometricAnalysis> a = AnalyzePsychometric(kGoldenBlocks, o);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  const LinePlot plot = MakePsychometricPlot(kGoldenBlocks, *a, "level (N)");
+  const Series& points = plot.series[1];
+  ASSERT_EQ(points.y_low.size(), kGoldenBlocks.size());
+  // 21 of 40: Wilson's 95 % interval (p + z^2/2n -+ z sqrt(p(1-p)/n +
+  // z^2/4n^2)) / (1 + z^2/n), z = 1.95996: [0.374974, 0.670645].
+  EXPECT_NEAR(points.y_low[0], 0.374974, 1e-6);
+  EXPECT_NEAR(points.y_high[0], 0.670645, 1e-6);
+  // 40 of 40: [n / (n + z^2), 1] = [0.912378, 1].
+  EXPECT_NEAR(points.y_low[5], 0.912378, 1e-6);
+  EXPECT_DOUBLE_EQ(points.y_high[5], 1.0);
+  // Chance (gamma = 0.5) as a horizontal line; each threshold a vertical one.
+  ASSERT_EQ(plot.reference_lines.size(), 4u);
+  EXPECT_TRUE(plot.reference_lines[0].vertical);
+  EXPECT_DOUBLE_EQ(plot.reference_lines[1].value, a->thresholds[1].value);
+  EXPECT_FALSE(plot.reference_lines[3].vertical);
+  EXPECT_DOUBLE_EQ(plot.reference_lines[3].value, 0.5);
+  EXPECT_EQ(plot.reference_lines[3].label, "chance 50 %");
+}
+
+TEST(GoldenPlot, PsychometricFitWithErrorBarsReferenceLinesAndLegend) {
+  PsychometricOptions o;
+  o.bootstrap_samples = 199;
+  Result<PsychometricAnalysis> a = AnalyzePsychometric(kGoldenBlocks, o);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  EXPECT_EQ(testing::CompareWithGolden(
+                MakePsychometricPlot(kGoldenBlocks, *a, "level (N/mm^2)"),
+                "psychometric"),
+            "");
 }
 
 }  // namespace

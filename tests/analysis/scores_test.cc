@@ -234,19 +234,22 @@ TEST(Scores, LateAnswersAreCountedPerBlockAndScored) {
   EXPECT_EQ(b.subjects[0].correct, 12);  // late answers still count
 }
 
-TEST(ScoreHistogram, OneBarPerScoreWithTheChanceLine) {
+TEST(ScoreHistogram, OneBarPerScoreWithALabelledChanceLine) {
   const std::vector<BehFile> files = {SameDifferentSubject("01", 5, 2),
                                       SameDifferentSubject("02", 6, 1),
                                       SameDifferentSubject("03", 5, 2)};
   Result<std::vector<BlockScores>> blocks = ScoreBlocks(files);
   ASSERT_TRUE(blocks.ok());
   const LinePlot plot = ScoreHistogram((*blocks)[0]);
-  ASSERT_EQ(plot.series.size(), 2u);
+  ASSERT_EQ(plot.series.size(), 1u);
   std::vector<double> expected(13, 0.0);
   expected[9] = 2.0;
   expected[11] = 1.0;
   EXPECT_EQ(plot.series[0].y, expected);
-  EXPECT_EQ(plot.series[1].x, (std::vector<double>{6.0, 6.0}));
+  ASSERT_EQ(plot.reference_lines.size(), 1u);
+  EXPECT_TRUE(plot.reference_lines[0].vertical);
+  EXPECT_DOUBLE_EQ(plot.reference_lines[0].value, 6.0);
+  EXPECT_EQ(plot.reference_lines[0].label, "chance 6 of 12");
   EXPECT_TRUE(RenderPlot(plot).ok());
 }
 

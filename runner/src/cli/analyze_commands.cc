@@ -304,7 +304,7 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
   if (!result.ok()) return Fail(err, "analyze fit: " + result.error().message);
   const analysis::PsychometricAnalysis& a = *result;
   if (!plot_path.empty()) {
-    if (Status s = analysis::WritePlotPng(
+    if (Status s = analysis::WritePlot(
             analysis::MakePsychometricPlot(file->blocks, a, "stimulus level"),
             plot_path);
         !s.ok()) {

@@ -339,8 +339,8 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
       plot_paths[i] = (fs::path(plots) /
                        fmt::format("scores_{}.png", (*blocks)[i].task_label))
                           .string();
-      if (Status s = analysis::WritePlotPng(
-              analysis::ScoreHistogram((*blocks)[i]), plot_paths[i]);
+      if (Status s = analysis::WritePlot(analysis::ScoreHistogram((*blocks)[i]),
+                                         plot_paths[i]);
           !s.ok()) {
         return Fail(err, s.error().message);
       }
@@ -791,12 +791,12 @@ Result<std::pair<std::string, std::string>> WriteKinematicsPlots(
   std::pair<std::string, std::string> paths = {stem + "_force.png",
                                                stem + "_speed.png"};
   if (Status s =
-          analysis::WritePlotPng(analysis::ForceHistogramPlot(k), paths.first);
+          analysis::WritePlot(analysis::ForceHistogramPlot(k), paths.first);
       !s.ok()) {
     return s.error();
   }
   if (Status s =
-          analysis::WritePlotPng(analysis::SpeedHistogramPlot(k), paths.second);
+          analysis::WritePlot(analysis::SpeedHistogramPlot(k), paths.second);
       !s.ok()) {
     return s.error();
   }

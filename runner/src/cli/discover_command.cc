@@ -311,7 +311,7 @@ Status WritePlots(const analysis::DiscoverReport& r,
     for (const std::string& id : r.augmented.effects) label += " " + id;
     fit_plot.series.push_back(curve(r.augmented, label, 2));
   }
-  if (Status s = analysis::WritePlotPng(fit_plot, (dir / "fit.png").string());
+  if (Status s = analysis::WritePlot(fit_plot, (dir / "fit.png").string());
       !s.ok()) {
     return s;
   }
@@ -338,7 +338,7 @@ Status WritePlots(const analysis::DiscoverReport& r,
   zero.y = {0.0, 0.0};
   res.series = {before, zero};
   if (!after.x.empty()) res.series.push_back(after);
-  return analysis::WritePlotPng(res, (dir / "residuals.png").string());
+  return analysis::WritePlot(res, (dir / "residuals.png").string());
 }
 
 Status WriteText(const std::filesystem::path& path, const std::string& text) {

@@ -172,7 +172,7 @@ Result<std::vector<std::string>> WritePlots(
   const auto write = [&](const analysis::LinePlot& plot,
                          const std::string& name) -> Status {
     const std::string path = (std::filesystem::path(dir) / name).string();
-    if (Status s = analysis::WritePlotPng(plot, path); !s.ok()) return s;
+    if (Status s = analysis::WritePlot(plot, path); !s.ok()) return s;
     written.push_back(path);
     return {};
   };

@@ -457,7 +457,7 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
       plot.title =
           fmt::format("{}, {}: mean {:.1f} +- {:.1f} of {}, p = {:.2g}", study,
                       b.block, row.mean, row.sem, row.trials, row.p);
-      if (Status s = analysis::WritePlotPng(plot, png.string()); !s.ok()) {
+      if (Status s = analysis::WritePlot(plot, png.string()); !s.ok()) {
         return s;
       }
       report.figures.push_back(png.string());
@@ -475,7 +475,7 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   }
   const fs::path comparison = figures / "comparison.png";
   if (Status s =
-          analysis::WritePlotPng(ComparisonPlot(report), comparison.string());
+          analysis::WritePlot(ComparisonPlot(report), comparison.string());
       !s.ok()) {
     return s.error();
   }

@@ -118,6 +118,33 @@ TEST_F(AnalyzeCommand, FitPoolsABehTsvAndWritesThePlot) {
   EXPECT_EQ(magic, "\x89PNG\r\n\x1a\n");
 }
 
+// The figure's format follows the --plot path's extension; a path of
+// another extension is an error naming it.
+TEST_F(AnalyzeCommand, FitPlotIsAPdfOrSvgByItsExtension) {
+  const std::string data = Write("d.csv", kCounts);
+  for (const std::string& name :
+       {std::string("fit.pdf"), std::string("fit.SVG")}) {
+    const std::string path = (dir_ / name).string();
+    const CliRun run = RunBurrlab({"analyze", "fit", "--data", data, "--task",
+                                   "2afc", "--sigmoid", "logistic",
+                                   "--bootstrap", "0", "--plot", path});
+    ASSERT_EQ(run.code, 0) << run.err;
+    std::ifstream file(path, std::ios::binary);
+    std::string head(5, '\0');
+    file.read(head.data(), 5);
+    EXPECT_EQ(head, name == "fit.pdf" ? "%PDF-" : "<?xml") << name;
+  }
+  const std::string bmp = (dir_ / "fit.bmp").string();
+  const CliRun run =
+      RunBurrlab({"analyze", "fit", "--data", data, "--task", "2afc",
+                  "--sigmoid", "logistic", "--bootstrap", "0", "--plot", bmp});
+  EXPECT_NE(run.code, 0);
+  EXPECT_NE(run.err.find(bmp + ": cannot tell the figure format from the "
+                               "extension '.bmp'; use .png, .pdf or .svg"),
+            std::string::npos)
+      << run.err;
+}
+
 TEST_F(AnalyzeCommand, FitOfOneRowPerTrialIsTheFitOfThePooledCounts) {
   // kCounts' 240 trials as one row per trial and as a _beh.tsv, both in a
   // scrambled order, and as two rows per level, last level first.

@@ -114,7 +114,7 @@ SameDifferentRates RatesFromCounts(int hits, int different_trials,
 
 // The histogram of a block's scores (Fig. 13.1-13.2): subjects per score
 // from 0 to n (or per 5 % of proportion correct when n differs), with the
-// chance level marked.
+// chance level as a labelled dashed reference line.
 LinePlot ScoreHistogram(const BlockScores& block);
 
 }  // namespace burrlab::analysis

@@ -77,7 +77,8 @@ std::string FormatDataDiagnostic(std::string_view path, std::string_view text,
 }
 
 Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
-                                                   std::string_view text) {
+                                                   std::string_view text,
+                                                   std::string_view by) {
   Result<CsvTable> table = CsvTable::Split(
       path, text, CsvTable::Delimiter::kTabOrComma,
       "the file is empty; expected a header line level,n_correct,n_total (CSV "
@@ -94,6 +95,8 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
             total_at = find("n_total");
   const int stim_at = find("stim_level"), trial_at = find("correct");
   const int practice_at = find("practice");
+  const int unit_at = find("stim_unit");
+  const int by_at = by.empty() ? -1 : find(by);
   if (level_at >= 0 && correct_at >= 0 && total_at >= 0) {
     file.format = PsychometricDataFile::Format::kCounts;
   } else if (stim_at >= 0 && trial_at >= 0) {
@@ -105,12 +108,27 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
                             "columns are separated by {}",
                             delimiter == '\t' ? "tabs" : "commas"));
   }
+  if (!by.empty() && by_at < 0) {
+    return fail(header_line.number, 1,
+                fmt::format("the header has no column '{}' to split the rows "
+                            "by",
+                            by));
+  }
   // Rows pooled by level: the order of the rows cannot change the fit (the
   // bootstrap draws level by level, in increasing order), and the work after
   // parsing depends on the number of levels, not of rows.
   std::map<double, Pool> pooled;
+  // With `by`: per condition, in order of first appearance.
+  std::vector<std::pair<std::string, std::map<double, Pool>>> by_condition;
+  std::map<double, Pool>* condition = nullptr;
   const auto add = [&](double x, int n_correct, int n_total, const Line& line,
                        const Cell& at) -> std::optional<Error> {
+    if (condition != nullptr) {
+      Pool& own = (*condition)[x];
+      if (own.n_total == 0) own.first_line = line.number;
+      own.n_correct += n_correct;
+      own.n_total += n_total;
+    }
     Pool& pool = pooled[x];
     if (pool.n_total == 0) pool.first_line = line.number;
     pool.n_correct += n_correct;
@@ -129,6 +147,27 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
     if (!row.ok()) return row.error();
     const std::vector<Cell>& cells = *row;
     const auto cell = [&](int k) { return cells[static_cast<std::size_t>(k)]; };
+    if (by_at >= 0) {
+      const Cell name = cell(by_at);
+      if (name.text.empty()) {
+        return fail(line.number, name.column,
+                    fmt::format("the {} cell is empty: every row needs a "
+                                "condition",
+                                by));
+      }
+      auto it =
+          std::find_if(by_condition.begin(), by_condition.end(),
+                       [&](const auto& c) { return c.first == name.text; });
+      if (it == by_condition.end()) {
+        by_condition.emplace_back(std::string(name.text),
+                                  std::map<double, Pool>());
+        it = by_condition.end() - 1;
+      }
+      condition = &it->second;
+    }
+    if (unit_at >= 0 && file.stim_unit.empty() && cell(unit_at).text != kNa) {
+      file.stim_unit = std::string(cell(unit_at).text);
+    }
     if (file.format == PsychometricDataFile::Format::kCounts) {
       const Cell level = cell(level_at), r = cell(correct_at),
                  total = cell(total_at);
@@ -187,12 +226,23 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
       return *e;
     }
   }
-  for (const auto& [level, pool] : pooled) {
-    file.blocks.push_back({level, static_cast<int>(pool.n_correct),
-                           static_cast<int>(pool.n_total)});
-    if (file.format == PsychometricDataFile::Format::kCounts) {
-      file.lines.push_back(pool.first_line);
+  const auto to_blocks = [&](const std::map<double, Pool>& pools,
+                             std::vector<DataBlock>& blocks,
+                             std::vector<int>& lines) {
+    for (const auto& [level, pool] : pools) {
+      blocks.push_back({level, static_cast<int>(pool.n_correct),
+                        static_cast<int>(pool.n_total)});
+      if (file.format == PsychometricDataFile::Format::kCounts) {
+        lines.push_back(pool.first_line);
+      }
     }
+  };
+  to_blocks(pooled, file.blocks, file.lines);
+  for (const auto& [name, pools] : by_condition) {
+    PsychometricDataFile::Condition c;
+    c.name = name;
+    to_blocks(pools, c.blocks, c.lines);
+    file.conditions.push_back(std::move(c));
   }
   if (file.blocks.empty()) {
     return fail(0, 0,
@@ -210,10 +260,11 @@ Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
   return file;
 }
 
-Result<PsychometricDataFile> ReadPsychometricData(const std::string& path) {
+Result<PsychometricDataFile> ReadPsychometricData(const std::string& path,
+                                                  std::string_view by) {
   Result<std::string> text = ReadTextFile(path);
   if (!text.ok()) return text.error();
-  return ParsePsychometricData(path, *text);
+  return ParsePsychometricData(path, *text, by);
 }
 
 }  // namespace burrlab::analysis

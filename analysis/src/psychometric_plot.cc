@@ -121,4 +121,39 @@ LinePlot MakePsychometricPlot(std::span<const DataBlock> data,
   return plot;
 }
 
+LinePlot MakeConditionsPlot(std::span<const std::vector<DataBlock>> data,
+                            std::span<const PsychometricAnalysis> analyses,
+                            std::span<const std::string> names,
+                            const std::string& x_label) {
+  LinePlot plot;
+  const PsychometricOptions& o = analyses.front().options;
+  plot.title =
+      fmt::format("{} fits, {}, by condition", SigmoidName(o.sigmoid),
+                  o.n_intervals == 1 ? std::string("yes/no")
+                                     : fmt::format("{}-AFC", o.n_intervals));
+  plot.x_label = x_label;
+  for (std::size_t k = 0; k < analyses.size(); ++k) {
+    LinePlot one = MakePsychometricPlot(data[k], analyses[k], x_label);
+    if (k == 0) {
+      plot.y_label = one.y_label;
+      // Chance (or the guess rate) once; threshold lines would crowd the
+      // conditions' own intervals.
+      for (const ReferenceLine& line : one.reference_lines) {
+        if (!line.vertical) plot.reference_lines.push_back(line);
+      }
+    }
+    const int colour = static_cast<int>(k);
+    for (Series& series : one.series) {
+      series.colour = colour;
+      if (series.label == "fitted psi") {
+        series.label = names[k];
+      } else {
+        series.label.clear();  // one legend entry per condition
+      }
+      plot.series.push_back(std::move(series));
+    }
+  }
+  return plot;
+}
+
 }  // namespace burrlab::analysis

@@ -242,5 +242,35 @@ TEST(ReadPsychometricData, NamesAFileItCannotRead) {
             "cannot read /tmp: it is a directory");
 }
 
+// --by: the rows of each condition pooled apart, in order of first
+// appearance, beside the pooled blocks; a _beh.tsv's unit is kept; a BOM and
+// CR LF line ends as from a spreadsheet.
+TEST(ParsePsychometricData, SplitsTheRowsByAColumn) {
+  const std::string text =
+      "\xEF\xBB\xBFstim_level\tstim_unit\tblock\tcorrect\r\n"
+      "1.2\tratio\tlight\t1\r\n1.2\tratio\theavy\t0\r\n"
+      "1.5\tratio\tlight\t0\r\n1.2\tratio\tlight\t1\r\n";
+  Result<PsychometricDataFile> f =
+      ParsePsychometricData("t_beh.tsv", text, "block");
+  ASSERT_TRUE(f.ok()) << f.error().message;
+  EXPECT_EQ(f->stim_unit, "ratio");
+  ASSERT_EQ(f->blocks.size(), 2u);
+  EXPECT_EQ(f->blocks[0].n_total, 3);
+  ASSERT_EQ(f->conditions.size(), 2u);
+  EXPECT_EQ(f->conditions[0].name, "light");
+  ASSERT_EQ(f->conditions[0].blocks.size(), 2u);
+  EXPECT_EQ(f->conditions[0].blocks[0].level, 1.2);
+  EXPECT_EQ(f->conditions[0].blocks[0].n_correct, 2);
+  EXPECT_EQ(f->conditions[0].blocks[0].n_total, 2);
+  EXPECT_EQ(f->conditions[1].name, "heavy");
+  EXPECT_EQ(f->conditions[1].blocks[0].n_correct, 0);
+  EXPECT_EQ(ParsePsychometricData(
+                "t_beh.tsv", "stim_level\tblock\tcorrect\n1\t\t1\n", "block")
+                .error()
+                .message,
+            "t_beh.tsv:2:3: error: the block cell is empty: every row needs "
+            "a condition\n1\t\t1\n \t^");
+}
+
 }  // namespace
 }  // namespace burrlab::analysis

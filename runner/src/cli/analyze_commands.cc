@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "burrlab/analysis/condition_comparison.h"
 #include "burrlab/analysis/psychometric.h"
 #include "burrlab/analysis/psychometric_data.h"
 #include "burrlab/analysis/psychometric_plot.h"
@@ -147,6 +148,214 @@ Json AnalysisJson(const analysis::PsychometricAnalysis& a,
   return j;
 }
 
+// The x axis' name: the _beh.tsv's stim_unit when it has one.
+std::string LevelLabel(const analysis::PsychometricDataFile& file) {
+  return file.stim_unit.empty()
+             ? std::string("stimulus level")
+             : fmt::format("stimulus level ({})", file.stim_unit);
+}
+
+Json ConditionFitJson(const analysis::ConditionFit& fit,
+                      const std::vector<std::string>& names) {
+  Json j = {{"model", analysis::ConditionModelName(fit.model)},
+            {"log_likelihood", JsonNumber(fit.log_likelihood)},
+            {"deviance", JsonNumber(fit.deviance)},
+            {"free_parameters", fit.free_parameters},
+            {"converged", fit.converged}};
+  j["conditions"] = Json::array();
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const analysis::PsychometricParams& p = fit.params[k];
+    j["conditions"].push_back({{"name", names[k]},
+                               {"alpha", JsonNumber(p.alpha)},
+                               {"beta", JsonNumber(p.beta)},
+                               {"gamma", JsonNumber(p.gamma)},
+                               {"lambda", JsonNumber(p.lambda)}});
+  }
+  return j;
+}
+
+// `analyze fit --by COLUMN`: each condition's own fit with its intervals,
+// the joint fits with shared and separate thresholds and slopes, and the
+// likelihood-ratio tests between them.
+int RunFitByCondition(const analysis::PsychometricDataFile& file,
+                      const std::string& text, const std::string& data_path,
+                      const std::string& by, PsychometricOptions options,
+                      const std::string& plot_path, bool json,
+                      std::ostream& out, std::ostream& err) {
+  if (file.conditions.size() < 2) {
+    return Fail(err, fmt::format("--by {}: the data have {} condition{}{}; "
+                                 "comparing needs at least 2",
+                                 by, file.conditions.size(),
+                                 file.conditions.size() == 1 ? "" : "s",
+                                 file.conditions.size() == 1
+                                     ? " ('" + file.conditions[0].name + "')"
+                                     : std::string()));
+  }
+  std::vector<analysis::ConditionData> conditions;
+  std::vector<std::vector<analysis::DataBlock>> blocks;
+  std::vector<std::string> names;
+  for (const analysis::PsychometricDataFile::Condition& c : file.conditions) {
+    std::size_t bad = 0;
+    if (Status s = analysis::ValidateData(c.blocks, options.sigmoid, &bad);
+        !s.ok()) {
+      const bool has_line = bad < c.lines.size();
+      std::string message = s.error().message;
+      if (has_line && message.starts_with("block ")) {
+        message = message.substr(message.find(": ") + 2);
+      }
+      err << analysis::FormatDataDiagnostic(
+                 data_path, text, has_line ? c.lines[bad] : 0, 1,
+                 fmt::format(
+                     "{} '{}': {}{}", by, c.name,
+                     file.format ==
+                             analysis::PsychometricDataFile::Format::kTrials
+                         ? "after pooling the trials by level, "
+                         : "",
+                     message))
+          << '\n';
+      return 1;
+    }
+    conditions.push_back({c.name, c.blocks});
+    blocks.push_back(c.blocks);
+    names.push_back(c.name);
+  }
+  const int samples = options.bootstrap_samples;
+  const int total = samples * static_cast<int>(conditions.size() + 2);
+  std::vector<analysis::PsychometricAnalysis> analyses;
+  Result<analysis::ConditionComparison> comparison = [&] {
+    ProgressBar bar(err, total);
+    int offset = 0;
+    options.progress = [&](int done, int) {
+      const int step = std::max(total / 100, 1);
+      if ((offset + done) % step == 0 || offset + done == total) {
+        bar.Update(offset + done, "bootstrap refits");
+      }
+    };
+    for (const analysis::ConditionData& c : conditions) {
+      Result<analysis::PsychometricAnalysis> a =
+          analysis::AnalyzePsychometric(c.blocks, options);
+      if (!a.ok()) {
+        return Result<analysis::ConditionComparison>(
+            Error{fmt::format("{} '{}': {}", by, c.name, a.error().message)});
+      }
+      analyses.push_back(*a);
+      offset += samples;
+    }
+    // The comparison's progress counts per test: after the first test's
+    // last data set, the second starts from 1 again.
+    int last = 0;
+    options.progress = [&](int done, int) {
+      if (done < last) offset += samples;
+      last = done;
+      const int step = std::max(total / 100, 1);
+      if ((offset + done) % step == 0 || offset + done == total) {
+        bar.Update(offset + done, "likelihood-ratio bootstrap");
+      }
+    };
+    return analysis::CompareConditions(conditions, options);
+  }();
+  if (!comparison.ok()) {
+    return Fail(err, "analyze fit: " + comparison.error().message);
+  }
+  const analysis::ConditionComparison& c = *comparison;
+  for (std::size_t k = 0; k < analyses.size(); ++k) {
+    for (const std::string& w : analyses[k].warnings) {
+      err << fmt::format("burrlab: warning: {} '{}': {}\n", by, names[k], w);
+    }
+  }
+  for (const std::string& w : c.warnings) {
+    err << "burrlab: warning: " << w << '\n';
+  }
+  std::vector<std::string> legend;
+  for (const std::string& name : names) legend.push_back(by + " " + name);
+  if (!plot_path.empty()) {
+    if (Status s =
+            analysis::WritePlot(analysis::MakeConditionsPlot(
+                                    blocks, analyses, legend, LevelLabel(file)),
+                                plot_path);
+        !s.ok()) {
+      return Fail(err, s.error().message);
+    }
+  }
+  bool converged = true;
+  for (const analysis::PsychometricAnalysis& a : analyses) {
+    converged = converged && a.fit.converged;
+  }
+  for (const analysis::ConditionFit& fit : c.fits) {
+    converged = converged && fit.converged;
+  }
+  const std::string lapse =
+      options.lambda_max > 0.0
+          ? fmt::format("one lapse rate for all conditions, in [0, {}]",
+                        options.lambda_max)
+          : std::string("no lapses (lambda = 0)");
+  if (json) {
+    Json j;
+    j["by"] = by;
+    j["conditions"] = Json::array();
+    for (std::size_t k = 0; k < analyses.size(); ++k) {
+      Json one = AnalysisJson(analyses[k], data_path, file);
+      one.erase("data");
+      one["name"] = names[k];
+      one["levels"] = blocks[k].size();
+      j["conditions"].push_back(one);
+    }
+    j["models"] = Json::array();
+    for (const analysis::ConditionFit& fit : c.fits) {
+      j["models"].push_back(ConditionFitJson(fit, names));
+    }
+    j["lapse"] = lapse;
+    j["tests"] = Json::array();
+    for (const analysis::LikelihoodRatioTest& t : c.tests) {
+      j["tests"].push_back({{"question", t.question},
+                            {"lesser", analysis::ConditionModelName(t.lesser)},
+                            {"fuller", analysis::ConditionModelName(t.fuller)},
+                            {"lr", JsonNumber(t.lr)},
+                            {"df", t.df},
+                            {"p_chi_square", JsonNumber(t.p_chi_square)},
+                            {"p_bootstrap", JsonNumber(t.p_bootstrap)},
+                            {"bootstrap_samples", t.bootstrap_samples},
+                            {"bootstrap_failures", t.bootstrap_failures}});
+    }
+    j["warnings"] = c.warnings;
+    j["plot"] = plot_path.empty() ? Json(nullptr) : Json(plot_path);
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+    return converged ? 0 : kNotConverged;
+  }
+  out << fmt::format("data       {} ({} conditions by {}: {})\n", data_path,
+                     names.size(), by, fmt::join(names, ", "));
+  for (std::size_t k = 0; k < analyses.size(); ++k) {
+    out << fmt::format("\n{} {}\n", by, names[k]);
+    out << analyses[k].FullReport(/*with_warnings=*/false);
+  }
+  out << fmt::format("\nmodels     all conditions fitted at once, {}\n", lapse);
+  for (const analysis::ConditionFit& fit : c.fits) {
+    out << fmt::format(
+        "  {:<13} log L {:<12.6g} {} parameters, deviance {:.4g}"
+        "{}\n",
+        analysis::ConditionModelName(fit.model), fit.log_likelihood,
+        fit.free_parameters, fit.deviance,
+        fit.converged ? "" : " (not converged)");
+  }
+  out << "tests      likelihood ratio LR = 2 (log L fuller - log L lesser); "
+         "p by chi-square (Wilks) and by parametric bootstrap from the lesser "
+         "fit\n";
+  for (const analysis::LikelihoodRatioTest& t : c.tests) {
+    out << fmt::format(
+        "  {} ({} vs {}): LR {:.4g}, df {}, p {:.4g} chi-square, p {} "
+        "bootstrap{}\n",
+        t.question, analysis::ConditionModelName(t.lesser),
+        analysis::ConditionModelName(t.fuller), t.lr, t.df, t.p_chi_square,
+        std::isfinite(t.p_bootstrap) ? fmt::format("{:.4g}", t.p_bootstrap)
+                                     : std::string("n/a"),
+        std::isfinite(t.p_bootstrap)
+            ? fmt::format(" ({} data sets)", t.bootstrap_samples)
+            : std::string(" (--bootstrap 0)"));
+  }
+  if (!plot_path.empty()) out << "plot       " << plot_path << '\n';
+  return converged ? 0 : kNotConverged;
+}
+
 int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Maximum-likelihood fit of psi = gamma + (1 - gamma - lambda) F(x; "
@@ -158,7 +367,7 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
       "code 2: the fit did not converge (results still printed).",
       "burrlab analyze fit"};
   PsychometricOptions options;
-  std::string data_path, task_text, plot_path, cuts_text = "0.2,0.5,0.8";
+  std::string data_path, task_text, plot_path, by, cuts_text = "0.2,0.5,0.8";
   int sigmoid = 0;
   bool json = false;
   FlagSet flags(&app);
@@ -206,6 +415,13 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
                                "(default {}); fewer than needed: exit code 2",
                                options.max_evaluations),
                    1, 10000000, &options.max_evaluations);
+  flags
+      .AddText("--by",
+               "fit each value of this column as a condition, with shared "
+               "and separate thresholds and slopes, and compare them by "
+               "likelihood ratios (chi-square and bootstrap p)",
+               &by)
+      ->type_name("COLUMN");
   flags.AddSwitch("--json", "print the results as JSON", &json);
   flags
       .AddText("--plot",
@@ -268,10 +484,14 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
   Result<std::string> text = ReadTextFile(data_path);
   if (!text.ok()) return Fail(err, text.error().message);
   Result<analysis::PsychometricDataFile> file =
-      analysis::ParsePsychometricData(data_path, *text);
+      analysis::ParsePsychometricData(data_path, *text, by);
   if (!file.ok()) {
     err << file.error().message << '\n';
     return 1;
+  }
+  if (!by.empty()) {
+    return RunFitByCondition(*file, *text, data_path, by, options, plot_path,
+                             json, out, err);
   }
   std::size_t bad = 0;
   if (Status s = analysis::ValidateData(file->blocks, options.sigmoid, &bad);
@@ -305,7 +525,7 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
   const analysis::PsychometricAnalysis& a = *result;
   if (!plot_path.empty()) {
     if (Status s = analysis::WritePlot(
-            analysis::MakePsychometricPlot(file->blocks, a, "stimulus level"),
+            analysis::MakePsychometricPlot(file->blocks, a, LevelLabel(*file)),
             plot_path);
         !s.ok()) {
       return Fail(err, s.error().message);

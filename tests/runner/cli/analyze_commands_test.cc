@@ -297,6 +297,88 @@ TEST_F(AnalyzeCommand, FitRejectsBadFlagsNamingThem) {
          "--lambda-max must be below 1, got '1'");
 }
 
+// --by fits each condition and compares them; the numbers against R's glm
+// with psyphy's mafc.logit(2) link (tests/analysis/fixtures/r/
+// make_condition_comparison_fixture.R, case threshold_shift, logistic), no
+// lapses: the separate and shared-slope thresholds and both likelihood
+// ratios within 1 %, the chi-square p-values too. The file has CR LF line
+// ends and the condition column between the others.
+TEST_F(AnalyzeCommand, FitByConditionComparesThemAsRDoes) {
+  const std::string data =
+      Write("conditions.csv",
+            "level,condition,n_correct,n_total\r\n"
+            "0.5,a,22,40\r\n1,a,25,40\r\n1.5,a,29,40\r\n2,a,33,40\r\n"
+            "2.5,a,37,40\r\n3,a,39,40\r\n0.5,b,20,40\r\n1,b,22,40\r\n"
+            "1.5,b,24,40\r\n2,b,28,40\r\n2.5,b,32,40\r\n3,b,36,40\r\n");
+  const std::string plot = (dir_ / "conditions.svg").string();
+  const CliRun run = RunBurrlab(
+      {"analyze", "fit", "--data", data, "--task", "2afc", "--sigmoid",
+       "logistic", "--by", "condition", "--lambda-max", "0", "--cuts", "0.5",
+       "--bootstrap", "200", "--json", "--plot", plot});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json j = nlohmann::json::parse(run.out);
+  ASSERT_EQ(j["conditions"].size(), 2u);
+  EXPECT_EQ(j["conditions"][1]["name"], "b");
+  // R: separate model, alpha per condition (-b0/b1).
+  EXPECT_NEAR(j["models"][0]["conditions"][0]["alpha"].get<double>(), 1.6185376,
+              0.01 * 1.6185376);
+  EXPECT_NEAR(j["models"][0]["conditions"][1]["alpha"].get<double>(), 2.2535939,
+              0.01 * 2.2535939);
+  EXPECT_EQ(j["models"][1]["model"], "shared slope");
+  EXPECT_NEAR(j["models"][1]["conditions"][0]["alpha"].get<double>(), 1.6102840,
+              0.01 * 1.6102840);
+  EXPECT_NEAR(j["models"][1]["conditions"][1]["beta"].get<double>(), 0.52101976,
+              0.01 * 0.52101976);
+  EXPECT_EQ(j["tests"][0]["question"], "thresholds differ");
+  EXPECT_NEAR(j["tests"][0]["lr"].get<double>(), 8.4198620, 0.01 * 8.4198620);
+  EXPECT_NEAR(j["tests"][0]["p_chi_square"].get<double>(), 0.0037114396,
+              0.01 * 0.0037114396);
+  EXPECT_NEAR(j["tests"][1]["lr"].get<double>(), 0.031339110,
+              0.01 * 0.031339110);
+  EXPECT_NEAR(j["tests"][1]["p_chi_square"].get<double>(), 0.85948596,
+              0.01 * 0.85948596);
+  EXPECT_EQ(j["tests"][0]["bootstrap_samples"], 200);
+  EXPECT_TRUE(std::filesystem::exists(plot));
+
+  const CliRun text =
+      RunBurrlab({"analyze", "fit", "--data", data, "--task", "2afc",
+                  "--sigmoid", "logistic", "--by", "condition", "--lambda-max",
+                  "0", "--cuts", "0.5", "--bootstrap", "0"});
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_THAT(text.out,
+              HasSubstr("  thresholds differ (shared vs shared slope): LR "
+                        "8.42, df 1, p 0.003711 chi-square, p n/a bootstrap "
+                        "(--bootstrap 0)\n"));
+}
+
+TEST_F(AnalyzeCommand, FitByConditionNamesWhatIsMissing) {
+  const std::string one =
+      Write("one.csv",
+            "level,condition,n_correct,n_total\n1,a,22,40\n2,a,30,40\n"
+            "3,a,38,40\n");
+  CliRun run = RunBurrlab({"analyze", "fit", "--data", one, "--task", "2afc",
+                           "--sigmoid", "logistic", "--by", "condition"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err,
+            "burrlab: --by condition: the data have 1 condition ('a'); "
+            "comparing needs at least 2\n");
+  run = RunBurrlab({"analyze", "fit", "--data", one, "--task", "2afc",
+                    "--sigmoid", "logistic", "--by", "group"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_THAT(run.err, HasSubstr("error: the header has no column 'group' to "
+                                 "split the rows by"));
+  const std::string two_levels =
+      Write("two.csv",
+            "level,condition,n_correct,n_total\n1,a,22,40\n2,a,30,40\n"
+            "3,a,38,40\n1,b,22,40\n2,b,30,40\n");
+  run = RunBurrlab({"analyze", "fit", "--data", two_levels, "--task", "2afc",
+                    "--sigmoid", "logistic", "--by", "condition"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_THAT(run.err, HasSubstr("error: condition 'b': only 2 distinct "
+                                 "levels: a psychometric fit needs at least "
+                                 "3"));
+}
+
 TEST(AnalyzeDPrime, PrintsJsonForEachDesign) {
   CliRun run = RunBurrlab({"analyze", "dprime", "--design", "same-different",
                            "--hit", "0.6", "--fa", "0.1", "--json"});

@@ -33,6 +33,16 @@ struct PsychometricDataFile {
   // kTrials: practice trials (a `practice` column of 1), left out: a
   // familiarization block is never fitted.
   int practice_rows = 0;
+  // kTrials: the first stim_unit that is not n/a (empty: none).
+  std::string stim_unit;
+  // With a `by` column: the rows of each of its values pooled apart, in
+  // order of first appearance (`blocks` still pools them all).
+  struct Condition {
+    std::string name;
+    std::vector<DataBlock> blocks;
+    std::vector<int> lines;  // as `lines`
+  };
+  std::vector<Condition> conditions;
 };
 
 // Parses `text` (the whole file). The delimiter is a tab when the header line
@@ -42,13 +52,17 @@ struct PsychometricDataFile {
 // number in [0, n_total]. Trials: stim_level a finite number or n/a, correct
 // 1, 0 or n/a; a row whose `practice` column is 1 is left out (counted in
 // practice_rows). The rows of one level may add up to at most INT_MAX trials.
-// The error is a formatted diagnostic (up to three lines).
+// The error is a formatted diagnostic (up to three lines). A non-empty `by`
+// names a column whose values split the rows into conditions (an error when
+// the header lacks it, or a cell of it is empty).
 Result<PsychometricDataFile> ParsePsychometricData(std::string_view path,
-                                                   std::string_view text);
+                                                   std::string_view text,
+                                                   std::string_view by = {});
 
 // Reads and parses the file at `path`; "cannot read PATH: reason" when it
 // cannot be read.
-Result<PsychometricDataFile> ReadPsychometricData(const std::string& path);
+Result<PsychometricDataFile> ReadPsychometricData(const std::string& path,
+                                                  std::string_view by = {});
 
 // "path:line:col: error: message", the source line and a caret under the
 // column; "path: error: message" when line is 0. No trailing line break.

@@ -12,6 +12,7 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 #include "burrlab/analysis/plot.h"
 #include "burrlab/analysis/psychometric.h"
@@ -22,6 +23,14 @@ namespace burrlab::analysis {
 LinePlot MakePsychometricPlot(std::span<const DataBlock> data,
                               const PsychometricAnalysis& analysis,
                               const std::string& x_label);
+
+// Several conditions' fits in one figure: each condition's data (with
+// Wilson intervals), fitted psi and threshold intervals in its own colour,
+// labelled with its name; chance once.
+LinePlot MakeConditionsPlot(std::span<const std::vector<DataBlock>> data,
+                            std::span<const PsychometricAnalysis> analyses,
+                            std::span<const std::string> names,
+                            const std::string& x_label);
 
 }  // namespace burrlab::analysis
 

@@ -463,4 +463,76 @@ std::vector<GroupThreshold> GroupThresholds(
   return groups;
 }
 
+LinePlot GroupThresholdPlot(const GroupThreshold& group,
+                            std::span<const ThresholdEstimate> estimates) {
+  constexpr double kNone = GroupThreshold::kNone;
+  LinePlot plot;
+  plot.title = fmt::format(
+      "{}{}{}: threshold per subject and the group", group.block,
+      group.staircase_id ? fmt::format(" staircase {}", *group.staircase_id)
+                         : std::string(),
+      group.session.empty() ? std::string() : ", ses-" + group.session);
+  plot.x_label = "subject";
+  plot.y_label = group.stim_unit.empty()
+                     ? std::string("threshold")
+                     : fmt::format("threshold ({})", group.stim_unit);
+  plot.log_y = group.geometric;
+  Series bounded{"subject, 95 % interval", {}, {}, false, true, 0};
+  Series unbounded{
+      "subject, interval at a search limit", {}, {}, false, true, 3};
+  Series spread{"subject ± SD of its values", {}, {}, false, true, 2};
+  Series plain{"subject", {}, {}, false, true, 4};
+  double x = 0.0;
+  for (const ThresholdEstimate& e : estimates) {
+    if (e.session != group.session || e.block != group.block ||
+        e.staircase_id != group.staircase_id || !e.value ||
+        !std::isfinite(*e.value)) {
+      continue;
+    }
+    x += 1.0;
+    plot.x_tick_labels.emplace_back(x, "sub-" + e.subject);
+    const bool limited = e.ci_low_at_search_limit || e.ci_high_at_search_limit;
+    const bool has_ci = e.ci_low && e.ci_high;
+    const bool has_sd = e.spread && e.spread_unit == e.stim_unit;
+    Series& s = limited  ? unbounded
+                : has_ci ? bounded
+                : has_sd ? spread
+                         : plain;
+    s.x.push_back(x);
+    s.y.push_back(*e.value);
+    double low = kNone, high = kNone;
+    if (!limited && has_ci) {
+      low = *e.ci_low;
+      high = *e.ci_high;
+    } else if (!limited && has_sd) {
+      low = *e.value - *e.spread;
+      high = *e.value + *e.spread;
+    }
+    s.y_low.push_back(low);
+    s.y_high.push_back(high);
+  }
+  x += 1.0;
+  plot.x_tick_labels.emplace_back(x, "group");
+  const bool geometric = group.geometric && std::isfinite(group.geometric_mean);
+  Series mean{geometric ? "group geometric mean, 95 % t interval"
+                        : "group mean, 95 % t interval",
+              {x},
+              {geometric ? group.geometric_mean : group.mean},
+              false,
+              true,
+              1};
+  mean.y_low = {geometric ? group.geometric_ci_low : group.ci_low};
+  mean.y_high = {geometric ? group.geometric_ci_high : group.ci_high};
+  mean.marker_px = {11.0};
+  plot.x_range = std::pair(0.4, x + 0.6);
+  if (group.stim_unit == "ratio") {
+    plot.reference_lines.push_back({false, 1.0, "the standard (ratio 1)"});
+  }
+  for (Series* s : {&bounded, &spread, &plain, &unbounded}) {
+    if (!s->x.empty()) plot.series.push_back(std::move(*s));
+  }
+  if (std::isfinite(mean.y[0])) plot.series.push_back(std::move(mean));
+  return plot;
+}
+
 }  // namespace burrlab::analysis

@@ -3,12 +3,15 @@
 // adjusted levels and the constant-stimuli fit on the pooled counts.
 #include "burrlab/analysis/thresholds.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "golden.h"
 
 namespace burrlab::analysis {
 namespace {
@@ -320,6 +323,47 @@ TEST(GroupThresholds, GeometricOnlyForRatiosAndLogStaircases) {
   EXPECT_TRUE(std::isnan(GroupThresholds(linear)[0].geometric_mean));
   for (ThresholdEstimate& x : linear) x.spread_unit = "log10";
   EXPECT_NEAR(GroupThresholds(linear)[0].geometric_mean, std::sqrt(6.0), 1e-14);
+}
+
+// The group figure: one labelled tick per subject with a value and one for
+// the group; subjects with an interval, with an interval at a search limit
+// (no bar) and the group's geometric mean with its t interval in their own
+// series; a log axis and the standard marked on a ratio axis. Its pixels are
+// guarded by a golden image (looked at).
+TEST(GroupThresholdPlot, SubjectsWithTheirIntervalsAndTheGroupMean) {
+  std::vector<ThresholdEstimate> estimates;
+  const std::vector<double> values = {1.3, 1.1, 1.6, 1.25, 1.4};
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    ThresholdEstimate e;
+    e.subject = fmt::format("{:02}", i + 1);
+    e.block = "constant";
+    e.stim_unit = e.spread_unit = "ratio";
+    e.value = values[i];
+    e.ci_low = values[i] / 1.2;
+    e.ci_high = values[i] * 1.25;
+    e.ci_high_at_search_limit = i == 2;
+    estimates.push_back(e);
+  }
+  estimates[3].value.reset();  // left out
+  const std::vector<GroupThreshold> groups = GroupThresholds(estimates);
+  ASSERT_EQ(groups.size(), 1u);
+  const LinePlot plot = GroupThresholdPlot(groups[0], estimates);
+  EXPECT_TRUE(plot.log_y);
+  EXPECT_EQ(plot.y_label, "threshold (ratio)");
+  ASSERT_EQ(plot.x_tick_labels.size(), 5u);
+  EXPECT_EQ(plot.x_tick_labels[2].second, "sub-03");
+  EXPECT_EQ(plot.x_tick_labels[3].second, "sub-05");
+  EXPECT_EQ(plot.x_tick_labels[4].second, "group");
+  ASSERT_EQ(plot.series.size(), 3u);
+  EXPECT_EQ(plot.series[0].x, (std::vector<double>{1, 2, 4}));
+  EXPECT_EQ(plot.series[0].y_high[2], 1.4 * 1.25);
+  EXPECT_EQ(plot.series[1].label, "subject, interval at a search limit");
+  EXPECT_TRUE(std::isnan(plot.series[1].y_low[0]));
+  EXPECT_EQ(plot.series[2].y[0], groups[0].geometric_mean);
+  EXPECT_EQ(plot.series[2].y_low[0], groups[0].geometric_ci_low);
+  ASSERT_EQ(plot.reference_lines.size(), 1u);
+  EXPECT_EQ(plot.reference_lines[0].value, 1.0);
+  EXPECT_EQ(testing::CompareWithGolden(plot, "group_thresholds"), "");
 }
 
 }  // namespace

@@ -100,6 +100,17 @@ std::string IncompleteSessionWarning(
 
 namespace {
 
+// The figure formats of --format, and the flag itself (default png).
+const std::vector<std::string> kFigureFormats = {"png", "pdf", "svg"};
+void AddFigureFormat(FlagSet& flags, int* format) {
+  flags.AddChoice("--format",
+                  "figure format of --plots: png, pdf or svg (default png)",
+                  kFigureFormats, format);
+}
+std::string FigureExtension(int format) {
+  return "." + kFigureFormats[static_cast<std::size_t>(format)];
+}
+
 // Creates the figure folder; an error names it.
 Status MakePlotDir(const std::string& dir) {
   std::error_code ec;
@@ -314,13 +325,13 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
       "burrlab analyze scores"};
   std::string dir, plots;
   bool json = false;
+  int format = 0;
   FlagSet flags(&app);
   app.add_option("DIR", dir, "results folder")->required();
   flags.AddSwitch("--json", "print the results as JSON", &json);
-  flags
-      .AddText("--plots", "write a score histogram per block (PNG) here",
-               &plots)
+  flags.AddText("--plots", "write a score histogram per block here", &plots)
       ->type_name("DIR");
+  AddFigureFormat(flags, &format);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   Result<std::vector<results_schema::BehFile>> files = ReadResults(dir, err);
@@ -336,9 +347,10 @@ int RunScores(const Args& args, std::ostream& out, std::ostream& err) {
     if (Status s = MakePlotDir(plots); !s.ok())
       return Fail(err, s.error().message);
     for (std::size_t i = 0; i < blocks->size(); ++i) {
-      plot_paths[i] = (fs::path(plots) /
-                       fmt::format("scores_{}.png", (*blocks)[i].task_label))
-                          .string();
+      plot_paths[i] =
+          (fs::path(plots) / fmt::format("scores_{}{}", (*blocks)[i].task_label,
+                                         FigureExtension(format)))
+              .string();
       if (Status s = analysis::WritePlot(analysis::ScoreHistogram((*blocks)[i]),
                                          plot_paths[i]);
           !s.ok()) {
@@ -554,11 +566,13 @@ Json GroupThresholdJson(const analysis::GroupThreshold& g) {
 
 // The group lines of `analyze thresholds`, and a key to their symbols.
 void PrintGroupThresholds(std::ostream& out,
-                          const std::vector<analysis::GroupThreshold>& groups) {
+                          const std::vector<analysis::GroupThreshold>& groups,
+                          const std::vector<std::string>& figures) {
   if (groups.empty()) return;
   bool any_spread = false, any_geometric = false;
   out << '\n';
-  for (const analysis::GroupThreshold& g : groups) {
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    const analysis::GroupThreshold& g = groups[i];
     const std::string what = fmt::format(
         "group {}{}{}",
         g.session.empty() ? std::string() : "ses-" + g.session + " ", g.block,
@@ -602,6 +616,7 @@ void PrintGroupThresholds(std::ostream& out,
       out << fmt::format("  left out, no threshold: sub-{}{}\n", subject,
                          note.empty() ? std::string() : " (" + note + ")");
     }
+    if (!figures[i].empty()) out << "  figure " << figures[i] << '\n';
   }
   if (!any_spread) return;
   out << "group: ± SEM is the standard error of the subjects' mean; 95 % CI "
@@ -625,9 +640,9 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
       "stimuli a maximum-likelihood psychometric fit with a 95 % BCa "
       "bootstrap interval.",
       "burrlab analyze thresholds"};
-  std::string dir;
+  std::string dir, plots;
   analysis::ThresholdOptions options;
-  int sigmoid = 0;
+  int sigmoid = 0, format = 0;
   bool json = false;
   FlagSet flags(&app);
   app.add_option("DIR", dir, "results folder")->required();
@@ -646,6 +661,13 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
                    1000000, &options.bootstrap_samples);
   flags.AddUnsigned("--seed", "bootstrap seed (default 1)", &options.seed);
   flags.AddSwitch("--json", "print the results as JSON", &json);
+  flags
+      .AddText("--plots",
+               "write each group's figure (its subjects' thresholds with "
+               "their intervals, and the group mean) here",
+               &plots)
+      ->type_name("DIR");
+  AddFigureFormat(flags, &format);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
   options.sigmoid = *analysis::SigmoidFromName(
@@ -662,12 +684,40 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
       analysis::PracticeTrials(*files);
   const std::vector<analysis::GroupThreshold> groups =
       analysis::GroupThresholds(*estimates);
+  // One figure per group with a subject: thresholds_BLOCK[_staircase-N]
+  // [_ses-S].EXT.
+  std::vector<std::string> figures(groups.size());
+  if (flags.Given("--plots")) {
+    if (Status s = MakePlotDir(plots); !s.ok()) {
+      return Fail(err, s.error().message);
+    }
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      const analysis::GroupThreshold& g = groups[i];
+      if (g.n == 0) continue;
+      figures[i] =
+          (fs::path(plots) /
+           fmt::format("thresholds_{}{}{}{}", g.block,
+                       g.staircase_id
+                           ? fmt::format("_staircase-{}", *g.staircase_id)
+                           : std::string(),
+                       g.session.empty() ? std::string() : "_ses-" + g.session,
+                       FigureExtension(format)))
+              .string();
+      if (Status s = analysis::WritePlot(
+              analysis::GroupThresholdPlot(g, *estimates), figures[i]);
+          !s.ok()) {
+        return Fail(err, s.error().message);
+      }
+    }
+  }
   if (json) {
     Json j;
     j["results"] = dir;
     j["group"] = Json::array();
-    for (const analysis::GroupThreshold& g : groups) {
-      j["group"].push_back(GroupThresholdJson(g));
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      Json g = GroupThresholdJson(groups[i]);
+      g["plot"] = figures[i].empty() ? Json(nullptr) : Json(figures[i]);
+      j["group"].push_back(g);
     }
     j["practice_left_out"] = Json::array();
     for (const analysis::PracticeLeftOut& p : practice) {
@@ -747,7 +797,7 @@ int RunThresholds(const Args& args, std::ostream& out, std::ostream& err) {
     out << fmt::format("{}: {}  - {}, n = {}{}\n", who, value, e.estimator, e.n,
                        e.note.empty() ? "" : "; " + e.note);
   }
-  PrintGroupThresholds(out, groups);
+  PrintGroupThresholds(out, groups, figures);
   if (!practice.empty()) out << PracticeLine(practice, "estimated") << '\n';
   return 0;
 }
@@ -784,12 +834,14 @@ Json KinematicsJson(const analysis::KinematicsSummary& k,
   return j;
 }
 
-// Writes the force and speed histograms of `k` as STEM_force.png and
-// STEM_speed.png; the two paths, or an error naming the file.
+// Writes the force and speed histograms of `k` as STEM_force.EXT and
+// STEM_speed.EXT (EXT: ".png", ".pdf" or ".svg"); the two paths, or an error
+// naming the file.
 Result<std::pair<std::string, std::string>> WriteKinematicsPlots(
-    const analysis::KinematicsSummary& k, const std::string& stem) {
-  std::pair<std::string, std::string> paths = {stem + "_force.png",
-                                               stem + "_speed.png"};
+    const analysis::KinematicsSummary& k, const std::string& stem,
+    const std::string& extension) {
+  std::pair<std::string, std::string> paths = {stem + "_force" + extension,
+                                               stem + "_speed" + extension};
   if (Status s =
           analysis::WritePlot(analysis::ForceHistogramPlot(k), paths.first);
       !s.ok()) {
@@ -924,6 +976,7 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   std::string dir, plots;
   analysis::KinematicsOptions options;
   bool json = false;
+  int format = 0;
   FlagSet flags(&app);
   app.add_option("DIR", dir, "results folder")->required();
   flags.AddInteger("--bins", "histogram bins (default 30)", 1, 10000,
@@ -932,9 +985,10 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   flags
       .AddText("--plots",
                "write force and speed histograms per subject and block, and "
-               "per subject over all its blocks (PNG), here",
+               "per subject over all its blocks, here",
                &plots)
       ->type_name("DIR");
+  AddFigureFormat(flags, &format);
   std::string groups_path, group_column = "group";
   flags
       .AddText("--groups",
@@ -1005,7 +1059,7 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
                                             k.block)))
                 .string();
         Result<std::pair<std::string, std::string>> written =
-            WriteKinematicsPlots(k, stem);
+            WriteKinematicsPlots(k, stem, FigureExtension(format));
         if (!written.ok()) return Fail(err, written.error().message);
         (*paths)[i] = *written;
       }

@@ -185,6 +185,16 @@ TEST_F(AnalyzeResults, ScoresJsonHasTheTestsAndTheHistogram) {
   EXPECT_EQ(b["binomial"]["trials"], 24);
   EXPECT_TRUE(b["t_test"].is_object() || !b["warnings"].empty());
   EXPECT_TRUE(fs::exists(b["histogram"].get<std::string>()));
+  // --format: the same figure as PDF.
+  const CliRun pdf = RunBurrlab({"analyze", "scores", results, "--json",
+                                 "--plots", plots, "--format", "pdf"});
+  ASSERT_EQ(pdf.code, 0) << pdf.err;
+  const std::string histogram =
+      Json::parse(pdf.out)["blocks"][0]["histogram"].get<std::string>();
+  EXPECT_EQ(fs::path(histogram).extension(), ".pdf");
+  EXPECT_TRUE(fs::exists(histogram));
+  EXPECT_EQ(RunBurrlab({"analyze", "scores", results, "--format", "jpg"}).err,
+            "burrlab: --format must be 'png', 'pdf' or 'svg', got 'jpg'\n");
 
   const CliRun kin = RunBurrlab({"analyze", "kinematics", results, "--json"});
   ASSERT_EQ(kin.code, 0) << kin.err;

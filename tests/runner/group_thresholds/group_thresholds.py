@@ -3,7 +3,8 @@
 Reads every subject's _beh.tsv as an analyst would, checks that the per-subject
 estimates cover each subject's scored trials, and recomputes the group's mean,
 SD, SEM, Student t interval and geometric mean from the per-subject thresholds;
-compares them with the JSON (to 1e-12 relative) and the printed group line.
+compares them with the JSON (to 1e-12 relative) and the printed group line, and
+checks the group figure was written.
     group_thresholds.py STUDY_DIR THRESHOLDS_JSON THRESHOLDS_TXT
 """
 import glob
@@ -85,6 +86,14 @@ line = (
 )
 if line not in text.splitlines():
     failures.append(f"printed group line missing; expected\n  {line}\nin\n{text}")
+
+# The group figure the text names.
+figure = os.path.join(os.path.dirname(text_path), "figures",
+                      "thresholds_constant.png")
+if f"  figure {figure}" not in text.splitlines():
+    failures.append(f"no line '  figure {figure}' in\n{text}")
+elif not open(figure, "rb").read(8) == b"\x89PNG\r\n\x1a\n":
+    failures.append(f"{figure} is not a PNG")
 
 if failures:
     print("\n".join(failures))

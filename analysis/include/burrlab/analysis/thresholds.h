@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "burrlab/analysis/plot.h"
 #include "burrlab/analysis/psychometric.h"
 #include "burrlab/base/result.h"
 #include "burrlab/results_schema/bids_read.h"
@@ -118,6 +119,14 @@ struct GroupThreshold {
 // appearance.
 std::vector<GroupThreshold> GroupThresholds(
     std::span<const ThresholdEstimate> estimates);
+
+// The group's figure: each subject's threshold with its 95 % interval (a
+// subject whose interval reaches a search limit drawn apart, without one),
+// and the group's mean with its 95 % t interval beside them (the geometric
+// mean on a log axis for ratio axes and log staircases). `estimates` are
+// those GroupThresholds was given.
+LinePlot GroupThresholdPlot(const GroupThreshold& group,
+                            std::span<const ThresholdEstimate> estimates);
 
 }  // namespace burrlab::analysis
 

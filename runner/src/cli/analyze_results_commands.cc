@@ -241,8 +241,12 @@ std::string DPrimeText(const analysis::SameDifferentRates& r) {
   const auto d = [](const std::optional<double>& v) {
     return v ? fmt::format("{:.3f}", *v) : std::string("n/a");
   };
-  return fmt::format("H {:.3f} F {:.3f}{}  d' {} (differencing) {} (IO)",
-                     r.hit_rate, r.false_alarm_rate, r.corrected ? "*" : "",
+  // `*` marks each rate of 0 or 1 that d' used corrected (the key below the
+  // block says so).
+  const auto mark = [](int k, int n) { return k == 0 || k == n ? "*" : ""; };
+  return fmt::format("H {:.3f}{} F {:.3f}{}  d' {} (differencing) {} (IO)",
+                     r.hit_rate, mark(r.hits, r.different_trials),
+                     r.false_alarm_rate, mark(r.false_alarms, r.same_trials),
                      d(r.dprime_differencing),
                      d(r.dprime_independent_observation));
 }
@@ -304,6 +308,14 @@ void PrintScores(std::ostream& out, const analysis::BlockScores& b,
           r.iqr_s ? fmt::format("{:.3f}", *r.iqr_s) : std::string("n/a"), r.n,
           r.missing);
     }
+  }
+  bool any_corrected = b.pooled_rates && b.pooled_rates->corrected;
+  for (const analysis::SubjectScore& s : b.subjects) {
+    any_corrected = any_corrected || (s.rates && s.rates->corrected);
+  }
+  if (any_corrected) {
+    out << "  *          a rate of 0 or 1: d' used 1/(2N) or 1 - 1/(2N) "
+           "instead (Macmillan & Kaplan 1985), N its trials\n";
   }
   for (const std::string& w : b.warnings) out << "  warning    " << w << '\n';
   if (!plot.empty()) out << "  histogram  " << plot << '\n';

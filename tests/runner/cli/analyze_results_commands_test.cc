@@ -525,6 +525,37 @@ TEST_F(AnalyzeResults, ScoresLeaveOutPracticeAndCountLateAnswers) {
   ASSERT_EQ(j["blocks"].size(), 1u);
   EXPECT_EQ(j["blocks"][0]["late_answers"], late);
   EXPECT_EQ(j["blocks"][0]["answers_with_deadline"], 16);
+  // A rate of 0 or 1 is starred right after it, and a key says what `*`
+  // means (4 "different" and 4 "same" trials per subject: such rates are
+  // common).
+  bool any_corrected = false;
+  for (const Json& subject : j["blocks"][0]["subjects"]) {
+    const Json& r = subject["rates"];
+    const std::string line_start =
+        fmt::format("  sub-{:<8}", subject["subject"].get<std::string>());
+    const std::size_t at = text.out.find(line_start);
+    ASSERT_NE(at, std::string::npos) << text.out;
+    const std::string line = text.out.substr(at, text.out.find('\n', at) - at);
+    const auto starred = [](int k, int n) { return k == 0 || k == n; };
+    const bool h =
+        starred(r["hits"].get<int>(), r["different_trials"].get<int>());
+    const bool f =
+        starred(r["false_alarms"].get<int>(), r["same_trials"].get<int>());
+    EXPECT_EQ(line.find(fmt::format("H {:.3f}{} F {:.3f}{} ",
+                                    r["hit_rate"].get<double>(), h ? "*" : "",
+                                    r["false_alarm_rate"].get<double>(),
+                                    f ? "*" : "")) != std::string::npos,
+              true)
+        << line;
+    any_corrected = any_corrected || h || f;
+  }
+  EXPECT_TRUE(any_corrected) << "these seeds no longer give a rate of 0 or 1";
+  EXPECT_EQ(
+      text.out.find("  *          a rate of 0 or 1: d' used 1/(2N) or "
+                    "1 - 1/(2N) instead (Macmillan & Kaplan 1985), N "
+                    "its trials\n") != std::string::npos,
+      any_corrected || j["blocks"][0]["pooled_rates"]["corrected"].get<bool>())
+      << text.out;
 }
 
 // A practice staircase (familiarization) followed by the scored one: the

@@ -273,10 +273,10 @@ LinePlot ScoreHistogram(const BlockScores& block) {
   }
   std::string stats;
   if (block.mean_score.has_value()) {
-    stats = fmt::format(": mean {:.1f} +- {:.1f}", block.mean_score->mean,
+    stats = fmt::format(": mean {:.1f} ± {:.1f} SEM", block.mean_score->mean,
                         block.mean_score->sem);
   } else if (block.mean_proportion.has_value()) {
-    stats = fmt::format(": mean {:.1f} +- {:.1f} %",
+    stats = fmt::format(": mean {:.1f} ± {:.1f} % (SEM)",
                         100.0 * block.mean_proportion->mean,
                         100.0 * block.mean_proportion->sem);
   }

@@ -186,56 +186,36 @@ analysis::LinePlot ComparisonPlot(const DemoReport& r) {
   analysis::LinePlot plot;
   plot.title =
       "Mean score of 12: dissertation, one burrlab study, burrlab prediction";
-  plot.x_label =
-      "1 PVC probe   2 PVC drill   3 Pettigrew probe   4 Pettigrew drill";
+  plot.x_label = "study and task";
   plot.y_label = "correct answers out of 12";
   plot.x_range = std::pair(0.5, static_cast<double>(r.rows.size()) + 0.5);
-  plot.integer_x = true;
-  analysis::Series paper, study, predicted, chance;
-  paper.label = "dissertation (mean +- SEM)";
-  study.label = "burrlab study (mean +- SEM)";
-  predicted.label = "prediction (mean +- SD)";
-  chance.label = "chance";
-  for (auto* s : {&paper, &study, &predicted}) {
-    s->line = false;
-    s->markers = true;
-  }
-  paper.colour = 2;
-  study.colour = 0;
-  predicted.colour = 1;
-  chance.colour = 6;
-  std::vector<analysis::Series> bars;
-  const auto bar = [&](double x, double mid, double half, int colour) {
-    analysis::Series b;
-    b.x = {x, x};
-    b.y = {mid - half, mid + half};
-    b.colour = colour;
-    bars.push_back(b);
+  analysis::Series paper{"dissertation (mean ± SEM)", {}, {}, false, true, 2};
+  analysis::Series study{"burrlab study (mean ± SEM)", {}, {}, false, true, 0};
+  analysis::Series predicted{
+      "prediction (mean ± SD of replications)", {}, {}, false, true, 1};
+  const auto add = [](analysis::Series& s, double x, double mid, double half) {
+    s.x.push_back(x);
+    s.y.push_back(mid);
+    s.y_low.push_back(mid - half);
+    s.y_high.push_back(mid + half);
   };
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const DemoRow& row = r.rows[i];
     const double x = static_cast<double>(i) + 1.0;
+    plot.x_tick_labels.emplace_back(
+        x, fmt::format("{} {}", row.study.substr(0, row.study.find(" vs")),
+                       row.block));
     if (row.paper_mean) {
-      paper.x.push_back(x - 0.2);
-      paper.y.push_back(*row.paper_mean);
-      bar(x - 0.2, *row.paper_mean, row.paper_sem.value_or(0.0), 2);
+      add(paper, x - 0.2, *row.paper_mean, row.paper_sem.value_or(0.0));
     }
-    study.x.push_back(x);
-    study.y.push_back(row.mean);
-    bar(x, row.mean, row.sem, 0);
-    predicted.x.push_back(x + 0.2);
-    predicted.y.push_back(row.predicted_mean);
-    bar(x + 0.2, row.predicted_mean, row.predicted_sd, 1);
+    add(study, x, row.mean, row.sem);
+    add(predicted, x + 0.2, row.predicted_mean, row.predicted_sd);
   }
-  chance.x = {0.5, static_cast<double>(r.rows.size()) + 0.5};
-  chance.y = {6.0, 6.0};
-  // Room above the data for the legend: an invisible point at 12 of 12.
-  analysis::Series headroom;
-  headroom.x = {1.0};
-  headroom.y = {12.0};
-  headroom.line = false;
-  plot.series = {paper, study, predicted, chance, headroom};
-  for (analysis::Series& b : bars) plot.series.push_back(std::move(b));
+  // Chance: half of the 12 answers (same-different, equal priors).
+  plot.reference_lines.push_back({false, 6.0, "chance (6 of 12)"});
+  // The whole score range, so chance and a perfect score are in view.
+  plot.reference_lines.push_back({false, 12.0, "all correct"});
+  plot.series = {paper, study, predicted};
   return plot;
 }
 
@@ -455,8 +435,8 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
           figures / fmt::format("scores_{}_{}.png", dir, b.task_label);
       analysis::LinePlot plot = analysis::ScoreHistogram(b);
       plot.title =
-          fmt::format("{}, {}: mean {:.1f} +- {:.1f} of {}, p = {:.2g}", study,
-                      b.block, row.mean, row.sem, row.trials, row.p);
+          fmt::format("{}, {}: mean {:.1f} ± {:.1f} SEM of {}, p = {:.2g}",
+                      study, b.block, row.mean, row.sem, row.trials, row.p);
       if (Status s = analysis::WritePlot(plot, png.string()); !s.ok()) {
         return s;
       }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "burrlab/results_schema/dataset_layout.h"
@@ -303,24 +304,41 @@ Result<KinematicsReport> SummarizeKinematics(std::span<const BehFile> files,
         "real samples are not recorded)"};
   }
   for (Samples& s : subjects) Finish(&s);
-  double force_max = options.force_max_n, speed_max = options.speed_max_mm_s;
-  if (force_max == 0.0 || speed_max == 0.0) {
-    double f = 0.0, v = 0.0;
-    for (const Samples& s : blocks) {
-      for (double x : s.force_n) f = std::max(f, x);
-      for (double x : s.speed_mm_s) v = std::max(v, x);
-    }
-    if (force_max == 0.0) force_max = f;
-    if (speed_max == 0.0) speed_max = v;
+  // Common ranges: from 0 to the largest value over the blocks of one task
+  // (probing presses far less hard than drilling, and its histograms would
+  // crowd into a corner of a drilling range), and over every block for the
+  // subjects' summaries over all their blocks; --force-max/--speed-max fix
+  // them.
+  struct Range {
+    double force = 0.0, speed = 0.0;
+  };
+  std::map<std::string, Range> by_task;
+  Range all;
+  for (const Samples& s : blocks) {
+    Range& task = by_task[s.summary.task];
+    for (double x : s.force_n) task.force = std::max(task.force, x);
+    for (double x : s.speed_mm_s) task.speed = std::max(task.speed, x);
+    all.force = std::max(all.force, task.force);
+    all.speed = std::max(all.speed, task.speed);
   }
+  const auto bin = [&](Samples& s, const Range& range) {
+    s.summary.force =
+        Bin(s.force_n,
+            options.force_max_n > 0.0 ? options.force_max_n : range.force,
+            options.bins);
+    s.summary.speed =
+        Bin(s.speed_mm_s,
+            options.speed_max_mm_s > 0.0 ? options.speed_max_mm_s : range.speed,
+            options.bins);
+  };
   KinematicsReport out;
-  for (auto [from, to] :
-       {std::pair{&blocks, &out.blocks}, std::pair{&subjects, &out.subjects}}) {
-    for (Samples& s : *from) {
-      s.summary.force = Bin(s.force_n, force_max, options.bins);
-      s.summary.speed = Bin(s.speed_mm_s, speed_max, options.bins);
-      to->push_back(std::move(s.summary));
-    }
+  for (Samples& s : blocks) {
+    bin(s, by_task.at(s.summary.task));
+    out.blocks.push_back(std::move(s.summary));
+  }
+  for (Samples& s : subjects) {
+    bin(s, all);
+    out.subjects.push_back(std::move(s.summary));
   }
   return out;
 }
@@ -437,6 +455,71 @@ LinePlot SpeedHistogramPlot(const KinematicsSummary& s) {
                                    s.mean_speed_mm_s),
                        fmt::format("burr speed, {} (mm/s)", s.speed_measure),
                        1);
+}
+
+namespace {
+
+// The group's histogram of one measure: per bin, each subject's share of its
+// samples, averaged over the subjects (error bars: SEM across them).
+LinePlot GroupHistogram(std::span<const KinematicsSummary> summaries,
+                        bool force) {
+  const KinematicsSummary& first = summaries.front();
+  const Histogram& shape = force ? first.force : first.speed;
+  std::vector<std::vector<double>> shares(shape.counts.size());
+  double mean_of_means = 0.0;
+  for (const KinematicsSummary& k : summaries) {
+    const Histogram& h = force ? k.force : k.speed;
+    long long total = h.outside;
+    for (long long c : h.counts) total += c;
+    for (std::size_t b = 0; b < h.counts.size() && b < shares.size(); ++b) {
+      shares[b].push_back(total > 0 ? 100.0 * static_cast<double>(h.counts[b]) /
+                                          static_cast<double>(total)
+                                    : 0.0);
+    }
+    mean_of_means += (force ? k.mean_force_n : k.mean_speed_mm_s) /
+                     static_cast<double>(summaries.size());
+  }
+  LinePlot plot;
+  const std::string who = fmt::format(
+      "{}{}, {} subject{}", first.block,
+      first.block == first.task ? std::string() : " (" + first.task + ")",
+      summaries.size(), summaries.size() == 1 ? "" : "s");
+  plot.title =
+      force
+          ? fmt::format("{}: force, mean {:.3g} N", who, mean_of_means)
+          : fmt::format("{}: burr speed, mean {:.3g} mm/s", who, mean_of_means);
+  plot.x_label =
+      force ? fmt::format("felt force, {} (N)", first.force_measure)
+            : fmt::format("burr speed, {} (mm/s)", first.speed_measure);
+  plot.y_label = summaries.size() > 1
+                     ? "share of samples (%), mean ± SEM over subjects"
+                     : "share of samples (%)";
+  Series bars{"", {}, {}, false, false, force ? 0 : 1};
+  bars.bar_width = shape.width;
+  for (std::size_t b = 0; b < shares.size(); ++b) {
+    bars.x.push_back(shape.low + (static_cast<double>(b) + 0.5) * shape.width);
+    Result<MeanSem> m = MeanAndSem(shares[b]);
+    double mean = 0.0;
+    for (double x : shares[b])
+      mean += x / static_cast<double>(shares[b].size());
+    bars.y.push_back(mean);
+    bars.y_low.push_back(m.ok() ? mean - m->sem
+                                : std::numeric_limits<double>::quiet_NaN());
+    bars.y_high.push_back(m.ok() ? mean + m->sem
+                                 : std::numeric_limits<double>::quiet_NaN());
+  }
+  plot.series.push_back(std::move(bars));
+  return plot;
+}
+
+}  // namespace
+
+LinePlot GroupForceHistogramPlot(std::span<const KinematicsSummary> block) {
+  return GroupHistogram(block, true);
+}
+
+LinePlot GroupSpeedHistogramPlot(std::span<const KinematicsSummary> block) {
+  return GroupHistogram(block, false);
 }
 
 }  // namespace burrlab::analysis

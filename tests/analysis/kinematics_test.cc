@@ -70,6 +70,79 @@ class KinematicsTest : public ::testing::Test {
   fs::path dir_;
 };
 
+// Two subjects probing and drilling (one interval per trial, 100 Hz, 50
+// samples): probing alternates 0.3 N with 0.7 N (sub-01) or 1.0 N (sub-02),
+// drilling 1 N with 3 N.
+void WriteProbeAndDrill(const fs::path& dir) {
+  for (const char* subject : {"01", "02"}) {
+    rs::SessionInfo s;
+    s.study = "k";
+    s.protocol_path = "p.toml";
+    s.protocol_sha256 = std::string(64, 'a');
+    s.subject_label = subject;
+    s.master_seed = 1;
+    s.burrlab_version = "0";
+    s.started_utc = "2024-01-01T00:00:00Z";
+    auto journal = rs::Journal::Create(dir, s);
+    ASSERT_TRUE(journal.ok()) << journal.error().message;
+    const double probe_high = std::string(subject) == "01" ? 0.7 : 1.0;
+    for (int i = 0; i < 4; ++i) {
+      const bool probe = i < 2;
+      rs::TrialRecord t;
+      t.trial_index = i;
+      t.block = probe ? "probe" : "drill";
+      t.method = "same_different";
+      t.task = t.block;
+      t.interval_materials = {"bone"};
+      rs::TraceSamples trace;
+      trace.trial_index = i;
+      trace.sampling_frequency_hz = 100.0;
+      trace.start_time_s = 10.0 * i;
+      trace.columns = {"position_z_mm", "force_n"};
+      for (int r = 0; r < 50; ++r) {
+        trace.rows.push_back({-0.01 * r, probe ? (r % 2 ? probe_high : 0.3)
+                                               : (r % 2 ? 3.0 : 1.0)});
+      }
+      ASSERT_TRUE(journal->Append(t, {trace}).ok());
+    }
+    ASSERT_TRUE(rs::ExportBids(dir, subject).ok());
+  }
+}
+
+// Histogram ranges are common to the blocks of one task: probing's ends at
+// its largest force, 1.0 N, not at drilling's 3 N; the subjects' summaries
+// over all blocks span 3 N. The group figure of the probe block averages
+// each subject's shares per bin (5 bins of 0.2 N): 0.3 N is bin 1 for both
+// (50 %), 0.7 N bin 3 and 1.0 N (the upper edge) bin 4 for one subject each:
+// mean 25 % with SEM sd({50, 0}) / sqrt 2 = 25 %.
+TEST_F(KinematicsTest, RangesPerTaskAndTheGroupHistogram) {
+  WriteProbeAndDrill(dir_);
+  auto files = rs::ReadBidsDataset(dir_);
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  KinematicsOptions o;
+  o.bins = 5;
+  Result<KinematicsReport> r = SummarizeKinematics(*files, o);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  std::vector<KinematicsSummary> probe;
+  for (const KinematicsSummary& k : r->blocks) {
+    const double top = k.force.low + 5 * k.force.width;
+    EXPECT_DOUBLE_EQ(top, k.task == "probe" ? 1.0 : 3.0) << k.task;
+    if (k.task == "probe") probe.push_back(k);
+  }
+  for (const KinematicsSummary& k : r->subjects) {
+    EXPECT_DOUBLE_EQ(k.force.low + 5 * k.force.width, 3.0);
+  }
+  ASSERT_EQ(probe.size(), 2u);
+  const LinePlot plot = GroupForceHistogramPlot(probe);
+  ASSERT_EQ(plot.series.size(), 1u);
+  const Series& bars = plot.series[0];
+  EXPECT_EQ(bars.y, (std::vector<double>{0.0, 50.0, 0.0, 25.0, 25.0}));
+  EXPECT_DOUBLE_EQ(bars.y_high[3] - bars.y[3], 25.0);
+  EXPECT_DOUBLE_EQ(bars.y[1] - bars.y_low[1], 0.0);
+  EXPECT_EQ(plot.title, "probe, 2 subjects: force, mean 0.575 N");
+  EXPECT_EQ(plot.y_label, "share of samples (%), mean ± SEM over subjects");
+}
+
 TEST_F(KinematicsTest, MeanForceSpeedAndRemovalRate) {
   Write();
   auto files = rs::ReadBidsDataset(dir_);

@@ -1054,6 +1054,7 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   using PlotPaths = std::vector<std::pair<std::string, std::string>>;
   PlotPaths block_plots(report->blocks.size()),
       subject_plots(report->subjects.size());
+  std::vector<std::string> group_plots;
   if (flags.Given("--plots")) {
     if (Status s = MakePlotDir(plots); !s.ok())
       return Fail(err, s.error().message);
@@ -1076,9 +1077,39 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
         (*paths)[i] = *written;
       }
     }
+    // The group's histograms per block (and session): group_[ses-S_]BLOCK
+    // _force and _speed.
+    std::vector<std::pair<std::string, std::string>> keys;
+    for (const analysis::KinematicsSummary& k : report->blocks) {
+      if (std::find(keys.begin(), keys.end(), std::pair(k.session, k.block)) ==
+          keys.end()) {
+        keys.emplace_back(k.session, k.block);
+      }
+    }
+    for (const auto& [session, block] : keys) {
+      std::vector<analysis::KinematicsSummary> members;
+      for (const analysis::KinematicsSummary& k : report->blocks) {
+        if (k.session == session && k.block == block) members.push_back(k);
+      }
+      const std::string stem =
+          (fs::path(plots) /
+           fmt::format("group_{}{}",
+                       session.empty() ? "" : "ses-" + session + "_", block))
+              .string();
+      for (const auto& [suffix, plot] :
+           {std::pair{"_force", analysis::GroupForceHistogramPlot(members)},
+            std::pair{"_speed", analysis::GroupSpeedHistogramPlot(members)}}) {
+        const std::string path = stem + suffix + FigureExtension(format);
+        if (Status s = analysis::WritePlot(plot, path); !s.ok()) {
+          return Fail(err, s.error().message);
+        }
+        group_plots.push_back(path);
+      }
+    }
   }
   if (json) {
     Json j;
+    j["group_plots"] = group_plots;
     j["results"] = dir;
     j["kinematics"] = Json::array();
     for (std::size_t i = 0; i < report->blocks.size(); ++i) {
@@ -1127,7 +1158,10 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
       "no removed_mm3).\n",
       force_measures, speed_measures);
   if (comparison) PrintComparison(out, *comparison, groups_path);
-  if (flags.Given("--plots")) out << "plots in " << plots << '\n';
+  if (flags.Given("--plots")) {
+    out << "plots in " << plots << " (the group's per block: "
+        << fmt::format("{}", fmt::join(group_plots, ", ")) << ")\n";
+  }
   return 0;
 }
 

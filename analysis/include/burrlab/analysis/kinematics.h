@@ -36,7 +36,8 @@ struct Histogram {
 struct KinematicsOptions {
   int bins = 30;  // per histogram
   // Common histogram ranges (so subjects compare bin for bin); 0: from 0 to
-  // the largest value over every subject and block.
+  // the largest value over every subject's blocks of the same task (probe,
+  // drill), and over every block for the summaries over all blocks.
   double force_max_n = 0.0;
   double speed_max_mm_s = 0.0;
 };
@@ -123,6 +124,13 @@ Result<KinematicsGroupComparison> CompareKinematicsGroups(
 // The force and speed histograms of one summary as two plots.
 LinePlot ForceHistogramPlot(const KinematicsSummary& summary);
 LinePlot SpeedHistogramPlot(const KinematicsSummary& summary);
+
+// The group's force and speed histograms of one block: `block` holds every
+// subject's summary of it (same ranges). Per bin the mean over subjects of
+// each subject's share of its samples, with the SEM across subjects as
+// error bars (none with one subject).
+LinePlot GroupForceHistogramPlot(std::span<const KinematicsSummary> block);
+LinePlot GroupSpeedHistogramPlot(std::span<const KinematicsSummary> block);
 
 }  // namespace burrlab::analysis
 

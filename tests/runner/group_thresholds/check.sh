@@ -13,7 +13,8 @@ work=$3
 rm -rf "$work"
 mkdir -p "$work"
 "$burrlab" study "$source_dir/protocols/examples/constant_stimuli_ce_ratio.toml" \
-  --simulated-subjects 12 --seed 3 --jobs 2 --out "$work/study" > /dev/null
+  --simulated-subjects 12 --seed 3 --jobs 2 --renderings 4 \
+  --out "$work/study" > /dev/null
 "$burrlab" analyze thresholds "$work/study" --plots "$work/figures" \
   > "$work/thresholds.txt"
 "$burrlab" analyze thresholds "$work/study" --json > "$work/thresholds.json"

@@ -846,6 +846,76 @@ Json KinematicsJson(const analysis::KinematicsSummary& k,
   return j;
 }
 
+// The subjects' summaries of one block (and session) and their measures.
+struct KinematicsGroup {
+  std::string session, block, task;
+  std::vector<std::string> subjects;
+  // mean_force_n, contact_fraction, mean_speed_mm_s, removal_rate_mm3_per_s
+  // (subjects without removed_mm3 left out of the last).
+  std::vector<std::pair<std::string, std::vector<double>>> measures;
+};
+
+std::vector<KinematicsGroup> KinematicsGroups(
+    const std::vector<analysis::KinematicsSummary>& blocks) {
+  std::vector<KinematicsGroup> groups;
+  for (const analysis::KinematicsSummary& k : blocks) {
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) {
+      return g.session == k.session && g.block == k.block;
+    });
+    if (it == groups.end()) {
+      KinematicsGroup g{k.session, k.block, k.task, {}, {}};
+      for (const char* name : {"mean_force_n", "contact_fraction",
+                               "mean_speed_mm_s", "removal_rate_mm3_per_s"}) {
+        g.measures.emplace_back(name, std::vector<double>());
+      }
+      groups.push_back(std::move(g));
+      it = groups.end() - 1;
+    }
+    it->subjects.push_back(k.subject);
+    it->measures[0].second.push_back(k.mean_force_n);
+    it->measures[1].second.push_back(k.contact_fraction);
+    it->measures[2].second.push_back(k.mean_speed_mm_s);
+    if (k.removal_rate_mm3_per_s) {
+      it->measures[3].second.push_back(*k.removal_rate_mm3_per_s);
+    }
+  }
+  return groups;
+}
+
+double MeanOf(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return sum / static_cast<double>(values.size());
+}
+
+// "1.23 ± 0.05" (mean ± SEM), "1.23" for one value, "n/a" for none.
+std::string MeanSemText(const std::vector<double>& values, double scale,
+                        int digits) {
+  if (values.empty()) return "n/a";
+  Result<analysis::MeanSem> m = analysis::MeanAndSem(values);
+  const double mean = scale * MeanOf(values);
+  return m.ok() ? fmt::format("{:.{}f} ± {:.{}f}", mean, digits, scale * m->sem,
+                              digits)
+                : fmt::format("{:.{}f}", mean, digits);
+}
+
+// The group's lines of `analyze kinematics`: per block, the subjects' mean
+// force, contact share, speed and removal rate, mean ± SEM.
+void PrintKinematicsGroups(
+    std::ostream& out, const std::vector<analysis::KinematicsSummary>& blocks) {
+  out << "group per block, mean ± SEM over subjects:\n";
+  for (const KinematicsGroup& g : KinematicsGroups(blocks)) {
+    out << fmt::format(
+        "  {:<14} {:>3} subjects  force {} N  contact {} %  speed {} mm/s  "
+        "removal {} mm3/s\n",
+        (g.session.empty() ? "" : "ses-" + g.session + " ") + g.block,
+        g.subjects.size(), MeanSemText(g.measures[0].second, 1.0, 3),
+        MeanSemText(g.measures[1].second, 100.0, 1),
+        MeanSemText(g.measures[2].second, 1.0, 3),
+        MeanSemText(g.measures[3].second, 1.0, 4));
+  }
+}
+
 // Writes the force and speed histograms of `k` as STEM_force.EXT and
 // STEM_speed.EXT (EXT: ".png", ".pdf" or ".svg"); the two paths, or an error
 // naming the file.
@@ -1123,6 +1193,20 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
     }
     j["group_comparison"] =
         comparison ? ComparisonJson(*comparison, groups_path) : Json(nullptr);
+    j["group"] = Json::array();
+    for (const KinematicsGroup& g : KinematicsGroups(report->blocks)) {
+      Json one = {
+          {"block", g.block}, {"task", g.task}, {"subjects", g.subjects}};
+      if (!g.session.empty()) one["session"] = g.session;
+      for (const auto& [name, values] : g.measures) {
+        Result<analysis::MeanSem> m = analysis::MeanAndSem(values);
+        one[name] = {
+            {"n", values.size()},
+            {"mean", values.empty() ? Json(nullptr) : Json(MeanOf(values))},
+            {"sem", m.ok() ? Json(m->sem) : Json(nullptr)}};
+      }
+      j["group"].push_back(one);
+    }
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
   }
@@ -1142,6 +1226,7 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
               : std::string("n/a"));
     }
   }
+  PrintKinematicsGroups(out, report->blocks);
   std::string force_measures, speed_measures;
   for (const analysis::KinematicsSummary& k : report->subjects) {
     if (force_measures.find(k.force_measure) == std::string::npos) {

@@ -272,6 +272,24 @@ TEST_F(AnalyzeResults, KinematicsComparesTheGroupsOfAParticipantsFile) {
                 13.0 * (k + 1), 1e-9);
     EXPECT_NEAR(j["subjects"][k]["mean_force_n"].get<double>(), 2.6, 1e-12);
   }
+  // The group of the block: speeds 13 k mm/s, k = 1..5, have mean 39 and
+  // SEM 13 sqrt(2.5) / sqrt(5) = 13 / sqrt 2.
+  ASSERT_EQ(j["group"].size(), 1u);
+  EXPECT_EQ(j["group"][0]["block"], "press");
+  EXPECT_EQ(j["group"][0]["subjects"].size(), 5u);
+  EXPECT_NEAR(j["group"][0]["mean_speed_mm_s"]["mean"].get<double>(), 39.0,
+              1e-9);
+  EXPECT_NEAR(j["group"][0]["mean_speed_mm_s"]["sem"].get<double>(),
+              13.0 / std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(j["group"][0]["mean_force_n"]["mean"].get<double>(), 2.6, 1e-12);
+  EXPECT_EQ(j["group"][0]["removal_rate_mm3_per_s"]["n"], 0);
+  const CliRun plain = RunBurrlab({"analyze", "kinematics", results});
+  EXPECT_NE(plain.out.find("group per block, mean ± SEM over subjects:\n"
+                           "  press            5 subjects  force 2.600 ± "
+                           "0.000 N  contact 100.0 ± 0.0 %  speed 39.000 ± "
+                           "9.192 mm/s  removal n/a mm3/s\n"),
+            std::string::npos)
+      << plain.out;
   const Json& g = j["group_comparison"];
   EXPECT_EQ(g["column"], "skill");
   EXPECT_EQ(g["x"], "expert");

@@ -481,6 +481,15 @@ int RunFit(const Args& args, std::ostream& out, std::ostream& err) {
       }
     }
   }
+  if (std::filesystem::is_directory(data_path)) {
+    // A study's results: each subject is fitted by `analyze thresholds`.
+    return Fail(
+        err, fmt::format("--data {0} is a folder; 'burrlab analyze thresholds "
+                         "{0}' fits every subject's constant-stimuli blocks "
+                         "and reports the group, and --data takes one file "
+                         "(e.g. a subject's _beh.tsv under {0}/sub-*/beh/)",
+                         data_path));
+  }
   Result<std::string> text = ReadTextFile(data_path);
   if (!text.ok()) return Fail(err, text.error().message);
   Result<analysis::PsychometricDataFile> file =

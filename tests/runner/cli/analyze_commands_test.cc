@@ -3,6 +3,7 @@
 // of every bad input.
 #include "cli/analyze_commands.h"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -362,6 +363,16 @@ TEST_F(AnalyzeCommand, FitByConditionNamesWhatIsMissing) {
   EXPECT_EQ(run.err,
             "burrlab: --by condition: the data have 1 condition ('a'); "
             "comparing needs at least 2\n");
+  run = RunBurrlab({"analyze", "fit", "--data", dir_.string(), "--task", "2afc",
+                    "--sigmoid", "logistic"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err, fmt::format("burrlab: --data {0} is a folder; 'burrlab "
+                                 "analyze thresholds {0}' fits every "
+                                 "subject's constant-stimuli blocks and "
+                                 "reports the group, and --data takes one "
+                                 "file (e.g. a subject's _beh.tsv under "
+                                 "{0}/sub-*/beh/)\n",
+                                 dir_.string()));
   run = RunBurrlab({"analyze", "fit", "--data", one, "--task", "2afc",
                     "--sigmoid", "logistic", "--by", "group"});
   EXPECT_EQ(run.code, 1);

@@ -610,43 +610,9 @@ TEST(AnalyzePsychometric, ReportsAFitAtABoundWithAWarning) {
       << a->FullReport();
 }
 
-// A simulated subject of a ratio-axis constant-stimuli study (Weber 1.5,
-// levels 1.05-2 x bone's c_e, 10 trials each) whose bootstrap refits often
-// put the threshold at the upper edge of the search range: the upper bound
-// is that edge, so it is flagged and printed as "search limit", never as a
-// number. Truth from the replicates themselves, not the flagging code: the
-// bound equals the largest replicate and more than 2.5 % of the replicates
-// pile up there; the lower bound lies among ordinary replicates.
-// A simulated subject (2AFC, levels 1.05-2) whose slope is steep enough that
-// no bootstrap replicate lies below the BCa-adjusted 0.025 point: that bound
-// is reported as NaN and named in one sentence; the percentile bound exists.
-TEST(AnalyzePsychometric, NamesABoundBeyondTheSamples) {
-  const std::vector<DataBlock> data = {{1.05, 3, 10}, {1.1, 5, 10},
-                                       {1.2, 8, 10},  {1.3, 8, 10},
-                                       {1.5, 7, 10},  {2.0, 10, 10}};
-  PsychometricOptions o;
-  o.n_intervals = 2;
-  o.cuts = {0.5};
-  o.conf = {0.025, 0.975};
-  o.bootstrap_samples = 999;
-  o.seed = 1;
-  Result<PsychometricAnalysis> a = AnalyzePsychometric(data, o);
-  ASSERT_TRUE(a.ok()) << a.error().message;
-  const BootstrapEstimate& slope = a->slopes[0];
-  EXPECT_TRUE(std::isnan(slope.bca[0]));
-  EXPECT_TRUE(std::isfinite(slope.percentile[0]));
-  EXPECT_EQ(slope.warnings,
-            (std::vector<std::string>{
-                "the BCa bound at 0.025 of the slope at cut 0.5 lies beyond "
-                "the 999 bootstrap samples (reported as null; more samples "
-                "may help)"}));
-  EXPECT_TRUE(a->thresholds[0].warnings.empty());
-}
-
-TEST(AnalyzePsychometric, NamesABoundThatIsTheSearchLimit) {
-  const std::vector<DataBlock> data = {{1.05, 4, 10}, {1.1, 3, 10},
-                                       {1.2, 7, 10},  {1.3, 7, 10},
-                                       {1.5, 6, 10},  {2.0, 7, 10}};
+// A 2AFC logistic analysis with 999 bootstrap samples (seed 1) and its 95 %
+// bounds at cut 0.5, as `analyze thresholds` runs one.
+Result<PsychometricAnalysis> AnalyzeAt95(std::span<const DataBlock> data) {
   PsychometricOptions o;
   o.sigmoid = Sigmoid::kLogistic;
   o.n_intervals = 2;
@@ -654,7 +620,21 @@ TEST(AnalyzePsychometric, NamesABoundThatIsTheSearchLimit) {
   o.conf = {0.025, 0.975};
   o.bootstrap_samples = 999;
   o.seed = 1;
-  Result<PsychometricAnalysis> a = AnalyzePsychometric(data, o);
+  return AnalyzePsychometric(data, o);
+}
+
+// A simulated subject of a ratio-axis constant-stimuli study (Weber 1.5,
+// levels 1.05-2 x bone's c_e, 10 trials each) whose bootstrap refits often
+// put the threshold at the upper edge of the search range: the upper bound
+// is that edge, so it is flagged and printed as "search limit", never as a
+// number. Truth from the replicates themselves, not the flagging code: the
+// bound equals the largest replicate and more than 2.5 % of the replicates
+// pile up there; the lower bound lies among ordinary replicates.
+TEST(AnalyzePsychometric, NamesABoundThatIsTheSearchLimit) {
+  const std::vector<DataBlock> data = {{1.05, 4, 10}, {1.1, 3, 10},
+                                       {1.2, 7, 10},  {1.3, 7, 10},
+                                       {1.5, 6, 10},  {2.0, 7, 10}};
+  Result<PsychometricAnalysis> a = AnalyzeAt95(data);
   ASSERT_TRUE(a.ok()) << a.error().message;
   const BootstrapEstimate& t = a->thresholds[0];
   const double top =
@@ -682,6 +662,26 @@ TEST(AnalyzePsychometric, NamesABoundThatIsTheSearchLimit) {
   EXPECT_EQ(t.warnings.size(), 1u);
   EXPECT_EQ(report.find(fmt::format("{:.6g}\n", top)), std::string::npos)
       << report;
+}
+
+// A simulated subject (2AFC, levels 1.05-2) whose slope is steep enough that
+// no bootstrap replicate lies below the BCa-adjusted 0.025 point: that bound
+// is reported as NaN and named in one sentence; the percentile bound exists.
+TEST(AnalyzePsychometric, NamesABoundBeyondTheSamples) {
+  const std::vector<DataBlock> data = {{1.05, 3, 10}, {1.1, 5, 10},
+                                       {1.2, 8, 10},  {1.3, 8, 10},
+                                       {1.5, 7, 10},  {2.0, 10, 10}};
+  Result<PsychometricAnalysis> a = AnalyzeAt95(data);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  const BootstrapEstimate& slope = a->slopes[0];
+  EXPECT_TRUE(std::isnan(slope.bca[0]));
+  EXPECT_TRUE(std::isfinite(slope.percentile[0]));
+  EXPECT_EQ(slope.warnings,
+            (std::vector<std::string>{
+                "the BCa bound at 0.025 of the slope at cut 0.5 lies beyond "
+                "the 999 bootstrap samples (reported as null; more samples "
+                "may help)"}));
+  EXPECT_TRUE(a->thresholds[0].warnings.empty());
 }
 
 TEST(FitPsychometric, FindsAStepBetweenNeighbouringLevelsAmongManyLevels) {

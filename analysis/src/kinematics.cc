@@ -114,8 +114,66 @@ void AddMeasure(const std::string& measure, std::string* text) {
   }
 }
 
-Status Collect(const BehFile& file, Samples* out) {
+// The running state of one stream of rows (a block's, or one material's
+// within it) through one trace file.
+struct RowStream {
+  double last_trial = -1.0, last_interval = -1.0;
+  std::vector<double> last;
+  double interval_removed = 0.0;
+};
+
+// Adds one trace row to `out`: its force, its speed from the previous row of
+// the same interval, and the interval's removed volume.
+void AddRow(std::span<const double> row, const TraceLayout& at, double fs,
+            RowStream* st, Samples* out) {
   KinematicsSummary& k = out->summary;
+  if (st->last.size() != at.position.size()) {
+    st->last.assign(at.position.size(), 0.0);
+  }
+  const bool same =
+      row[at.trial] == st->last_trial && row[at.interval] == st->last_interval;
+  if (!same) {
+    out->removed_mm3 += st->interval_removed;
+    st->interval_removed = 0.0;
+    ++k.intervals;
+  }
+  const double f = Norm(row, at.force);
+  if (std::isfinite(f)) {
+    out->force_n.push_back(f);
+    k.max_force_n = std::max(k.max_force_n, f);
+  }
+  if (same) {
+    // |p(i) - p(i-1)| fs: the mean speed over the sample period.
+    double sum = 0.0;
+    for (std::size_t c = 0; c < at.position.size(); ++c) {
+      const double d = row[at.position[c]] - st->last[c];
+      sum += d * d;
+    }
+    const double v = std::sqrt(sum) * fs;
+    if (std::isfinite(v)) out->speed_mm_s.push_back(v);
+  }
+  if (at.removed && std::isfinite(row[*at.removed])) {
+    st->interval_removed = std::max(st->interval_removed, row[*at.removed]);
+  }
+  st->last_trial = row[at.trial];
+  st->last_interval = row[at.interval];
+  for (std::size_t c = 0; c < at.position.size(); ++c) {
+    st->last[c] = row[at.position[c]];
+  }
+  ++k.samples;
+  k.duration_s += 1.0 / fs;
+}
+
+// The samples of `file` into `out` and, per material felt (the trial's
+// interval_materials at the row's interval), into `materials` (in order of
+// first appearance).
+Status Collect(const BehFile& file, Samples* out,
+               std::vector<std::pair<std::string, Samples>>* materials) {
+  KinematicsSummary& k = out->summary;
+  std::map<double, const results_schema::TrialRecord*> trials;
+  for (const results_schema::TrialRecord& t : file.table.trials) {
+    trials[static_cast<double>(t.trial_index)] = &t;
+  }
   for (const PhysioFile& physio : file.physio) {
     Result<TraceLayout> layout = LayoutOf(physio);
     if (!layout.ok()) return layout.error();
@@ -123,48 +181,72 @@ Status Collect(const BehFile& file, Samples* out) {
     AddMeasure(at.force_measure, &k.force_measure);
     AddMeasure(at.speed_measure, &k.speed_measure);
     out->has_removed = out->has_removed && at.removed.has_value();
-    double last_trial = -1.0, last_interval = -1.0;
-    std::vector<double> last(at.position.size(), 0.0), step(3, 0.0);
-    double interval_removed = 0.0;
+    RowStream stream;
+    std::map<std::string, RowStream> material_streams;
     const double fs = physio.sampling_frequency_hz;
+    // The material of the row's interval; empty when the trial is unknown.
+    const auto material_of = [&](std::span<const double> row) {
+      const auto it = trials.find(row[at.trial]);
+      const double interval = row[at.interval];
+      if (it == trials.end() || !(interval >= 0.0) ||
+          interval >=
+              static_cast<double>(it->second->interval_materials.size())) {
+        return std::string();
+      }
+      return it->second->interval_materials[static_cast<std::size_t>(interval)];
+    };
+    // The material's entry of the interval being read (rows of one interval
+    // are consecutive); none for rows of an unknown trial.
+    double current_trial = -1.0, current_interval = -1.0;
+    std::size_t current = materials->size();
+    RowStream* current_stream = nullptr;
     Status s = results_schema::ForEachPhysioRow(
         physio, [&](std::span<const double> row) {
-          const bool same =
-              row[at.trial] == last_trial && row[at.interval] == last_interval;
-          if (!same) {
-            out->removed_mm3 += interval_removed;
-            interval_removed = 0.0;
-            ++k.intervals;
-          }
-          const double f = Norm(row, at.force);
-          if (std::isfinite(f)) {
-            out->force_n.push_back(f);
-            k.max_force_n = std::max(k.max_force_n, f);
-          }
-          if (same) {
-            // |p(i) - p(i-1)| fs: the mean speed over the sample period.
-            double sum = 0.0;
-            for (std::size_t c = 0; c < at.position.size(); ++c) {
-              const double d = row[at.position[c]] - last[c];
-              sum += d * d;
+          AddRow(row, at, fs, &stream, out);
+          if (row[at.trial] != current_trial ||
+              row[at.interval] != current_interval) {
+            current_trial = row[at.trial];
+            current_interval = row[at.interval];
+            const std::string material = material_of(row);
+            current = static_cast<std::size_t>(
+                std::find_if(materials->begin(), materials->end(),
+                             [&](const auto& entry) {
+                               return entry.first == material;
+                             }) -
+                materials->begin());
+            if (material.empty()) {
+              current_stream = nullptr;
+              return true;
             }
-            const double v = std::sqrt(sum) * fs;
-            if (std::isfinite(v)) out->speed_mm_s.push_back(v);
+            if (current == materials->size()) {
+              Samples fresh;
+              fresh.summary.subject = k.subject;
+              fresh.summary.session = k.session;
+              fresh.summary.block = k.block;
+              fresh.summary.task = k.task;
+              fresh.summary.material = material;
+              materials->emplace_back(material, std::move(fresh));
+            }
+            Samples& m = (*materials)[current].second;
+            AddMeasure(at.force_measure, &m.summary.force_measure);
+            AddMeasure(at.speed_measure, &m.summary.speed_measure);
+            m.has_removed = m.has_removed && at.removed.has_value();
+            current_stream = &material_streams[material];
           }
-          if (at.removed && std::isfinite(row[*at.removed])) {
-            interval_removed = std::max(interval_removed, row[*at.removed]);
+          if (current_stream != nullptr) {
+            AddRow(row, at, fs, current_stream, &(*materials)[current].second);
           }
-          last_trial = row[at.trial];
-          last_interval = row[at.interval];
-          for (std::size_t c = 0; c < at.position.size(); ++c) {
-            last[c] = row[at.position[c]];
-          }
-          ++k.samples;
-          k.duration_s += 1.0 / fs;
           return true;
         });
     if (!s.ok()) return s.error();
-    out->removed_mm3 += interval_removed;
+    out->removed_mm3 += stream.interval_removed;
+    for (auto& [material, st] : material_streams) {
+      for (auto& entry : *materials) {
+        if (entry.first == material) {
+          entry.second.removed_mm3 += st.interval_removed;
+        }
+      }
+    }
   }
   return {};
 }
@@ -265,9 +347,10 @@ LinePlot HistogramPlot(const Histogram& h, const std::string& title,
 
 // "sub-01 probe (probe)" or "sub-01 all blocks (probe)".
 std::string Who(const KinematicsSummary& s) {
-  return fmt::format("{} {} ({})",
+  return fmt::format("{} {}{} ({})",
                      results_schema::SessionName(s.subject, s.session),
-                     s.block.empty() ? "all blocks" : s.block, s.task);
+                     s.block.empty() ? "all blocks" : s.block,
+                     s.material.empty() ? "" : " " + s.material, s.task);
 }
 
 }  // namespace
@@ -280,7 +363,7 @@ Result<KinematicsReport> SummarizeKinematics(std::span<const BehFile> files,
   if (!(options.force_max_n >= 0.0) || !(options.speed_max_mm_s >= 0.0)) {
     return Error{"histogram ranges must be 0 (automatic) or above"};
   }
-  std::vector<Samples> blocks, subjects;
+  std::vector<Samples> blocks, subjects, materials;
   for (const BehFile& file : files) {
     if (file.physio.empty()) continue;
     Samples s;
@@ -288,8 +371,15 @@ Result<KinematicsReport> SummarizeKinematics(std::span<const BehFile> files,
     s.summary.session = file.session;
     s.summary.block = file.task;
     s.summary.task = file.table.trials.front().task;
-    if (Status status = Collect(file, &s); !status.ok()) return status.error();
+    std::vector<std::pair<std::string, Samples>> by_material;
+    if (Status status = Collect(file, &s, &by_material); !status.ok()) {
+      return status.error();
+    }
     Finish(&s);
+    for (auto& [material, m] : by_material) {
+      Finish(&m);
+      materials.push_back(std::move(m));
+    }
     // The files come sorted by subject: a new subject starts a new summary.
     if (subjects.empty() || subjects.back().summary.subject != file.subject) {
       subjects.emplace_back();
@@ -339,6 +429,10 @@ Result<KinematicsReport> SummarizeKinematics(std::span<const BehFile> files,
   for (Samples& s : subjects) {
     bin(s, all);
     out.subjects.push_back(std::move(s.summary));
+  }
+  for (Samples& s : materials) {
+    bin(s, by_task.at(s.summary.task));
+    out.materials.push_back(std::move(s.summary));
   }
   return out;
 }
@@ -481,7 +575,8 @@ LinePlot GroupHistogram(std::span<const KinematicsSummary> summaries,
   }
   LinePlot plot;
   const std::string who = fmt::format(
-      "{}{}, {} subject{}", first.block,
+      "{}{}{}, {} subject{}", first.block,
+      first.material.empty() ? std::string() : " " + first.material,
       first.block == first.task ? std::string() : " (" + first.task + ")",
       summaries.size(), summaries.size() == 1 ? "" : "s");
   plot.title =

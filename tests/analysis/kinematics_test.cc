@@ -143,6 +143,69 @@ TEST_F(KinematicsTest, RangesPerTaskAndTheGroupHistogram) {
   EXPECT_EQ(plot.y_label, "share of samples (%), mean ± SEM over subjects");
 }
 
+// Per material felt: two trials of two intervals each, PVC then bone, the
+// burr pressed with 3 N into PVC at 2 mm/s and 1 N into bone at 1 mm/s (20
+// samples at 100 Hz each). The block mixes them (mean force 2 N); its
+// PVC:bone summaries hold each material's intervals alone.
+TEST_F(KinematicsTest, SummariesPerMaterialFelt) {
+  rs::SessionInfo s;
+  s.study = "k";
+  s.protocol_path = "p.toml";
+  s.protocol_sha256 = std::string(64, 'a');
+  s.subject_label = "01";
+  s.master_seed = 1;
+  s.burrlab_version = "0";
+  s.started_utc = "2024-01-01T00:00:00Z";
+  auto journal = rs::Journal::Create(dir_, s);
+  ASSERT_TRUE(journal.ok()) << journal.error().message;
+  for (int i = 0; i < 2; ++i) {
+    rs::TrialRecord t;
+    t.trial_index = i;
+    t.block = "sd";
+    t.method = "same_different";
+    t.task = "probe";
+    t.interval_materials = {"pvc", "bone"};
+    std::vector<rs::TraceSamples> traces;
+    for (int interval = 0; interval < 2; ++interval) {
+      rs::TraceSamples trace;
+      trace.trial_index = i;
+      trace.interval_index = interval;
+      trace.sampling_frequency_hz = 100.0;
+      trace.start_time_s = 10.0 * i + 4.0 * interval;
+      trace.columns = {"position_z_mm", "force_n"};
+      const double step_mm = interval == 0 ? 0.02 : 0.01;
+      for (int r = 0; r < 20; ++r) {
+        trace.rows.push_back({-step_mm * r, interval == 0 ? 3.0 : 1.0});
+      }
+      traces.push_back(trace);
+    }
+    ASSERT_TRUE(journal->Append(t, traces).ok());
+  }
+  ASSERT_TRUE(rs::ExportBids(dir_, "01").ok());
+  auto files = rs::ReadBidsDataset(dir_);
+  ASSERT_TRUE(files.ok()) << files.error().message;
+  Result<KinematicsReport> r = SummarizeKinematics(*files, {});
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->blocks.size(), 1u);
+  EXPECT_DOUBLE_EQ(r->blocks[0].mean_force_n, 2.0);
+  EXPECT_EQ(r->blocks[0].intervals, 4);
+  ASSERT_EQ(r->materials.size(), 2u);
+  const KinematicsSummary& pvc = r->materials[0];
+  const KinematicsSummary& bone = r->materials[1];
+  EXPECT_EQ(pvc.material, "pvc");
+  EXPECT_EQ(pvc.block, "sd");
+  EXPECT_EQ(bone.material, "bone");
+  EXPECT_EQ(pvc.intervals, 2);
+  EXPECT_EQ(pvc.samples, 40);
+  EXPECT_DOUBLE_EQ(pvc.mean_force_n, 3.0);
+  EXPECT_DOUBLE_EQ(bone.mean_force_n, 1.0);
+  EXPECT_NEAR(pvc.mean_speed_mm_s, 2.0, 1e-9);
+  EXPECT_NEAR(bone.mean_speed_mm_s, 1.0, 1e-9);
+  // The figures name the material.
+  EXPECT_EQ(ForceHistogramPlot(pvc).title,
+            "sub-01 sd pvc (probe): force, mean 3 N");
+}
+
 TEST_F(KinematicsTest, MeanForceSpeedAndRemovalRate) {
   Write();
   auto files = rs::ReadBidsDataset(dir_);

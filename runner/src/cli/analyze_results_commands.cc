@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -848,7 +849,7 @@ Json KinematicsJson(const analysis::KinematicsSummary& k,
 
 // The subjects' summaries of one block (and session) and their measures.
 struct KinematicsGroup {
-  std::string session, block, task;
+  std::string session, block, task, material;
   std::vector<std::string> subjects;
   // mean_force_n, contact_fraction, mean_speed_mm_s, removal_rate_mm3_per_s
   // (subjects without removed_mm3 left out of the last).
@@ -860,10 +861,11 @@ std::vector<KinematicsGroup> KinematicsGroups(
   std::vector<KinematicsGroup> groups;
   for (const analysis::KinematicsSummary& k : blocks) {
     auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) {
-      return g.session == k.session && g.block == k.block;
+      return g.session == k.session && g.block == k.block &&
+             g.material == k.material;
     });
     if (it == groups.end()) {
-      KinematicsGroup g{k.session, k.block, k.task, {}, {}};
+      KinematicsGroup g{k.session, k.block, k.task, k.material, {}, {}};
       for (const char* name : {"mean_force_n", "contact_fraction",
                                "mean_speed_mm_s", "removal_rate_mm3_per_s"}) {
         g.measures.emplace_back(name, std::vector<double>());
@@ -899,16 +901,22 @@ std::string MeanSemText(const std::vector<double>& values, double scale,
                 : fmt::format("{:.{}f}", mean, digits);
 }
 
-// The group's lines of `analyze kinematics`: per block, the subjects' mean
-// force, contact share, speed and removal rate, mean ± SEM.
-void PrintKinematicsGroups(
-    std::ostream& out, const std::vector<analysis::KinematicsSummary>& blocks) {
-  out << "group per block, mean ± SEM over subjects:\n";
-  for (const KinematicsGroup& g : KinematicsGroups(blocks)) {
+// The group's lines of `analyze kinematics`: per block (and per block and
+// material felt), the subjects' mean force, contact share, speed and removal
+// rate, mean ± SEM.
+void PrintKinematicsGroups(std::ostream& out,
+                           const analysis::KinematicsReport& report) {
+  out << "group per block and per material felt, mean ± SEM over subjects:\n";
+  std::vector<KinematicsGroup> groups = KinematicsGroups(report.blocks);
+  for (KinematicsGroup& g : KinematicsGroups(report.materials)) {
+    groups.push_back(std::move(g));
+  }
+  for (const KinematicsGroup& g : groups) {
     out << fmt::format(
         "  {:<14} {:>3} subjects  force {} N  contact {} %  speed {} mm/s  "
         "removal {} mm3/s\n",
-        (g.session.empty() ? "" : "ses-" + g.session + " ") + g.block,
+        (g.session.empty() ? "" : "ses-" + g.session + " ") + g.block +
+            (g.material.empty() ? "" : ":" + g.material),
         g.subjects.size(), MeanSemText(g.measures[0].second, 1.0, 3),
         MeanSemText(g.measures[1].second, 100.0, 1),
         MeanSemText(g.measures[2].second, 1.0, 3),
@@ -1147,24 +1155,33 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
         (*paths)[i] = *written;
       }
     }
-    // The group's histograms per block (and session): group_[ses-S_]BLOCK
-    // _force and _speed.
-    std::vector<std::pair<std::string, std::string>> keys;
-    for (const analysis::KinematicsSummary& k : report->blocks) {
-      if (std::find(keys.begin(), keys.end(), std::pair(k.session, k.block)) ==
-          keys.end()) {
-        keys.emplace_back(k.session, k.block);
+    // The group's histograms per block (and session), and per block and
+    // material felt: group_[ses-S_]BLOCK[_MATERIAL]_force and _speed.
+    using Key = std::tuple<std::string, std::string, std::string>;
+    std::vector<Key> keys;
+    for (const auto* summaries : {&report->blocks, &report->materials}) {
+      for (const analysis::KinematicsSummary& k : *summaries) {
+        const Key key{k.session, k.block, k.material};
+        if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+          keys.push_back(key);
+        }
       }
     }
-    for (const auto& [session, block] : keys) {
+    for (const auto& [session, block, material] : keys) {
       std::vector<analysis::KinematicsSummary> members;
-      for (const analysis::KinematicsSummary& k : report->blocks) {
-        if (k.session == session && k.block == block) members.push_back(k);
+      for (const auto* summaries : {&report->blocks, &report->materials}) {
+        for (const analysis::KinematicsSummary& k : *summaries) {
+          if (k.session == session && k.block == block &&
+              k.material == material) {
+            members.push_back(k);
+          }
+        }
       }
       const std::string stem =
           (fs::path(plots) /
-           fmt::format("group_{}{}",
-                       session.empty() ? "" : "ses-" + session + "_", block))
+           fmt::format("group_{}{}{}",
+                       session.empty() ? "" : "ses-" + session + "_", block,
+                       material.empty() ? "" : "_" + material))
               .string();
       for (const auto& [suffix, plot] :
            {std::pair{"_force", analysis::GroupForceHistogramPlot(members)},
@@ -1191,12 +1208,23 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
       j["subjects"].push_back(
           KinematicsJson(report->subjects[i], subject_plots[i]));
     }
+    j["materials"] = Json::array();
+    for (const analysis::KinematicsSummary& k : report->materials) {
+      Json one = KinematicsJson(k, {});
+      one["material"] = k.material;
+      j["materials"].push_back(one);
+    }
     j["group_comparison"] =
         comparison ? ComparisonJson(*comparison, groups_path) : Json(nullptr);
     j["group"] = Json::array();
-    for (const KinematicsGroup& g : KinematicsGroups(report->blocks)) {
+    std::vector<KinematicsGroup> summaries = KinematicsGroups(report->blocks);
+    for (KinematicsGroup& g : KinematicsGroups(report->materials)) {
+      summaries.push_back(std::move(g));
+    }
+    for (const KinematicsGroup& g : summaries) {
       Json one = {
           {"block", g.block}, {"task", g.task}, {"subjects", g.subjects}};
+      one["material"] = g.material.empty() ? Json(nullptr) : Json(g.material);
       if (!g.session.empty()) one["session"] = g.session;
       for (const auto& [name, values] : g.measures) {
         Result<analysis::MeanSem> m = analysis::MeanAndSem(values);
@@ -1213,20 +1241,24 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
   out << fmt::format("{:<12} {:<10} {:>11} {:>8} {:>12} {:>10} {:>12} {:>16}\n",
                      "subject", "block", "task", "time s", "mean force N",
                      "contact %", "speed mm/s", "removal mm3/s");
-  for (const auto* summaries : {&report->blocks, &report->subjects}) {
+  for (const auto* summaries :
+       {&report->blocks, &report->materials, &report->subjects}) {
     for (const analysis::KinematicsSummary& k : *summaries) {
       out << fmt::format(
           "{:<12} {:<10} {:>11} {:>8.1f} {:>12.3f} {:>10.1f} {:>12.3f} "
           "{:>16}\n",
           results_schema::SessionName(k.subject, k.session),
-          k.block.empty() ? "(all)" : k.block, k.task, k.duration_s,
-          k.mean_force_n, 100.0 * k.contact_fraction, k.mean_speed_mm_s,
+          k.block.empty()      ? "(all)"
+          : k.material.empty() ? k.block
+                               : k.block + ":" + k.material,
+          k.task, k.duration_s, k.mean_force_n, 100.0 * k.contact_fraction,
+          k.mean_speed_mm_s,
           k.removal_rate_mm3_per_s
               ? fmt::format("{:.4g}", *k.removal_rate_mm3_per_s)
               : std::string("n/a"));
     }
   }
-  PrintKinematicsGroups(out, report->blocks);
+  PrintKinematicsGroups(out, *report);
   std::string force_measures, speed_measures;
   for (const analysis::KinematicsSummary& k : report->subjects) {
     if (force_measures.find(k.force_measure) == std::string::npos) {
@@ -1237,7 +1269,8 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
     }
   }
   out << fmt::format(
-      "(all): the subject's blocks together. force: {}. speed: {}, between "
+      "(all): the subject's blocks together; BLOCK:MATERIAL: the block's "
+      "intervals of that material. force: {}. speed: {}, between "
       "consecutive samples of one interval. contact: samples with force above "
       "0.01 N. removal: removed_mm3 per traced second (n/a: the traces have "
       "no removed_mm3).\n",

@@ -274,8 +274,14 @@ TEST_F(AnalyzeResults, KinematicsComparesTheGroupsOfAParticipantsFile) {
   }
   // The group of the block: speeds 13 k mm/s, k = 1..5, have mean 39 and
   // SEM 13 sqrt(2.5) / sqrt(5) = 13 / sqrt 2.
-  ASSERT_EQ(j["group"].size(), 1u);
+  // (and of its one material, "a", the same numbers).
+  ASSERT_EQ(j["group"].size(), 2u);
   EXPECT_EQ(j["group"][0]["block"], "press");
+  EXPECT_EQ(j["group"][0]["material"], nullptr);
+  EXPECT_EQ(j["group"][1]["material"], "a");
+  EXPECT_EQ(j["group"][1]["mean_speed_mm_s"], j["group"][0]["mean_speed_mm_s"]);
+  ASSERT_EQ(j["materials"].size(), 5u);
+  EXPECT_EQ(j["materials"][4]["material"], "a");
   EXPECT_EQ(j["group"][0]["subjects"].size(), 5u);
   EXPECT_NEAR(j["group"][0]["mean_speed_mm_s"]["mean"].get<double>(), 39.0,
               1e-9);
@@ -284,8 +290,12 @@ TEST_F(AnalyzeResults, KinematicsComparesTheGroupsOfAParticipantsFile) {
   EXPECT_NEAR(j["group"][0]["mean_force_n"]["mean"].get<double>(), 2.6, 1e-12);
   EXPECT_EQ(j["group"][0]["removal_rate_mm3_per_s"]["n"], 0);
   const CliRun plain = RunBurrlab({"analyze", "kinematics", results});
-  EXPECT_NE(plain.out.find("group per block, mean ± SEM over subjects:\n"
+  EXPECT_NE(plain.out.find("group per block and per material felt, mean ± "
+                           "SEM over subjects:\n"
                            "  press            5 subjects  force 2.600 ± "
+                           "0.000 N  contact 100.0 ± 0.0 %  speed 39.000 ± "
+                           "9.192 mm/s  removal n/a mm3/s\n"
+                           "  press:a          5 subjects  force 2.600 ± "
                            "0.000 N  contact 100.0 ± 0.0 %  speed 39.000 ± "
                            "9.192 mm/s  removal n/a mm3/s\n"),
             std::string::npos)

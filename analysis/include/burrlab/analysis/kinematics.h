@@ -1,12 +1,12 @@
 // Kinematics of recorded intervals (dissertation ch. 12, Fig. 12.4-12.6):
-// per subject and block, and per subject over all its blocks (one figure per
-// surgeon, as Fig. 12.4-12.6), histograms of the felt force and of the burr's
-// speed, the mean force and the material removal rate, from the exported
-// traces (_physio.tsv.gz). Two trace layouts are read: a station's
-// (position_x_mm, position_y_mm, position_z_mm and force_x_n, force_y_n,
-// force_z_n: the burr moves and is pushed in 3-D) and a simulated interval's
-// (position_z_mm and force_n: the burr moves along z only), with removed_mm3
-// when drilling.
+// per subject and block, per subject, block and material felt, and per
+// subject over all its blocks (one figure per surgeon, as Fig. 12.4-12.6),
+// histograms of the felt force and of the burr's speed, the mean force and the
+// material removal rate, from the exported traces (_physio.tsv.gz). Two trace
+// layouts are read: a station's (position_x_mm, position_y_mm, position_z_mm
+// and force_x_n, force_y_n, force_z_n: the burr moves and is pushed in 3-D) and
+// a simulated interval's (position_z_mm and force_n: the burr moves along z
+// only), with removed_mm3 when drilling.
 #ifndef BURRLAB_ANALYSIS_KINEMATICS_H_
 #define BURRLAB_ANALYSIS_KINEMATICS_H_
 
@@ -49,6 +49,9 @@ struct KinematicsSummary {
   // blocks.
   std::string block;
   std::string task;  // "probe", "drill", or "drill+probe" over mixed blocks
+  // The material felt (a trial's interval_materials at the interval) in a
+  // per-material summary; empty otherwise.
+  std::string material;
   int intervals = 0;
   long long samples = 0;
   double duration_s = 0.0;  // traced time
@@ -79,6 +82,9 @@ struct KinematicsSummary {
 struct KinematicsReport {
   std::vector<KinematicsSummary> blocks;
   std::vector<KinematicsSummary> subjects;
+  // Per subject, block and material felt (in the files' order, materials in
+  // order of first appearance), over the block's task's ranges.
+  std::vector<KinematicsSummary> materials;
 };
 
 // The summaries of every file with traces. An error names a file whose

@@ -21,6 +21,19 @@ namespace {
 namespace fs = std::filesystem;
 namespace rs = results_schema;
 
+// The session of subject `label` in these tests.
+rs::SessionInfo Session(const std::string& label) {
+  rs::SessionInfo s;
+  s.study = "k";
+  s.protocol_path = "p.toml";
+  s.protocol_sha256 = std::string(64, 'a');
+  s.subject_label = label;
+  s.master_seed = 1;
+  s.burrlab_version = "0";
+  s.started_utc = "2024-01-01T00:00:00Z";
+  return s;
+}
+
 class KinematicsTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -34,14 +47,7 @@ class KinematicsTest : public ::testing::Test {
   // 0.01 mm per sample (1 mm/s), the force alternates 1 N and 3 N, and 0.5
   // mm^3 is removed per interval.
   void Write() {
-    rs::SessionInfo s;
-    s.study = "k";
-    s.protocol_path = "p.toml";
-    s.protocol_sha256 = std::string(64, 'a');
-    s.subject_label = "01";
-    s.master_seed = 1;
-    s.burrlab_version = "0";
-    s.started_utc = "2024-01-01T00:00:00Z";
+    const rs::SessionInfo s = Session("01");
     auto journal = rs::Journal::Create(dir_, s);
     ASSERT_TRUE(journal.ok()) << journal.error().message;
     for (int i = 0; i < 2; ++i) {
@@ -75,14 +81,7 @@ class KinematicsTest : public ::testing::Test {
 // drilling 1 N with 3 N.
 void WriteProbeAndDrill(const fs::path& dir) {
   for (const char* subject : {"01", "02"}) {
-    rs::SessionInfo s;
-    s.study = "k";
-    s.protocol_path = "p.toml";
-    s.protocol_sha256 = std::string(64, 'a');
-    s.subject_label = subject;
-    s.master_seed = 1;
-    s.burrlab_version = "0";
-    s.started_utc = "2024-01-01T00:00:00Z";
+    const rs::SessionInfo s = Session(subject);
     auto journal = rs::Journal::Create(dir, s);
     ASSERT_TRUE(journal.ok()) << journal.error().message;
     const double probe_high = std::string(subject) == "01" ? 0.7 : 1.0;
@@ -148,14 +147,7 @@ TEST_F(KinematicsTest, RangesPerTaskAndTheGroupHistogram) {
 // samples at 100 Hz each). The block mixes them (mean force 2 N); its
 // PVC:bone summaries hold each material's intervals alone.
 TEST_F(KinematicsTest, SummariesPerMaterialFelt) {
-  rs::SessionInfo s;
-  s.study = "k";
-  s.protocol_path = "p.toml";
-  s.protocol_sha256 = std::string(64, 'a');
-  s.subject_label = "01";
-  s.master_seed = 1;
-  s.burrlab_version = "0";
-  s.started_utc = "2024-01-01T00:00:00Z";
+  const rs::SessionInfo s = Session("01");
   auto journal = rs::Journal::Create(dir_, s);
   ASSERT_TRUE(journal.ok()) << journal.error().message;
   for (int i = 0; i < 2; ++i) {

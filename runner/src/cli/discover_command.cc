@@ -333,10 +333,8 @@ Status WritePlots(const analysis::DiscoverReport& r,
     }
     ++used;
   }
-  analysis::Series zero = MakeSeries("", true, 7);
-  zero.x = {f_lo, f_hi};
-  zero.y = {0.0, 0.0};
-  res.series = {before, zero};
+  res.reference_lines.push_back({false, 0.0, "no residual"});
+  res.series = {before};
   if (!after.x.empty()) res.series.push_back(after);
   return analysis::WritePlot(res, (dir / "residuals.png").string());
 }

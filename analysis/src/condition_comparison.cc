@@ -15,6 +15,7 @@
 #include <random>
 #include <utility>
 
+#include "burrlab/analysis/group_stats.h"
 #include "nlopt_ptr.h"
 
 namespace burrlab::analysis {
@@ -126,11 +127,7 @@ std::vector<double> JointStart(const JointProblem& problem,
     lambda += p.lambda / static_cast<double>(params.size());
     gamma += p.gamma / static_cast<double>(params.size());
   }
-  const auto mean = [](const std::vector<double>& x) {
-    double sum = 0.0;
-    for (double value : x) sum += value;
-    return sum / static_cast<double>(x.size());
-  };
+  const auto mean = [](const std::vector<double>& x) { return Mean(x); };
   std::vector<double> v;
   if (problem.Locations() == 1) {
     v.push_back(mean(m));

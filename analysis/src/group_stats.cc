@@ -301,6 +301,13 @@ static Result<MannWhitneyResult> MannWhitneyTestUnchecked(
   return out;
 }
 
+double Mean(std::span<const double> values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return sum / static_cast<double>(values.size());
+}
+
 Result<MeanSem> MeanAndSem(std::span<const double> values) {
   // Boost.Math reports domain errors by throwing; none may leave the library.
   try {

@@ -594,9 +594,7 @@ LinePlot GroupHistogram(std::span<const KinematicsSummary> summaries,
   for (std::size_t b = 0; b < shares.size(); ++b) {
     bars.x.push_back(shape.low + (static_cast<double>(b) + 0.5) * shape.width);
     Result<MeanSem> m = MeanAndSem(shares[b]);
-    double mean = 0.0;
-    for (double x : shares[b])
-      mean += x / static_cast<double>(shares[b].size());
+    const double mean = Mean(shares[b]);
     bars.y.push_back(mean);
     bars.y_low.push_back(m.ok() ? mean - m->sem
                                 : std::numeric_limits<double>::quiet_NaN());

@@ -37,12 +37,6 @@ std::optional<double> Spread(const std::vector<double>& values) {
   return m->sd;
 }
 
-double Mean(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (double v : values) sum += v;
-  return sum / static_cast<double>(values.size());
-}
-
 // A staircase's step domain: how levels are averaged (Levitt 1971 averages
 // in the units the steps are taken in).
 struct Domain {

@@ -884,18 +884,12 @@ std::vector<KinematicsGroup> KinematicsGroups(
   return groups;
 }
 
-double MeanOf(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (double v : values) sum += v;
-  return sum / static_cast<double>(values.size());
-}
-
 // "1.23 ± 0.05" (mean ± SEM), "1.23" for one value, "n/a" for none.
 std::string MeanSemText(const std::vector<double>& values, double scale,
                         int digits) {
   if (values.empty()) return "n/a";
   Result<analysis::MeanSem> m = analysis::MeanAndSem(values);
-  const double mean = scale * MeanOf(values);
+  const double mean = scale * analysis::Mean(values);
   return m.ok() ? fmt::format("{:.{}f} ± {:.{}f}", mean, digits, scale * m->sem,
                               digits)
                 : fmt::format("{:.{}f}", mean, digits);
@@ -1228,10 +1222,10 @@ int RunKinematics(const Args& args, std::ostream& out, std::ostream& err) {
       if (!g.session.empty()) one["session"] = g.session;
       for (const auto& [name, values] : g.measures) {
         Result<analysis::MeanSem> m = analysis::MeanAndSem(values);
-        one[name] = {
-            {"n", values.size()},
-            {"mean", values.empty() ? Json(nullptr) : Json(MeanOf(values))},
-            {"sem", m.ok() ? Json(m->sem) : Json(nullptr)}};
+        one[name] = {{"n", values.size()},
+                     {"mean", values.empty() ? Json(nullptr)
+                                             : Json(analysis::Mean(values))},
+                     {"sem", m.ok() ? Json(m->sem) : Json(nullptr)}};
       }
       j["group"].push_back(one);
     }

@@ -21,6 +21,8 @@ struct MeanSem {
 };
 // At least 2 finite values.
 Result<MeanSem> MeanAndSem(std::span<const double> values);
+// The arithmetic mean; NaN for no values.
+double Mean(std::span<const double> values);
 
 // One-sample Student t-test of mean(values) = mu (R: t.test(values, mu = mu,
 // conf.level = conf_level), its three alternatives).

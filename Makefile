@@ -3,7 +3,7 @@
 SHELL := /bin/bash
 BUILD_DIR ?= build
 # Build and test jobs: the machine's cores, at most 8 (a sanitizer compile of the larger files
-# takes about 1 GB).
+# takes about 2 GB).
 JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 2); [ "$$n" -gt 8 ] && n=8; echo $$n)
 CMAKE_FLAGS ?=
 
@@ -43,18 +43,22 @@ deps:
 	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
 	fi
 
-# Both builds are unity builds: CMake compiles each target's sources in batches of 8 per
+# Both builds are unity builds: CMake compiles each target's sources in batches of 16 per
 # translation unit, so the heavy shared headers (toml++, nlohmann/json, fmt, Boost, Eigen,
-# gtest) are compiled once per batch rather than once per source. Measured on the 2-core
-# machine, clean at -j2: release 727 -> 396 CPU-s (6.1 -> 3.3 min), sanitizer 1189 -> 715
-# CPU-s (10.0 -> 6.0 min), which brings `make test` under 30 minutes. A plain
-# `cmake -S . -B dir` stays a per-file build.
+# gtest) are compiled, and the templates they instantiate emitted, once per batch rather than
+# once per source. Measured on the 2-core machine, clean at -j2: release 727 -> 396 CPU-s
+# (6.1 -> 3.3 min), sanitizer 1189 -> 715 CPU-s (10.0 -> 6.0 min) with batches of 8, CMake's
+# default; as the code grew, batches of 8 came to 536 and 890 summed ninja job-s (idle
+# machine, 8ef553a) and batches of 16 to 448 and 743, the builds' wall time 270 -> 220 s and
+# 446 -> 376 s. Only runner_tests still needs two batches; the largest unit (analysis with
+# its model gap, sanitizer build) takes 70-92 s and 2.0 GB. A plain `cmake -S . -B dir`
+# stays a per-file build.
 # The test programs' own sources are built at -O1 here and -O0 in the sanitizer build
 # (BURRLAB_TEST_CXX_FLAGS, tests/CMakeLists.txt); the sanitizer build registers each test binary
 # as shards rather than one ctest test per case (BURRLAB_TEST_SHARDS).
 $(BUILD_DIR)/release/build.ninja: | deps
 	cmake -S . -B $(BUILD_DIR)/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON \
-	  -DBURRLAB_TEST_CXX_FLAGS=-O1 $(CMAKE_FLAGS)
+	  -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 -DBURRLAB_TEST_CXX_FLAGS=-O1 $(CMAKE_FLAGS)
 
 # The sanitizer build at -O0 with line tables only, but the libraries the tests spend their
 # time in at -O1 (BURRLAB_HOT_CXX_FLAGS, cmake/BurrlabOptions.cmake: sim/, sim/base/, stimuli/,
@@ -68,7 +72,8 @@ $(BUILD_DIR)/release/build.ninja: | deps
 $(BUILD_DIR)/asan/build.ninja: | deps
 	cmake -S . -B $(BUILD_DIR)/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O0 -g1 -DNDEBUG" -DBURRLAB_HOT_CXX_FLAGS=-O1 \
-	  -DBURRLAB_SANITIZE=ON -DCMAKE_UNITY_BUILD=ON -DBURRLAB_TEST_CXX_FLAGS=-O0 \
+	  -DBURRLAB_SANITIZE=ON -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16 \
+	  -DBURRLAB_TEST_CXX_FLAGS=-O0 \
 	  -DBURRLAB_TEST_SHARDS=4 $(CMAKE_FLAGS)
 
 build: deps $(BUILD_DIR)/release/build.ninja

@@ -7,6 +7,7 @@
 #include <boost/random/uniform_01.hpp>
 #include <boost/random/uniform_int_distribution.hpp>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,75 @@ Result<double> ParseNumber(std::string_view key, std::string_view text) {
   return v;
 }
 
+// ln of the normal density N(x; mean, variance).
+double LogNormalDensity(double x, double mean, double variance) {
+  const double d = x - mean;
+  return -0.5 * std::log(2.0 * std::numbers::pi * variance) -
+         d * d / (2.0 * variance);
+}
+
+// ln(e^a + e^b) without overflow.
+double LogSumExp(double a, double b) {
+  const double hi = std::max(a, b);
+  return hi + std::log1p(std::exp(std::min(a, b) - hi));
+}
+
+constexpr std::string_view kRuleNames[] = {"fixed", "differencing",
+                                           "likelihood"};
+
 }  // namespace
+
+std::string_view SameDifferentRuleName(SameDifferentRule rule) {
+  return kRuleNames[static_cast<int>(rule)];
+}
+
+Result<SameDifferentRule> ParseSameDifferentRule(std::string_view name) {
+  for (int r = 0; r < 3; ++r) {
+    if (name == kRuleNames[r]) return static_cast<SameDifferentRule>(r);
+  }
+  return Error{fmt::format(
+      "observer: rule must be fixed, differencing or likelihood, got \"{}\"",
+      name)};
+}
+
+FeltMaterial FeltMaterialOf(std::span<const double> cues) {
+  FeltMaterial m;
+  if (cues.empty()) return m;
+  double sum = 0.0;
+  for (double c : cues) sum += std::log(c);
+  m.mean_ln_cue = sum / static_cast<double>(cues.size());
+  if (cues.size() > 1) {
+    double ss = 0.0;
+    for (double c : cues) {
+      const double d = std::log(c) - m.mean_ln_cue;
+      ss += d * d;
+    }
+    m.var_ln_cue = ss / static_cast<double>(cues.size() - 1);
+  }
+  return m;
+}
+
+double SameDifferentLogOdds(SameDifferentRule rule, double psi1, double psi2,
+                            const FeltMaterial& a, const FeltMaterial& b,
+                            double sigma) {
+  const double va = a.var_ln_cue + sigma * sigma;
+  const double vb = b.var_ln_cue + sigma * sigma;
+  if (rule == SameDifferentRule::kDifferencing) {
+    // The halves' ln 0.5 cancel between the two mixtures.
+    const double d = psi1 - psi2;
+    const double delta = a.mean_ln_cue - b.mean_ln_cue;
+    const double same = LogSumExp(LogNormalDensity(d, 0.0, 2.0 * va),
+                                  LogNormalDensity(d, 0.0, 2.0 * vb));
+    const double different = LogSumExp(LogNormalDensity(d, delta, va + vb),
+                                       LogNormalDensity(d, -delta, va + vb));
+    return different - same;
+  }
+  const double a1 = LogNormalDensity(psi1, a.mean_ln_cue, va);
+  const double a2 = LogNormalDensity(psi2, a.mean_ln_cue, va);
+  const double b1 = LogNormalDensity(psi1, b.mean_ln_cue, vb);
+  const double b2 = LogNormalDensity(psi2, b.mean_ln_cue, vb);
+  return LogSumExp(a1 + b2, b1 + a2) - LogSumExp(a1 + a2, b1 + b2);
+}
 
 Status ObserverParams::Validate() const {
   auto positive = [](std::string_view name, double v, double max) -> Status {
@@ -126,6 +195,7 @@ ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults) {
   p.weber_removal = defaults.weber_removal;
   p.lapse = defaults.lapse;
   p.criterion = defaults.criterion;
+  p.rule = defaults.rule;
   return p;
 }
 
@@ -143,7 +213,7 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
       spec.size() > kHead.size() ? spec.substr(kHead.size() + 1) : "";
   constexpr std::string_view kKeys[] = {
       "weber",     "weber_stiffness", "weber_removal", "lapse",
-      "criterion", "rt_median_s",     "always"};
+      "criterion", "rt_median_s",     "rule",          "always"};
   while (!rest.empty()) {
     const std::size_t comma = rest.find(',');
     std::string_view item = rest.substr(0, comma);
@@ -152,10 +222,17 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
     if (eq == std::string_view::npos) {
       return Error{fmt::format(
           "observer: \"{}\" is not key=value (keys: weber, weber_stiffness, "
-          "weber_removal, lapse, criterion, rt_median_s, always)",
+          "weber_removal, lapse, criterion, rt_median_s, rule, always)",
           item)};
     }
     const std::string_view key = item.substr(0, eq);
+    if (key == "rule") {
+      const std::string_view name = item.substr(eq + 1);
+      Result<SameDifferentRule> rule = ParseSameDifferentRule(name);
+      if (!rule.ok()) return rule.error();
+      base.rule = *rule;
+      continue;
+    }
     if (key == "always") {
       const std::string_view rule = item.substr(eq + 1);
       if (rule == "correct") {
@@ -186,7 +263,7 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
       const std::string_view hint = DidYouMean(key, kKeys);
       return Error{fmt::format(
           "observer: unknown key \"{}\"{} (keys: weber, weber_stiffness, "
-          "weber_removal, lapse, criterion, rt_median_s, always)",
+          "weber_removal, lapse, criterion, rt_median_s, rule, always)",
           key,
           hint.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", hint))};
     }
@@ -233,7 +310,19 @@ Result<Response> SimulatedObserver::Decide(const TrialSpec& trial,
     case Method::kLimits:
       if (n != 2) return Error{"observer: expected two intervals"};
       {
-        const bool different = std::abs(psi[0] - psi[1]) > k;
+        bool different = std::abs(psi[0] - psi[1]) > k;
+        if (trial.method == Method::kSameDifferent &&
+            params_.rule != SameDifferentRule::kFixed) {
+          if (!cues.materials.has_value()) {
+            return Error{fmt::format(
+                "observer: the {} rule needs the block's two materials as "
+                "the observer felt them",
+                SameDifferentRuleName(params_.rule))};
+          }
+          different = SameDifferentLogOdds(params_.rule, psi[0], psi[1],
+                                           (*cues.materials)[0],
+                                           (*cues.materials)[1], sigma) > 0.0;
+        }
         if (trial.method == Method::kSameDifferent) {
           answer = different ? "different" : "same";
         } else {

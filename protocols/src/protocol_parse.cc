@@ -44,8 +44,8 @@ constexpr std::string_view kStudyKeys[] = {
     "name", "description", "instructions", "breaks_between_blocks"};
 constexpr std::string_view kRecordingKeys[] = {"trace_hz"};
 constexpr std::string_view kObserverKeys[] = {
-    "weber_stiffness", "weber_removal", "lapse",
-    "criterion",       "probe_force_n", "drill_force_n"};
+    "weber_stiffness", "weber_removal", "lapse", "criterion", "rule",
+    "probe_force_n",   "drill_force_n"};
 constexpr std::string_view kCounterbalanceKeys[] = {"scheme"};
 // The spelling of each material parameter, in MaterialParameter order (the
 // order of sim::Material), shared with material files.
@@ -360,6 +360,10 @@ void Parser::ParseObserver(const toml::table& root, Protocol& p) {
         *f.value = *v;
       }
     }
+  }
+  constexpr std::string_view kRules[] = {"fixed", "differencing", "likelihood"};
+  if (auto r = Choice(*t, "rule", "observer.rule", kRules)) {
+    o.rule = static_cast<SameDifferentRule>(*r);
   }
 }
 

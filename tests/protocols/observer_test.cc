@@ -9,10 +9,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <boost/math/distributions/normal.hpp>
 #include <boost/random/normal_distribution.hpp>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,7 +63,8 @@ double Rate(const SimulatedObserver& observer, const TrialSpec& t,
   boost::random::mt19937 rng(static_cast<std::uint32_t>(seed));
   int hits = 0;
   for (int i = 0; i < n; ++i) {
-    Result<Response> r = observer.Decide(t, {cues, std::nullopt}, rng);
+    Result<Response> r =
+        observer.Decide(t, {cues, std::nullopt, std::nullopt}, rng);
     EXPECT_TRUE(r.ok());
     hits += r->answer == answer ? 1 : 0;
   }
@@ -110,6 +113,176 @@ TEST(SimulatedObserver, SameDifferentRatesFollowTheDifferencingRule) {
               3.5 * std::sqrt(h * (1 - h) / n));
 }
 
+// The differencing rule's log odds against its closed form. With equal
+// total variances v (both materials' renderings spread alike), a different
+// pair's D = psi1 - psi2 is N(+-delta, 2v) and a same pair's N(0, 2v), so
+// ln P(diff | D) / P(same | D) = ln cosh(D delta / (2v)) - delta^2 / (4v),
+// zero at the optimal criterion |D| = (2v / delta) acosh(exp(delta^2 / (4v)))
+// (kind of truth: closed form, derived by hand).
+TEST(SameDifferentRules, DifferencingLogOddsFollowTheClosedForm) {
+  const FeltMaterial a{std::log(2.0), 0.01};
+  const FeltMaterial b{std::log(2.0) - 0.5, 0.01};
+  const double sigma = 0.2;
+  const double v = 0.01 + sigma * sigma;
+  const double delta = 0.5;
+  for (double d : {-0.9, -0.2, 0.0, 0.1, 0.35, 0.7}) {
+    const double expected =
+        std::log(std::cosh(d * delta / (2 * v))) - delta * delta / (4 * v);
+    EXPECT_NEAR(SameDifferentLogOdds(SameDifferentRule::kDifferencing, 1.0 + d,
+                                     1.0, a, b, sigma),
+                expected, 1e-12)
+        << d;
+  }
+  const double k =
+      2 * v / delta * std::acosh(std::exp(delta * delta / (4 * v)));
+  EXPECT_NEAR(k, 0.384393, 1e-6);
+  for (double sign : {-1.0, 1.0}) {
+    EXPECT_LT(SameDifferentLogOdds(SameDifferentRule::kDifferencing,
+                                   sign * (k - 1e-6), 0.0, a, b, sigma),
+              0.0);
+    EXPECT_GT(SameDifferentLogOdds(SameDifferentRule::kDifferencing,
+                                   sign * (k + 1e-6), 0.0, a, b, sigma),
+              0.0);
+  }
+}
+
+// The likelihood-ratio (independent-observation) rule with equal variances
+// says "different" exactly when the two percepts fall on opposite sides of
+// the materials' midpoint (Macmillan & Creelman 2005, ch. 9), and its log
+// odds are ln cosh(delta (x1 - x2) / (2v)) - ln cosh(delta (x1 + x2) / (2v)),
+// x = psi - midpoint (kind of truth: closed form).
+TEST(SameDifferentRules,
+     LikelihoodRuleSaysDifferentOnOppositeSidesOfTheMidpoint) {
+  const double mid = std::log(0.8);
+  const double delta = 0.6;
+  const FeltMaterial a{mid + delta / 2, 0.02};
+  const FeltMaterial b{mid - delta / 2, 0.02};
+  const double sigma = 0.3;
+  const double v = 0.02 + sigma * sigma;
+  for (double x1 : {-0.7, -0.25, -0.01, 0.02, 0.3, 0.9}) {
+    for (double x2 : {-0.5, -0.05, 0.04, 0.6}) {
+      const double odds = SameDifferentLogOdds(SameDifferentRule::kLikelihood,
+                                               mid + x1, mid + x2, a, b, sigma);
+      EXPECT_EQ(odds > 0.0, x1 * x2 < 0.0) << x1 << " " << x2;
+      EXPECT_NEAR(odds,
+                  std::log(std::cosh(delta * (x1 - x2) / (2 * v))) -
+                      std::log(std::cosh(delta * (x1 + x2) / (2 * v))),
+                  1e-12)
+          << x1 << " " << x2;
+    }
+  }
+}
+
+// Unequal variances: the rules against the mixture densities written out
+// directly (kind of truth: the definition, computed without logs).
+TEST(SameDifferentRules, UnequalVariancesMatchTheMixturesWrittenOut) {
+  const FeltMaterial a{0.4, 0.05};
+  const FeltMaterial b{-0.1, 0.002};
+  const double sigma = 0.15;
+  const double va = 0.05 + sigma * sigma, vb = 0.002 + sigma * sigma;
+  auto n = [](double x, double m, double var) {
+    return std::exp(-(x - m) * (x - m) / (2 * var)) /
+           std::sqrt(2 * std::numbers::pi * var);
+  };
+  for (double p1 : {-0.3, 0.0, 0.35, 0.6}) {
+    for (double p2 : {-0.2, 0.1, 0.45}) {
+      const double d = p1 - p2, delta = 0.5;
+      const double differencing =
+          std::log((n(d, delta, va + vb) + n(d, -delta, va + vb)) /
+                   (n(d, 0, 2 * va) + n(d, 0, 2 * vb)));
+      EXPECT_NEAR(SameDifferentLogOdds(SameDifferentRule::kDifferencing, p1, p2,
+                                       a, b, sigma),
+                  differencing, 1e-12);
+      const double likelihood = std::log((n(p1, 0.4, va) * n(p2, -0.1, vb) +
+                                          n(p1, -0.1, vb) * n(p2, 0.4, va)) /
+                                         (n(p1, 0.4, va) * n(p2, 0.4, va) +
+                                          n(p1, -0.1, vb) * n(p2, -0.1, vb)));
+      EXPECT_NEAR(SameDifferentLogOdds(SameDifferentRule::kLikelihood, p1, p2,
+                                       a, b, sigma),
+                  likelihood, 1e-12);
+    }
+  }
+}
+
+TEST(SameDifferentRules, FeltMaterialIsTheMeanAndVarianceOfTheLogCues) {
+  const std::vector<double> cues = {1.0, std::exp(0.2), std::exp(-0.1),
+                                    std::exp(0.3)};
+  const FeltMaterial m = FeltMaterialOf(cues);
+  EXPECT_NEAR(m.mean_ln_cue, 0.1, 1e-15);
+  // (0.01 + 0.01 + 0.04 + 0.04) / 3
+  EXPECT_NEAR(m.var_ln_cue, 0.1 / 3, 1e-15);
+  EXPECT_EQ(FeltMaterialOf(std::vector<double>{2.0}).var_ln_cue, 0.0);
+}
+
+TEST(SameDifferentRules, DecideUsesTheRuleAndNeedsTheFeltMaterials) {
+  ObserverParams params = NoLapse(0.05);
+  params.rule = SameDifferentRule::kLikelihood;
+  const SimulatedObserver observer(params);
+  const TrialSpec t = TwoIntervalSpec(Method::kSameDifferent, 0.0, 0.0);
+  const std::array<FeltMaterial, 2> felt = {FeltMaterial{std::log(2.0), 0.0},
+                                            FeltMaterial{std::log(1.0), 0.0}};
+  boost::random::mt19937 rng(5);
+  const std::vector<double> different = {2.0, 1.0}, same = {1.0, 1.0};
+  TrialCues cues{different, std::nullopt, felt};
+  EXPECT_EQ(observer.Decide(t, cues, rng)->answer, "different");
+  cues.cues = same;
+  EXPECT_EQ(observer.Decide(t, cues, rng)->answer, "same");
+  // 1.2 against 1.0: the likelihood rule, knowing the materials are a factor
+  // 2 apart, calls them the same material (both below the midpoint, sqrt 2);
+  // the fixed rule calls them different (|ln 1.2| = 0.18 > 1 x 0.05 x sqrt 2).
+  const std::vector<double> near = {1.2, 1.0};
+  cues.cues = near;
+  EXPECT_EQ(observer.Decide(t, cues, rng)->answer, "same");
+  params.rule = SameDifferentRule::kFixed;
+  EXPECT_EQ(SimulatedObserver(params).Decide(t, cues, rng)->answer,
+            "different");
+  params.rule = SameDifferentRule::kDifferencing;
+  cues.materials.reset();
+  EXPECT_EQ(SimulatedObserver(params).Decide(t, cues, rng).error().message,
+            "observer: the differencing rule needs the block's two materials "
+            "as the observer felt them");
+}
+
+TEST(SameDifferentRules, ReadFromTheProtocolsObserverTable) {
+  const ParseOutcome outcome = ParseProtocol("p.toml", R"(
+format = "burrlab-protocol/1"
+[study]
+name = "t"
+[materials.pvc]
+builtin = "pvc_k70"
+[materials.bone]
+builtin = "human_temporal_bone"
+[observer]
+rule = "likelihood"
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+)");
+  ASSERT_TRUE(outcome.protocol.has_value());
+  EXPECT_EQ(ObserverParamsFrom(outcome.protocol->observer).rule,
+            SameDifferentRule::kLikelihood);
+}
+
+TEST(SameDifferentRules, ParsedFromTheFlag) {
+  EXPECT_EQ(ParseObserverSpec("simulated", ObserverParams{})->rule,
+            SameDifferentRule::kFixed);
+  EXPECT_EQ(
+      ParseObserverSpec("simulated:rule=likelihood", ObserverParams{})->rule,
+      SameDifferentRule::kLikelihood);
+  EXPECT_EQ(
+      ParseObserverSpec("simulated:rule=differencing", ObserverParams{})->rule,
+      SameDifferentRule::kDifferencing);
+  EXPECT_EQ(ParseObserverSpec("simulated:rule=optimal", ObserverParams{})
+                .error()
+                .message,
+            "observer: rule must be fixed, differencing or likelihood, got "
+            "\"optimal\"");
+  EXPECT_EQ(SameDifferentRuleName(SameDifferentRule::kDifferencing),
+            "differencing");
+}
+
 TEST(SimulatedObserver, LapsesAnswerAtRandom) {
   ObserverParams params = NoLapse(0.01);
   params.lapse = 0.2;
@@ -135,7 +308,7 @@ TEST(SimulatedObserver, ParsesTheObserverFlag) {
                 .message,
             "observer: unknown key \"webber\" (did you mean \"weber\"?) (keys: "
             "weber, weber_stiffness, weber_removal, lapse, criterion, "
-            "rt_median_s, always)");
+            "rt_median_s, rule, always)");
   EXPECT_EQ(ParseObserverSpec("simulated:lapse=0.7", ObserverParams{})
                 .error()
                 .message,
@@ -244,7 +417,8 @@ double StaircaseConvergence(int n_down, int runs) {
       const TrialSpec& t = engine->current();
       std::vector<double> cues;
       for (const PlannedInterval& i : t.intervals) cues.push_back(*i.level);
-      Result<Response> r = observer.Decide(t, {cues, std::nullopt}, rng);
+      Result<Response> r =
+          observer.Decide(t, {cues, std::nullopt, std::nullopt}, rng);
       EXPECT_TRUE(r.ok());
       Result<Outcome> out = engine->Respond(*r);
       EXPECT_TRUE(out.ok());

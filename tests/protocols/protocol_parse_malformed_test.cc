@@ -651,6 +651,31 @@ b = "bone"
 lapse = 0.6
         ^
 )toml"},
+    {"observer_rule",
+     R"toml(format = "burrlab-protocol/1"
+
+[study]
+name = "t"
+
+[materials.pvc]
+builtin = "pvc_k70"
+
+[materials.bone]
+builtin = "human_temporal_bone"
+
+[observer]
+rule = "optimal"
+
+[[blocks]]
+method = "same_different"
+task = "probe"
+a = "pvc"
+b = "bone"
+)toml",
+     R"toml(NAME:13:8: error: observer.rule must be one of fixed, differencing, likelihood, got "optimal"
+rule = "optimal"
+       ^
+)toml"},
     {"odd_2afc",
      R"toml(format = "burrlab-protocol/1"
 
@@ -1871,8 +1896,8 @@ TEST(ProtocolParse, FiftyThousandBadKeysPrintAHundredAndACount) {
   EXPECT_EQ(errors, kMaxPrintedDiagnostics);
   EXPECT_TRUE(printed.starts_with(
       "big.toml:14:1: error: unknown key \"k0\" in [observer]; accepted: "
-      "weber_stiffness, weber_removal, lapse, criterion, probe_force_n, "
-      "drill_force_n\nk0 = 1\n^\n"))
+      "weber_stiffness, weber_removal, lapse, criterion, rule, "
+      "probe_force_n, drill_force_n\nk0 = 1\n^\n"))
       << printed.substr(0, 300);
   EXPECT_TRUE(printed.ends_with("big.toml: ... and 49900 more errors\n"))
       << printed.substr(printed.size() - 300);

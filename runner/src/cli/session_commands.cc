@@ -603,9 +603,10 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddText("--observer",
                 "simulated[:weber=W,lapse=L,...] (default: answers typed at "
                 "the prompt); keys weber, weber_stiffness, weber_removal, "
-                "lapse, criterion, rt_median_s, and always=correct or "
-                "always=wrong: every answer right (or wrong), to dry-run a "
-                "protocol to the ends of its levels",
+                "lapse, criterion, rt_median_s, rule=fixed|differencing|"
+                "likelihood (how a same-different observer decides), and "
+                "always=correct or always=wrong: every answer right (or "
+                "wrong), to dry-run a protocol to the ends of its levels",
                 &observer);
   flags.AddSwitch("--resume", "continue the subject's interrupted session",
                   &resume);

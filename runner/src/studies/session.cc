@@ -5,6 +5,7 @@
 #include <nettle/sha2.h>
 
 #include <algorithm>
+#include <array>
 #include <boost/random/mersenne_twister.hpp>
 #include <chrono>
 #include <cmath>
@@ -43,6 +44,11 @@ using protocols::TrialSpec;
 constexpr std::uint64_t kStandInInterval = 1000;
 // Offset of the per-block seeds of the remembered yes/no standard.
 constexpr std::uint64_t kStandardSeedBase = 1ull << 32;
+// Offset of the seeds of the familiarization renderings (same-different
+// under the differencing and likelihood rules), and how many of each
+// material a subject feels before a block.
+constexpr std::uint64_t kFamiliarizationSeedBase = 1ull << 33;
+constexpr int kFamiliarizationRenderings = 8;
 
 std::string UtcNow() {
   const std::time_t now =
@@ -164,6 +170,11 @@ class SessionRunner {
       const TrialSpec& trial, std::string_view path) const;
   // The cue of the standard of a one-interval trial's block, rendered.
   Result<double> StandardCue(const TrialSpec& trial);
+  // A same-different block's materials a and b as the subject felt them in
+  // familiarization (kFamiliarizationRenderings renderings of each, seeded
+  // per block), felt at the block's first trial and remembered.
+  Result<std::array<protocols::FeltMaterial, 2>> FamiliarizedMaterials(
+      const TrialSpec& trial);
   Result<protocols::Response> SimulatedResponse(const TrialSpec& trial,
                                                 Presented& presented);
   // The trial record's `source`: who answered.
@@ -198,6 +209,7 @@ class SessionRunner {
   protocols::SimulatedObserver observer_;
   double clock_s_ = 0.0;
   protocols::RememberedStandards standards_;
+  std::map<int, std::array<protocols::FeltMaterial, 2>> familiarized_;
   int correct_ = 0;
   int scored_ = 0;
 };
@@ -311,6 +323,41 @@ Result<double> SessionRunner::StandardCue(const TrialSpec& trial) {
   return protocols::FeltCue(r->cue);
 }
 
+Result<std::array<protocols::FeltMaterial, 2>>
+SessionRunner::FamiliarizedMaterials(const TrialSpec& trial) {
+  if (auto it = familiarized_.find(trial.block_index);
+      it != familiarized_.end()) {
+    return it->second;
+  }
+  const protocols::Block& block = loaded_.protocol.blocks[trial.block_index];
+  std::array<protocols::FeltMaterial, 2> felt;
+  int m = 0;
+  for (const std::string& id : {block.material_a, block.material_b}) {
+    const protocols::ProtocolMaterial* material =
+        loaded_.protocol.FindMaterial(id);
+    if (material == nullptr) {
+      return Error{fmt::format("block \"{}\": material \"{}\" is missing",
+                               block.name, id)};
+    }
+    std::vector<double> cues;
+    for (int i = 0; i < kFamiliarizationRenderings; ++i) {
+      const std::uint64_t index =
+          kFamiliarizationSeedBase +
+          static_cast<std::uint64_t>(
+              (trial.block_index * 2 + m) * kFamiliarizationRenderings + i);
+      Result<stimuli::IntervalResult> r = Render(IntervalOptionsFor(
+          loaded_.protocol, options_.radius_mm, trial, material->set,
+          trial.intervals.at(0).duration_s,
+          protocols::SeedFor(options_.seed, StreamPurpose::kErosion, index)));
+      if (!r.ok()) return r.error();
+      cues.push_back(protocols::FeltCue(r->cue));
+    }
+    felt[static_cast<std::size_t>(m++)] = protocols::FeltMaterialOf(cues);
+  }
+  familiarized_.emplace(trial.block_index, felt);
+  return felt;
+}
+
 Result<std::optional<PlannedInterval>> SessionRunner::AdjustedComparisonAt(
     const TrialSpec& trial, std::string_view path) const {
   if (trial.method != protocols::Method::kAdjustment ||
@@ -370,6 +417,13 @@ Result<protocols::Response> SessionRunner::SimulatedResponse(
   Result<protocols::TrialCues> cues = standards_.CuesFor(
       trial, presented.cues, [&] { return StandardCue(trial); });
   if (!cues.ok()) return cues.error();
+  if (trial.method == protocols::Method::kSameDifferent &&
+      observer_.params().rule != protocols::SameDifferentRule::kFixed) {
+    Result<std::array<protocols::FeltMaterial, 2>> felt =
+        FamiliarizedMaterials(trial);
+    if (!felt.ok()) return felt.error();
+    cues->materials = *felt;
+  }
   return observer_.Decide(trial, *cues, rng);
 }
 

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <boost/random/uniform_int_distribution.hpp>
 #include <cmath>
 
@@ -172,6 +173,27 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
             return draw(**pooled, rng);
           });
       if (!trial_cues.ok()) return trial_cues.error();
+      if (trial.method == Method::kSameDifferent &&
+          params.rule != protocols::SameDifferentRule::kFixed) {
+        // The block's two materials as felt: every rendering of each in the
+        // pool (the population's familiarization).
+        std::array<protocols::FeltMaterial, 2> felt;
+        int m = 0;
+        for (const std::string& id : {block.material_a, block.material_b}) {
+          const protocols::ProtocolMaterial* material =
+              protocol.FindMaterial(id);
+          if (material == nullptr) {
+            return Error{fmt::format("block \"{}\": material \"{}\" is missing",
+                                     block.name, id)};
+          }
+          Result<const std::vector<double>*> pooled = pool.Cues(
+              protocol, trial, material->set, trial.intervals.at(0).duration_s);
+          if (!pooled.ok()) return pooled.error();
+          felt[static_cast<std::size_t>(m++)] =
+              protocols::FeltMaterialOf(**pooled);
+        }
+        trial_cues->materials = felt;
+      }
       Result<protocols::Response> response =
           observer.Decide(trial, *trial_cues, rng);
       if (!response.ok()) return response.error();

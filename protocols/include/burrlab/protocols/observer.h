@@ -15,6 +15,7 @@
 #define BURRLAB_PROTOCOLS_OBSERVER_H_
 
 #include <algorithm>
+#include <array>
 #include <boost/random/mersenne_twister.hpp>
 #include <cstdint>
 #include <functional>
@@ -44,16 +45,48 @@ enum class AnswerRule {
                    // none; adjustments step down
 };
 
+// SameDifferentRule (protocol.h): how a same-different observer decides.
+
+// The rule's name in a spec or protocol ("fixed", "differencing",
+// "likelihood").
+std::string_view SameDifferentRuleName(SameDifferentRule rule);
+// The rule of a name, or an error listing the names.
+Result<SameDifferentRule> ParseSameDifferentRule(std::string_view name);
+
+// What an observer has learned of one material by feeling it (familiarization
+// or a pool of renderings): the mean and the variance of ln(cue) over its
+// renderings. The observer adds its own noise, sigma^2, to the variance.
+struct FeltMaterial {
+  double mean_ln_cue = 0.0;
+  double var_ln_cue = 0.0;  // >= 0
+};
+
+// FeltMaterial of a material's rendered cues (each > 0; FeltCue applied):
+// their mean ln cue and the variance over renderings (divisor n - 1; 0 for a
+// single rendering).
+FeltMaterial FeltMaterialOf(std::span<const double> cues);
+
+// ln P(different) - ln P(same) of a same-different trial's percepts (psi1,
+// psi2) under `rule` (kDifferencing or kLikelihood), with materials a and b
+// as felt and internal noise sigma; equal priors. Exposed for tests and for
+// expected scores.
+double SameDifferentLogOdds(SameDifferentRule rule, double psi1, double psi2,
+                            const FeltMaterial& a, const FeltMaterial& b,
+                            double sigma);
+
 struct ObserverParams {
   double weber_stiffness = 0.20;  // sigma of ln(stiffness) (probe)
   double weber_removal = 0.30;    // sigma of ln(penetration rate) (drill)
   double lapse = 0.02;            // probability of a random answer
-  double criterion = 1.0;         // same-different and limits: "different" when
-                                  // |psi1 - psi2| > criterion x sigma x sqrt(2)
-  double rt_median_s = 1.0;       // response time median
-  double rt_log_sd = 0.35;        // response time spread (sd of ln rt)
-  double match_tolerance = 0.5;   // adjustment: stop when the percepts differ
-                                  // by less than this x sigma
+  double criterion = 1.0;         // same-different (rule fixed) and limits:
+                                  // "different" when |psi1 - psi2| >
+                                  // criterion x sigma x sqrt(2)
+  // Same-different: how the percepts are compared (protocol.h).
+  SameDifferentRule rule = SameDifferentRule::kFixed;
+  double rt_median_s = 1.0;      // response time median
+  double rt_log_sd = 0.35;       // response time spread (sd of ln rt)
+  double match_tolerance = 0.5;  // adjustment: stop when the percepts differ
+                                 // by less than this x sigma
   // kPercepts, or a fixed answer for checking that a protocol runs to its
   // end at the edges of its levels (no lapses then; a trial with neither a
   // correct answer nor "yes" gets the percepts' answer).
@@ -67,8 +100,8 @@ struct ObserverParams {
 ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults);
 
 // Parses "simulated" or "simulated:key=value,..." (keys: weber (both cues),
-// weber_stiffness, weber_removal, lapse, criterion, rt_median_s, and
-// always=correct|wrong) over `base`.
+// weber_stiffness, weber_removal, lapse, criterion, rt_median_s,
+// rule=fixed|differencing|likelihood and always=correct|wrong) over `base`.
 Result<ObserverParams> ParseObserverSpec(std::string_view spec,
                                          ObserverParams base);
 
@@ -115,6 +148,9 @@ struct TrialCues {
   std::span<const double> cues;        // one per interval (same order), > 0
   std::optional<double> standard_cue;  // yes/no trials: the remembered
                                        // standard's cue
+  // Same-different trials under the differencing and likelihood rules: the
+  // block's materials a and b as the observer felt them.
+  std::optional<std::array<FeltMaterial, 2>> materials;
 };
 
 // The standards a simulated subject remembers: in a one-interval (yes/no)

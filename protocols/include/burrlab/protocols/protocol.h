@@ -241,14 +241,42 @@ enum class Counterbalance {
   kReverse,      // "reverse": odd subject indices run the blocks in reverse
 };
 
+// How a same-different observer decides whether a trial's two intervals
+// differ (Macmillan & Creelman 2005, "Detection theory: a user's guide",
+// ch. 9). Percepts are psi = ln(cue) + sigma eps; the cue of a material varies
+// itself from one rendering to the next (erosion is stochastic), so across
+// trials a material's percepts have variance s^2 + sigma^2, with s^2 the
+// variance of its ln cue over renderings: the variability the observer
+// experiences.
+enum class SameDifferentRule {
+  // "fixed": "different" when |psi1 - psi2| > criterion x sigma x sqrt(2), a
+  // criterion set against the internal noise alone. Where the renderings
+  // vary, a keen observer (small sigma) calls identical pairs "different", so
+  // its score is not monotone in sigma.
+  kFixed,
+  // "differencing": the differencing observer, deciding on D = psi1 - psi2
+  // alone with the optimal criterion for the total variability it
+  // experienced: "different" when D is likelier under a different pair, D ~
+  // N(+-(mu_a - mu_b), v_a + v_b), than under a same pair, D ~ N(0, 2 v_a) or
+  // N(0, 2 v_b), each with probability one half (v = s^2 + sigma^2).
+  kDifferencing,
+  // "likelihood": the independent-observation (likelihood-ratio) observer,
+  // deciding on both percepts: "different" when (psi1, psi2) is likelier
+  // under the pairs (a, b) and (b, a) than under (a, a) and (b, b), each
+  // material's percepts N(mu, v).
+  kLikelihood,
+};
+
 // Defaults for the simulated observer ([observer]); `burrlab run --observer
 // simulated:weber=W,lapse=L` overrides them.
 struct ObserverDefaults {
   double weber_stiffness = 0.20;  // log-normal sigma of the probing cue
   double weber_removal = 0.30;    // log-normal sigma of the drilling cue
   double lapse = 0.02;            // probability of a random response
-  double criterion = 1.0;  // same-different: "different" when the percepts
-                           // differ by more than criterion x sigma x sqrt(2)
+  double criterion = 1.0;         // same-different (rule fixed) and limits:
+                           // "different" when the percepts differ by more
+                           // than criterion x sigma x sqrt(2)
+  SameDifferentRule rule = SameDifferentRule::kFixed;
   double probe_force_n = 2.0;  // peak force of each probing press
   double drill_force_n = 3.0;  // force held while drilling
 };

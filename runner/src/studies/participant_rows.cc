@@ -26,12 +26,27 @@ ObserverParticipantColumns() {
        "",
        {}},
       {"observer_criterion",
-       "Simulated subjects: decision criterion of same-different and limits "
-       "trials, which the observer answers 'different' when its percepts "
-       "differ by more than criterion x Weber fraction x sqrt(2); n/a for a "
-       "person",
+       "Simulated subjects: decision criterion of limits trials and of "
+       "same-different trials under the fixed rule, which the observer "
+       "answers 'different' when its percepts differ by more than criterion "
+       "x Weber fraction x sqrt(2); n/a for a person",
        "",
        {}},
+      {"observer_rule",
+       "Simulated subjects: how the simulated observer decides same-different "
+       "trials; n/a for a person",
+       "",
+       {{"fixed",
+         "'different' when the percepts differ by more than criterion x Weber "
+         "fraction x sqrt(2), a criterion set against its own noise alone"},
+        {"differencing",
+         "on the difference of the percepts, with the optimal criterion for "
+         "the variability it felt (its noise and each material's spread "
+         "between renderings)"},
+        {"likelihood",
+         "the independent-observation rule: 'different' when the pair of "
+         "percepts is likelier under different materials than under the "
+         "same, given the variability it felt"}}},
       {"observer_rt_median",
        "Simulated subjects: median of the simulated observer's log-normal "
        "response times; n/a for a person",
@@ -68,14 +83,16 @@ std::vector<results_schema::ParticipantValue> ObserverParticipantValues(
       o.answers == protocols::AnswerRule::kAlwaysCorrect ? "always_correct"
       : o.answers == protocols::AnswerRule::kAlwaysWrong ? "always_wrong"
                                                          : "percepts";
-  return {{"observer_weber_stiffness", number(o.weber_stiffness)},
-          {"observer_weber_removal", number(o.weber_removal)},
-          {"observer_lapse", number(o.lapse)},
-          {"observer_criterion", number(o.criterion)},
-          {"observer_rt_median", number(o.rt_median_s)},
-          {"observer_rt_log_sd", number(o.rt_log_sd)},
-          {"observer_match_tolerance", number(o.match_tolerance)},
-          {"observer_answers", answers}};
+  return {
+      {"observer_weber_stiffness", number(o.weber_stiffness)},
+      {"observer_weber_removal", number(o.weber_removal)},
+      {"observer_lapse", number(o.lapse)},
+      {"observer_criterion", number(o.criterion)},
+      {"observer_rule", std::string(protocols::SameDifferentRuleName(o.rule))},
+      {"observer_rt_median", number(o.rt_median_s)},
+      {"observer_rt_log_sd", number(o.rt_log_sd)},
+      {"observer_match_tolerance", number(o.match_tolerance)},
+      {"observer_answers", answers}};
 }
 
 bool IsObserverColumn(const std::string& column) {

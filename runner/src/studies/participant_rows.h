@@ -16,7 +16,7 @@ namespace burrlab::runner {
 
 // Columns of a simulated observer's parameters, described for
 // participants.json: observer_weber_stiffness, observer_weber_removal,
-// observer_lapse, observer_criterion, observer_rt_median (s),
+// observer_lapse, observer_criterion, observer_rule, observer_rt_median (s),
 // observer_rt_log_sd, observer_match_tolerance and observer_answers.
 const std::vector<results_schema::ParticipantColumn>&
 ObserverParticipantColumns();

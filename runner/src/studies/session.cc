@@ -726,9 +726,13 @@ std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
       const protocols::ObserverParams& o = options.observer;
       responder = fmt::format(
           "simulated weber_stiffness={} weber_removal={} lapse={} "
-          "criterion={} rt_median_s={} rt_log_sd={} match_tolerance={}{}",
+          "criterion={} rt_median_s={} rt_log_sd={} match_tolerance={}{}{}",
           o.weber_stiffness, o.weber_removal, o.lapse, o.criterion,
           o.rt_median_s, o.rt_log_sd, o.match_tolerance,
+          o.rule == protocols::SameDifferentRule::kFixed
+              ? ""
+              : fmt::format(" rule={}",
+                            protocols::SameDifferentRuleName(o.rule)),
           o.answers == protocols::AnswerRule::kAlwaysCorrect ? " always=correct"
           : o.answers == protocols::AnswerRule::kAlwaysWrong ? " always=wrong"
                                                              : "");

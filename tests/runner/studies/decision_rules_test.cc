@@ -22,6 +22,7 @@
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/observer.h"
 #include "example_protocol.h"
+#include "read_file.h"
 #include "studies/rendering_pool.h"
 #include "studies/study.h"
 #include "studies/virtual_study.h"
@@ -218,6 +219,12 @@ TEST(DecisionRules, RenderedSessionsFamiliarizeThenDecide) {
       ASSERT_TRUE(score.has_value());
       EXPECT_EQ(*score, 1.0);
     }
+    // Each subject's rule is in participants.tsv.
+    const std::string table = ReadFile(study.out_dir / "participants.tsv");
+    EXPECT_NE(table.find("\tobserver_rule\t"), std::string::npos) << table;
+    EXPECT_NE(table.find("sub-02\t0.05\t0.05\t0\t1\tlikelihood\t"),
+              std::string::npos)
+        << table;
     if (run == 0) {
       first = r.scores;
     } else {

@@ -21,6 +21,7 @@ TEST(ParticipantRows, ObserverValuesReadBackExactly) {
   o.weber_removal = 0.25;
   o.lapse = 0.0;
   o.criterion = 1.5;
+  o.rule = protocols::SameDifferentRule::kLikelihood;
   o.rt_median_s = 0.8;
   o.rt_log_sd = 0.35;
   o.match_tolerance = 0.5;
@@ -32,6 +33,7 @@ TEST(ParticipantRows, ObserverValuesReadBackExactly) {
       {"observer_weber_removal", "0.25"},
       {"observer_lapse", "0"},
       {"observer_criterion", "1.5"},
+      {"observer_rule", "likelihood"},
       {"observer_rt_median", "0.8"},
       {"observer_rt_log_sd", "0.35"},
       {"observer_match_tolerance", "0.5"},
@@ -52,12 +54,18 @@ TEST(ParticipantRows, EveryObserverColumnIsDescribedAndValid) {
         << columns[i].name;
     EXPECT_FALSE(columns[i].description.empty()) << columns[i].name;
   }
-  EXPECT_EQ(columns[4].name, "observer_rt_median");
-  EXPECT_EQ(columns[4].units, "s");
+  EXPECT_EQ(columns[5].name, "observer_rt_median");
+  EXPECT_EQ(columns[5].units, "s");
   std::set<std::string> levels;
-  for (const auto& [value, meaning] : columns[7].levels) levels.insert(value);
+  for (const auto& [value, meaning] : columns[8].levels) levels.insert(value);
   EXPECT_EQ(levels, (std::set<std::string>{"percepts", "always_correct",
                                            "always_wrong"}));
+  // Every rule a value can name is a level.
+  levels.clear();
+  ASSERT_EQ(columns[4].name, "observer_rule");
+  for (const auto& [value, meaning] : columns[4].levels) levels.insert(value);
+  EXPECT_EQ(levels,
+            (std::set<std::string>{"fixed", "differencing", "likelihood"}));
   EXPECT_FALSE(IsObserverColumn("age"));
 }
 

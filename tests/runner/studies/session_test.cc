@@ -791,8 +791,9 @@ TEST_F(SessionTest, StudySessionsListEachSubjectsTrueObserver) {
   std::getline(lines, header);
   EXPECT_EQ(header,
             "participant_id\tobserver_weber_stiffness\tobserver_weber_removal\t"
-            "observer_lapse\tobserver_criterion\tobserver_rt_median\t"
-            "observer_rt_log_sd\tobserver_match_tolerance\tobserver_answers");
+            "observer_lapse\tobserver_criterion\tobserver_rule\t"
+            "observer_rt_median\tobserver_rt_log_sd\tobserver_match_tolerance\t"
+            "observer_answers");
   for (const char* label : {"01", "02", "03"}) {
     std::string row;
     ASSERT_TRUE(std::getline(lines, row)) << label;
@@ -801,7 +802,7 @@ TEST_F(SessionTest, StudySessionsListEachSubjectsTrueObserver) {
     for (std::string cell; std::getline(split, cell, '\t');) {
       cells.push_back(cell);
     }
-    ASSERT_EQ(cells.size(), 9u) << row;
+    ASSERT_EQ(cells.size(), 10u) << row;
     EXPECT_EQ(cells[0], std::string("sub-") + label);
     auto journal = rs::Journal::Open(out, label, "1");
     ASSERT_TRUE(journal.ok()) << journal.error().message;
@@ -812,7 +813,8 @@ TEST_F(SessionTest, StudySessionsListEachSubjectsTrueObserver) {
     EXPECT_THAT(responder, HasSubstr("weber_stiffness=" + cells[1] +
                                      " weber_removal=" + cells[2] +
                                      " lapse=" + cells[3] + " "));
-    EXPECT_EQ(cells[8], "percepts");
+    EXPECT_EQ(cells[5], "fixed");
+    EXPECT_EQ(cells[9], "percepts");
   }
   EXPECT_FALSE(std::getline(lines, header));
   const nlohmann::json description =

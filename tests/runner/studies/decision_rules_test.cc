@@ -4,9 +4,9 @@
 // proportion correct of an observer falls as its Weber fraction grows under
 // the differencing and likelihood rules, while under the fixed criterion a
 // keen observer calls identical pairs "different" and scores worse than a
-// duller one (the failure the other rules fix). Kind of truth: the rules'
-// defining property (a noisier observer cannot do better), on the full
-// simulator's cues rather than on a surrogate.
+// duller one (the failure the other rules fix); 2AFC and yes/no scores fall
+// too. Kind of truth: the rules' defining property (a noisier observer cannot
+// do better), on the full simulator's cues rather than on a surrogate.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -32,6 +32,13 @@ namespace {
 
 using protocols::FeltMaterial;
 using protocols::SameDifferentRule;
+
+// 8 renderings of each PVC vs bone stimulus, rendered once for every test
+// here (about 2 s).
+CuePool& SharedPool() {
+  static CuePool pool(8, 2.0, 21);
+  return pool;
+}
 
 // Expected proportion correct of a same-different block with equal priors
 // (same pairs aa and bb, different pairs ab and ba, each a quarter), each
@@ -75,7 +82,7 @@ TEST(DecisionRules,
      ScoreFallsWithTheWeberFractionUnderTheDifferencingAndLikelihoodRules) {
   const protocols::Protocol protocol =
       ExampleProtocol("same_different_pvc_vs_bone.toml");
-  CuePool pool(8, 2.0, 21);
+  CuePool& pool = SharedPool();
   boost::random::mt19937 rng(3);
   boost::random::normal_distribution<double> unit(0.0, 1.0);
   const int samples = 400;
@@ -155,6 +162,97 @@ TEST(DecisionRules,
   EXPECT_GT(fixed_largest_rise, 0.002);
 }
 
+// 2AFC (which interval holds PVC) and yes/no (is this interval PVC, against a
+// remembered bone standard) on the same real renderings, decided by
+// SimulatedObserver::Decide itself: the proportion correct falls with the
+// Weber fraction (each sigma replays the same random stream, so the noise
+// draws are common to all sigmas).
+TEST(DecisionRules, TwoAfcAndYesNoScoresFallWithTheWeberFraction) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("same_different_pvc_vs_bone.toml");
+  CuePool& pool = SharedPool();
+  const std::vector<double> sigmas = {0.02, 0.05, 0.1, 0.2,
+                                      0.45, 1.0,  2.2, 5.0};
+  int block_index = 0;
+  for (const protocols::Block& block : protocol.blocks) {
+    Result<protocols::Engine> engine =
+        protocols::Engine::Create(protocol, 0, 1);
+    ASSERT_TRUE(engine.ok());
+    while (!engine->finished() &&
+           engine->current().block_index != block_index) {
+      protocols::Response r;
+      r.answer = "same";
+      ASSERT_TRUE(engine->Respond(r).ok());
+    }
+    ASSERT_FALSE(engine->finished());
+    const protocols::TrialSpec rendered = engine->current();
+    Result<const std::vector<double>*> bone = pool.Cues(
+        protocol, rendered, protocol.FindMaterial(block.material_b)->set,
+        rendered.intervals[0].duration_s);
+    Result<const std::vector<double>*> pvc = pool.Cues(
+        protocol, rendered, protocol.FindMaterial(block.material_a)->set,
+        rendered.intervals[0].duration_s);
+    ASSERT_TRUE(bone.ok() && pvc.ok());
+    // PVC is the comparison, one level above the bone standard.
+    protocols::TrialSpec two_afc;
+    two_afc.method = protocols::Method::kTwoInterval;
+    two_afc.task = rendered.task;
+    two_afc.intervals.resize(2);
+    two_afc.intervals[0].role = "standard";
+    two_afc.intervals[0].level = 0.0;
+    two_afc.intervals[1].role = "comparison";
+    two_afc.intervals[1].level = 1.0;
+    two_afc.response_options = {"1", "2"};
+    protocols::TrialSpec yes_no;
+    yes_no.method = protocols::Method::kConstantStimuli;  // a yes/no design
+    yes_no.task = rendered.task;
+    yes_no.intervals.resize(1);
+    yes_no.intervals[0].level = 1.0;
+    yes_no.standard_level = 0.0;
+    yes_no.response_options = {"yes", "no"};
+    for (bool yes_no_trials : {false, true}) {
+      std::vector<double> pc;
+      for (double sigma : sigmas) {
+        protocols::ObserverParams params;
+        params.weber_stiffness = params.weber_removal = sigma;
+        params.lapse = 0.0;
+        const protocols::SimulatedObserver observer(params);
+        boost::random::mt19937 rng(17);
+        int correct = 0, n = 0;
+        for (double standard : **bone) {
+          for (double comparison : **pvc) {
+            for (int rep = 0; rep < 25; ++rep) {
+              const std::vector<double> cues =
+                  yes_no_trials ? std::vector<double>{comparison}
+                                : std::vector<double>{standard, comparison};
+              const protocols::TrialCues trial_cues{
+                  cues,
+                  yes_no_trials ? std::optional<double>(standard)
+                                : std::nullopt,
+                  std::nullopt};
+              Result<protocols::Response> r = observer.Decide(
+                  yes_no_trials ? yes_no : two_afc, trial_cues, rng);
+              ASSERT_TRUE(r.ok()) << r.error().message;
+              correct += r->answer == (yes_no_trials ? "yes" : "2") ? 1 : 0;
+              ++n;
+            }
+          }
+        }
+        pc.push_back(static_cast<double>(correct) / n);
+      }
+      std::string row = block.name + (yes_no_trials ? " yes/no:" : " 2afc:");
+      for (double p : pc) row += " " + std::to_string(p).substr(0, 5);
+      std::cout << row << "\n";
+      for (std::size_t i = 1; i < pc.size(); ++i) {
+        EXPECT_LE(pc[i], pc[i - 1] + 0.002) << row;
+      }
+      EXPECT_EQ(pc.front(), 1.0) << row;
+      EXPECT_LT(pc.back(), 0.8) << row;
+    }
+    ++block_index;
+  }
+}
+
 // A keen observer (W 0.05, no lapses) in a virtual study of the PVC vs bone
 // blocks: every answer right under the likelihood and differencing rules
 // (their expected score there is 1.000 above); under the fixed criterion it
@@ -162,7 +260,7 @@ TEST(DecisionRules,
 TEST(DecisionRules, VirtualStudiesFeelTheBlocksMaterialsFromThePool) {
   const protocols::Protocol protocol =
       ExampleProtocol("same_different_pvc_vs_bone.toml");
-  CuePool pool(4, 2.0, 21);
+  CuePool& pool = SharedPool();
   VirtualStudyOptions options;
   options.subjects = 3;
   options.observer = protocols::ObserverParamsFrom(protocol.observer);

@@ -45,18 +45,16 @@ double LogSumExp(double a, double b) {
   return hi + std::log1p(std::exp(std::min(a, b) - hi));
 }
 
-constexpr std::string_view kRuleNames[] = {"fixed", "differencing",
-                                           "likelihood"};
-
 }  // namespace
 
 std::string_view SameDifferentRuleName(SameDifferentRule rule) {
-  return kRuleNames[static_cast<int>(rule)];
+  return kSameDifferentRuleNames[static_cast<int>(rule)];
 }
 
 Result<SameDifferentRule> ParseSameDifferentRule(std::string_view name) {
   for (int r = 0; r < 3; ++r) {
-    if (name == kRuleNames[r]) return static_cast<SameDifferentRule>(r);
+    if (name == kSameDifferentRuleNames[r])
+      return static_cast<SameDifferentRule>(r);
   }
   return Error{fmt::format(
       "observer: rule must be fixed, differencing or likelihood, got \"{}\"",

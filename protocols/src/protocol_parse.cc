@@ -361,8 +361,7 @@ void Parser::ParseObserver(const toml::table& root, Protocol& p) {
       }
     }
   }
-  constexpr std::string_view kRules[] = {"fixed", "differencing", "likelihood"};
-  if (auto r = Choice(*t, "rule", "observer.rule", kRules)) {
+  if (auto r = Choice(*t, "rule", "observer.rule", kSameDifferentRuleNames)) {
     o.rule = static_cast<SameDifferentRule>(*r);
   }
 }

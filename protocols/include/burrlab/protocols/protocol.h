@@ -266,6 +266,10 @@ enum class SameDifferentRule {
   // material's percepts N(mu, v).
   kLikelihood,
 };
+// The rules' names in protocol files, specs and participants.tsv, in
+// SameDifferentRule order.
+inline constexpr std::string_view kSameDifferentRuleNames[] = {
+    "fixed", "differencing", "likelihood"};
 
 // Defaults for the simulated observer ([observer]); `burrlab run --observer
 // simulated:weber=W,lapse=L` overrides them.

@@ -133,7 +133,50 @@ Status ObserverParams::Validate() const {
   if (Status s = positive("match_tolerance", match_tolerance, 10.0); !s.ok()) {
     return s;
   }
+  for (const auto& [name, factor] :
+       {std::pair{"force_factor", exploration.force_factor},
+        std::pair{"speed_factor", exploration.speed_factor}}) {
+    if (!(factor >= 1.0 / kMaxExplorationFactor &&
+          factor <= kMaxExplorationFactor)) {
+      return Error{fmt::format("observer: {} must be in [{}, {}], got {}", name,
+                               1.0 / kMaxExplorationFactor,
+                               kMaxExplorationFactor, factor)};
+    }
+  }
+  for (const auto& [name, spread] :
+       {std::pair{"force_spread", exploration.force_spread},
+        std::pair{"speed_spread", exploration.speed_spread},
+        std::pair{"subject_force_spread", exploration.subject_force_spread},
+        std::pair{"subject_speed_spread", exploration.subject_speed_spread}}) {
+    if (!(spread >= 0.0 && spread <= 1.0)) {
+      return Error{
+          fmt::format("observer: {} must be in [0, 1], got {}", name, spread)};
+    }
+  }
   return {};
+}
+
+stimuli::IntervalOptions ExploredInterval(
+    const stimuli::IntervalOptions& nominal, const Exploration& e,
+    boost::random::mt19937& stream) {
+  if (!e.Varies()) return nominal;
+  double force = e.force_factor, speed = e.speed_factor;
+  if (e.force_spread > 0.0 || e.speed_spread > 0.0) {
+    boost::random::normal_distribution<double> unit(0.0, 1.0);
+    const double z_force = unit(stream);
+    const double z_speed = unit(stream);
+    force *= std::exp(e.force_spread * z_force);
+    speed *= std::exp(e.speed_spread * z_speed);
+  }
+  stimuli::IntervalOptions o = nominal;
+  constexpr double kMaxForceN = 20.0;  // IntervalOptions::Validate's bound
+  o.probe_force_n =
+      std::min({nominal.probe_force_n * force, kMaxForceN,
+                stimuli::MaxProbeForceN(o.material, o.radius_mm, o.voxel_mm)});
+  o.drill_force_n = std::min(nominal.drill_force_n * force, kMaxForceN);
+  o.press_period_s = std::clamp(nominal.press_period_s / speed,
+                                std::min(0.1, o.duration_s), o.duration_s);
+  return o;
 }
 
 Result<const ProtocolMaterial*> ReferenceStandIn(const Protocol& protocol,
@@ -154,7 +197,10 @@ ObserverParams DrawSubjectObserver(const ObserverParams& typical,
                                    WeberSpread spread, std::uint64_t seed,
                                    int subject) {
   ObserverParams params = typical;
-  if (spread.stiffness > 0.0 || spread.removal > 0.0) {
+  const Exploration& e = typical.exploration;
+  const bool explores =
+      e.subject_force_spread > 0.0 || e.subject_speed_spread > 0.0;
+  if (spread.stiffness > 0.0 || spread.removal > 0.0 || explores) {
     boost::random::mt19937 population = StreamFor(
         seed, StreamPurpose::kPopulation, static_cast<std::uint64_t>(subject));
     boost::random::normal_distribution<double> unit(0.0, 1.0);
@@ -166,6 +212,18 @@ ObserverParams DrawSubjectObserver(const ObserverParams& typical,
                  params.weber_stiffness * std::exp(z * spread.stiffness));
     params.weber_removal = std::min(
         kMaxWeberFraction, params.weber_removal * std::exp(z * spread.removal));
+    if (explores) {
+      const double z_force = unit(population);
+      const double z_speed = unit(population);
+      auto held = [](double factor) {
+        return std::clamp(factor, 1.0 / kMaxExplorationFactor,
+                          kMaxExplorationFactor);
+      };
+      params.exploration.force_factor =
+          held(e.force_factor * std::exp(z_force * e.subject_force_spread));
+      params.exploration.speed_factor =
+          held(e.speed_factor * std::exp(z_speed * e.subject_speed_spread));
+    }
   }
   return params;
 }
@@ -194,6 +252,10 @@ ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults) {
   p.lapse = defaults.lapse;
   p.criterion = defaults.criterion;
   p.rule = defaults.rule;
+  p.exploration.force_spread = defaults.exploration.force;
+  p.exploration.speed_spread = defaults.exploration.speed;
+  p.exploration.subject_force_spread = defaults.exploration.subject_force;
+  p.exploration.subject_speed_spread = defaults.exploration.subject_speed;
   return p;
 }
 
@@ -209,19 +271,31 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
   }
   std::string_view rest =
       spec.size() > kHead.size() ? spec.substr(kHead.size() + 1) : "";
-  constexpr std::string_view kKeys[] = {
-      "weber",     "weber_stiffness", "weber_removal", "lapse",
-      "criterion", "rt_median_s",     "rule",          "always"};
+  constexpr std::string_view kKeys[] = {"weber",
+                                        "weber_stiffness",
+                                        "weber_removal",
+                                        "lapse",
+                                        "criterion",
+                                        "rt_median_s",
+                                        "rule",
+                                        "always",
+                                        "exploration",
+                                        "force_spread",
+                                        "speed_spread",
+                                        "subject_force_spread",
+                                        "subject_speed_spread"};
+  constexpr std::string_view kKeyList =
+      "weber, weber_stiffness, weber_removal, lapse, criterion, rt_median_s, "
+      "rule, always, exploration, force_spread, speed_spread, "
+      "subject_force_spread, subject_speed_spread";
   while (!rest.empty()) {
     const std::size_t comma = rest.find(',');
     std::string_view item = rest.substr(0, comma);
     rest = comma == std::string_view::npos ? "" : rest.substr(comma + 1);
     const std::size_t eq = item.find('=');
     if (eq == std::string_view::npos) {
-      return Error{fmt::format(
-          "observer: \"{}\" is not key=value (keys: weber, weber_stiffness, "
-          "weber_removal, lapse, criterion, rt_median_s, rule, always)",
-          item)};
+      return Error{fmt::format("observer: \"{}\" is not key=value (keys: {})",
+                               item, kKeyList)};
     }
     const std::string_view key = item.substr(0, eq);
     if (key == "rule") {
@@ -229,6 +303,20 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
       Result<SameDifferentRule> rule = ParseSameDifferentRule(name);
       if (!rule.ok()) return rule.error();
       base.rule = *rule;
+      continue;
+    }
+    if (key == "exploration") {
+      const std::string_view name = item.substr(eq + 1);
+      if (name != "fixed" && name != "varied") {
+        return Error{fmt::format(
+            "observer: exploration must be fixed or varied, got \"{}\"", name)};
+      }
+      const ExplorationSpreads spreads =
+          name == "varied" ? kVariedExploration : ExplorationSpreads{};
+      base.exploration.force_spread = spreads.force;
+      base.exploration.speed_spread = spreads.speed;
+      base.exploration.subject_force_spread = spreads.subject_force;
+      base.exploration.subject_speed_spread = spreads.subject_speed;
       continue;
     }
     if (key == "always") {
@@ -257,13 +345,20 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
       base.criterion = value.value();
     } else if (key == "rt_median_s") {
       base.rt_median_s = value.value();
+    } else if (key == "force_spread") {
+      base.exploration.force_spread = value.value();
+    } else if (key == "speed_spread") {
+      base.exploration.speed_spread = value.value();
+    } else if (key == "subject_force_spread") {
+      base.exploration.subject_force_spread = value.value();
+    } else if (key == "subject_speed_spread") {
+      base.exploration.subject_speed_spread = value.value();
     } else {
       const std::string_view hint = DidYouMean(key, kKeys);
       return Error{fmt::format(
-          "observer: unknown key \"{}\"{} (keys: weber, weber_stiffness, "
-          "weber_removal, lapse, criterion, rt_median_s, rule, always)",
-          key,
-          hint.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", hint))};
+          "observer: unknown key \"{}\"{} (keys: {})", key,
+          hint.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", hint),
+          kKeyList)};
     }
   }
   if (Status s = base.Validate(); !s.ok()) return s.error();

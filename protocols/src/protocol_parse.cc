@@ -43,9 +43,18 @@ constexpr std::string_view kRootKeys[] = {
 constexpr std::string_view kStudyKeys[] = {
     "name", "description", "instructions", "breaks_between_blocks"};
 constexpr std::string_view kRecordingKeys[] = {"trace_hz"};
-constexpr std::string_view kObserverKeys[] = {
-    "weber_stiffness", "weber_removal", "lapse", "criterion", "rule",
-    "probe_force_n",   "drill_force_n"};
+constexpr std::string_view kObserverKeys[] = {"weber_stiffness",
+                                              "weber_removal",
+                                              "lapse",
+                                              "criterion",
+                                              "rule",
+                                              "probe_force_n",
+                                              "drill_force_n",
+                                              "exploration",
+                                              "force_spread",
+                                              "speed_spread",
+                                              "subject_force_spread",
+                                              "subject_speed_spread"};
 constexpr std::string_view kCounterbalanceKeys[] = {"scheme"};
 // The spelling of each material parameter, in MaterialParameter order (the
 // order of sim::Material), shared with material files.
@@ -345,6 +354,12 @@ void Parser::ParseObserver(const toml::table& root, Protocol& p) {
     bool lo_open, hi_open;
   };
   ObserverDefaults& o = p.observer;
+  // The preset first: the spreads given one by one override it.
+  constexpr std::string_view kExplorations[] = {"fixed", "varied"};
+  if (auto e =
+          Choice(*t, "exploration", "observer.exploration", kExplorations)) {
+    o.exploration = *e == 1 ? kVariedExploration : ExplorationSpreads{};
+  }
   const Field fields[] = {
       {"weber_stiffness", &o.weber_stiffness, 0, 5, true, false},
       {"weber_removal", &o.weber_removal, 0, 5, true, false},
@@ -352,6 +367,12 @@ void Parser::ParseObserver(const toml::table& root, Protocol& p) {
       {"criterion", &o.criterion, 0, 100, false, false},
       {"probe_force_n", &o.probe_force_n, 0, 20, true, false},
       {"drill_force_n", &o.drill_force_n, 0, 20, true, false},
+      {"force_spread", &o.exploration.force, 0, 1, false, false},
+      {"speed_spread", &o.exploration.speed, 0, 1, false, false},
+      {"subject_force_spread", &o.exploration.subject_force, 0, 1, false,
+       false},
+      {"subject_speed_spread", &o.exploration.subject_speed, 0, 1, false,
+       false},
   };
   for (const Field& f : fields) {
     const std::string name = fmt::format("observer.{}", f.key);

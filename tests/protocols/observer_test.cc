@@ -21,6 +21,8 @@
 
 #include "burrlab/protocols/engine.h"
 #include "burrlab/protocols/streams.h"
+#include "burrlab/stimuli/interval.h"
+#include "burrlab/stimuli/materials.h"
 
 namespace burrlab::protocols {
 namespace {
@@ -308,7 +310,8 @@ TEST(SimulatedObserver, ParsesTheObserverFlag) {
                 .message,
             "observer: unknown key \"webber\" (did you mean \"weber\"?) (keys: "
             "weber, weber_stiffness, weber_removal, lapse, criterion, "
-            "rt_median_s, rule, always)");
+            "rt_median_s, rule, always, exploration, force_spread, "
+            "speed_spread, subject_force_spread, subject_speed_spread)");
   EXPECT_EQ(ParseObserverSpec("simulated:lapse=0.7", ObserverParams{})
                 .error()
                 .message,
@@ -743,6 +746,227 @@ TEST(DrawSubjectObserver, DrawsBeyondTheLargestWeberFractionAreHeldThere) {
     held = held || p.weber_stiffness == kMaxWeberFraction;
   }
   EXPECT_TRUE(held);
+}
+
+// ---- Exploration: the simulated hand's force and speed vary ----
+
+// A nominal interval of `material` (a built-in name), as the protocol's
+// sessions give it.
+stimuli::IntervalOptions NominalInterval(const char* material,
+                                         stimuli::Task task) {
+  stimuli::IntervalOptions o;
+  o.material = stimuli::LoadBuiltinMaterial(material).value().material;
+  o.task = task;
+  o.duration_s = 20.0;
+  return o;
+}
+
+TEST(Exploration, NominalHandsPerformTheNominalIntervalAndDrawNothing) {
+  const stimuli::IntervalOptions nominal =
+      NominalInterval("pvc_k70", stimuli::Task::kProbe);
+  boost::random::mt19937 stream(5), untouched(5);
+  const stimuli::IntervalOptions o =
+      ExploredInterval(nominal, Exploration{}, stream);
+  EXPECT_EQ(o.probe_force_n, nominal.probe_force_n);
+  EXPECT_EQ(o.drill_force_n, nominal.drill_force_n);
+  EXPECT_EQ(o.press_period_s, nominal.press_period_s);
+  EXPECT_EQ(stream, untouched);
+  // Subject spreads vary subjects, not one subject's intervals.
+  Exploration population_only;
+  population_only.subject_force_spread = 0.3;
+  EXPECT_FALSE(population_only.Varies());
+}
+
+// Closed form: force = nominal x factor x exp(s z), z ~ N(0, 1), so ln of
+// the force ratio has mean ln(factor) and SD s; the pressing speed likewise
+// (press period = nominal / speed); z_force and z_speed are independent.
+TEST(Exploration, ForceAndSpeedAreLogNormalAroundTheSubjectsFactors) {
+  const stimuli::IntervalOptions nominal =
+      NominalInterval("human_temporal_bone", stimuli::Task::kDrill);
+  Exploration e;
+  e.force_factor = 1.2;
+  e.speed_factor = 0.8;
+  e.force_spread = 0.15;
+  e.speed_spread = 0.12;
+  boost::random::mt19937 stream = StreamFor(3, StreamPurpose::kExploration);
+  const int n = 4000;
+  std::vector<double> ln_force, ln_speed;
+  for (int i = 0; i < n; ++i) {
+    const stimuli::IntervalOptions o = ExploredInterval(nominal, e, stream);
+    ASSERT_TRUE(o.Validate().ok()) << i;
+    // Probing and drilling forces move together (one draw).
+    EXPECT_NEAR(o.probe_force_n / nominal.probe_force_n,
+                o.drill_force_n / nominal.drill_force_n, 1e-12);
+    ln_force.push_back(std::log(o.drill_force_n / nominal.drill_force_n));
+    ln_speed.push_back(std::log(nominal.press_period_s / o.press_period_s));
+  }
+  auto mean = [](const std::vector<double>& v) {
+    double sum = 0.0;
+    for (double x : v) sum += x;
+    return sum / static_cast<double>(v.size());
+  };
+  auto sd = [&](const std::vector<double>& v) {
+    const double m = mean(v);
+    double ss = 0.0;
+    for (double x : v) ss += (x - m) * (x - m);
+    return std::sqrt(ss / static_cast<double>(v.size() - 1));
+  };
+  // 4 standard errors: of a mean s / sqrt(n), of an SD s / sqrt(2 n).
+  EXPECT_NEAR(mean(ln_force), std::log(1.2), 4 * 0.15 / std::sqrt(n));
+  EXPECT_NEAR(mean(ln_speed), std::log(0.8), 4 * 0.12 / std::sqrt(n));
+  EXPECT_NEAR(sd(ln_force), 0.15, 4 * 0.15 / std::sqrt(2.0 * n));
+  EXPECT_NEAR(sd(ln_speed), 0.12, 4 * 0.12 / std::sqrt(2.0 * n));
+  double cov = 0.0;
+  for (int i = 0; i < n; ++i) {
+    cov += (ln_force[static_cast<std::size_t>(i)] - mean(ln_force)) *
+           (ln_speed[static_cast<std::size_t>(i)] - mean(ln_speed));
+  }
+  const double correlation = cov / (n - 1) / (sd(ln_force) * sd(ln_speed));
+  EXPECT_LT(std::abs(correlation), 4 / std::sqrt(n));
+}
+
+TEST(Exploration, DrawsAreHeldAtWhatTheIntervalTakes) {
+  const stimuli::IntervalOptions nominal =
+      NominalInterval("pvc_k70", stimuli::Task::kProbe);
+  const double max_probe_n = stimuli::MaxProbeForceN(
+      nominal.material, nominal.radius_mm, nominal.voxel_mm);
+  Exploration hard;
+  hard.force_factor = kMaxExplorationFactor;
+  hard.speed_factor = 1.0 / kMaxExplorationFactor;
+  hard.force_spread = 1.0;
+  hard.speed_spread = 1.0;
+  boost::random::mt19937 stream(11);
+  bool probe_held = false, drill_held = false, period_held = false;
+  for (int i = 0; i < 200; ++i) {
+    const stimuli::IntervalOptions o = ExploredInterval(nominal, hard, stream);
+    ASSERT_TRUE(o.Validate().ok()) << o.Validate().error().message;
+    probe_held = probe_held || o.probe_force_n == max_probe_n;
+    drill_held = drill_held || o.drill_force_n == 20.0;
+    period_held = period_held || o.press_period_s == o.duration_s;
+  }
+  EXPECT_TRUE(probe_held);
+  EXPECT_TRUE(drill_held);
+  EXPECT_TRUE(period_held);
+  Exploration fast;
+  fast.speed_factor = kMaxExplorationFactor;
+  fast.speed_spread = 1.0;
+  bool fastest = false;
+  for (int i = 0; i < 200; ++i) {
+    const stimuli::IntervalOptions o = ExploredInterval(nominal, fast, stream);
+    fastest = fastest || o.press_period_s == 0.1;
+  }
+  EXPECT_TRUE(fastest);
+}
+
+// The subject's factors come after the Weber fractions' z in the population
+// stream, so adding them changes no subject's Weber fractions.
+TEST(Exploration, SubjectFactorsFollowTheWeberDrawInThePopulationStream) {
+  ObserverParams typical;
+  typical.exploration.subject_force_spread = 0.05;
+  typical.exploration.subject_speed_spread = 0.15;
+  const WeberSpread weber{0.5, 0.25};
+  ObserverParams without = typical;
+  without.exploration = Exploration{};
+  std::vector<double> ln_force, ln_speed;
+  for (int s = 0; s < 2000; ++s) {
+    const ObserverParams p = DrawSubjectObserver(typical, weber, 7, s);
+    const ObserverParams q = DrawSubjectObserver(without, weber, 7, s);
+    ASSERT_EQ(p.weber_stiffness, q.weber_stiffness) << s;
+    ASSERT_EQ(p.weber_removal, q.weber_removal) << s;
+    boost::random::mt19937 population =
+        StreamFor(7, StreamPurpose::kPopulation, static_cast<std::uint64_t>(s));
+    boost::random::normal_distribution<double> unit(0.0, 1.0);
+    unit(population);  // the Weber fractions' z
+    const double z_force = unit(population);
+    const double z_speed = unit(population);
+    ASSERT_DOUBLE_EQ(p.exploration.force_factor, std::exp(0.05 * z_force));
+    ASSERT_DOUBLE_EQ(p.exploration.speed_factor, std::exp(0.15 * z_speed));
+    ln_force.push_back(std::log(p.exploration.force_factor));
+    ln_speed.push_back(std::log(p.exploration.speed_factor));
+  }
+  // Without a Weber spread the subjects still differ in how they explore,
+  // and keep the typical Weber fractions.
+  const ObserverParams only = DrawSubjectObserver(typical, {}, 7, 0);
+  EXPECT_EQ(only.weber_stiffness, typical.weber_stiffness);
+  EXPECT_NE(only.exploration.force_factor, 1.0);
+  double ss = 0.0;
+  for (double x : ln_speed) ss += x * x;
+  EXPECT_NEAR(std::sqrt(ss / 2000), 0.15, 4 * 0.15 / std::sqrt(4000.0));
+}
+
+TEST(Exploration, ReadFromTheProtocolsObserverTable) {
+  auto parse = [](const std::string& observer) {
+    return ParseProtocol("p.toml", R"(
+format = "burrlab-protocol/1"
+[study]
+name = "t"
+[materials.pvc]
+builtin = "pvc_k70"
+[materials.bone]
+builtin = "human_temporal_bone"
+[observer]
+)" + observer + R"(
+[[blocks]]
+method = "same_different"
+task = "drill"
+a = "pvc"
+b = "bone"
+)");
+  };
+  const ParseOutcome varied = parse("exploration = \"varied\"");
+  ASSERT_TRUE(varied.protocol.has_value());
+  const ObserverParams p = ObserverParamsFrom(varied.protocol->observer);
+  EXPECT_EQ(p.exploration.force_spread, 0.15);
+  EXPECT_EQ(p.exploration.speed_spread, 0.12);
+  EXPECT_EQ(p.exploration.subject_force_spread, 0.05);
+  EXPECT_EQ(p.exploration.subject_speed_spread, 0.15);
+  EXPECT_EQ(p.exploration.force_factor, 1.0);
+  // A spread given one by one overrides the preset, in any order.
+  const ParseOutcome own =
+      parse("force_spread = 0.3\nexploration = \"varied\"");
+  ASSERT_TRUE(own.protocol.has_value());
+  EXPECT_EQ(own.protocol->observer.exploration.force, 0.3);
+  EXPECT_EQ(own.protocol->observer.exploration.speed, 0.12);
+  const ParseOutcome fixed = parse("");
+  ASSERT_TRUE(fixed.protocol.has_value());
+  EXPECT_FALSE(
+      ObserverParamsFrom(fixed.protocol->observer).exploration.Varies());
+  const ParseOutcome wide = parse("speed_spread = 1.5");
+  ASSERT_FALSE(wide.protocol.has_value());
+  ASSERT_EQ(wide.diagnostics.size(), 1u);
+  EXPECT_EQ(wide.diagnostics[0].message,
+            "observer.speed_spread must be in [0, 1], got 1.5");
+  const ParseOutcome odd = parse("exploration = \"wild\"");
+  ASSERT_FALSE(odd.protocol.has_value());
+  EXPECT_EQ(odd.diagnostics.at(0).message,
+            "observer.exploration must be one of fixed, varied, got \"wild\"");
+}
+
+TEST(Exploration, ParsedFromTheFlagAndValidated) {
+  Result<ObserverParams> varied =
+      ParseObserverSpec("simulated:exploration=varied", ObserverParams{});
+  ASSERT_TRUE(varied.ok());
+  EXPECT_EQ(varied->exploration.force_spread, 0.15);
+  EXPECT_EQ(varied->exploration.subject_speed_spread, 0.15);
+  Result<ObserverParams> own = ParseObserverSpec(
+      "simulated:exploration=varied,force_spread=0.25,subject_force_spread=0",
+      ObserverParams{});
+  ASSERT_TRUE(own.ok());
+  EXPECT_EQ(own->exploration.force_spread, 0.25);
+  EXPECT_EQ(own->exploration.subject_force_spread, 0.0);
+  EXPECT_EQ(own->exploration.speed_spread, 0.12);
+  EXPECT_EQ(ParseObserverSpec("simulated:exploration=wild", ObserverParams{})
+                .error()
+                .message,
+            "observer: exploration must be fixed or varied, got \"wild\"");
+  EXPECT_EQ(ParseObserverSpec("simulated:force_spread=2", ObserverParams{})
+                .error()
+                .message,
+            "observer: force_spread must be in [0, 1], got 2");
+  ObserverParams p;
+  p.exploration.force_factor = 0.1;
+  EXPECT_EQ(p.Validate().error().message,
+            "observer: force_factor must be in [0.2, 5], got 0.1");
 }
 
 }  // namespace

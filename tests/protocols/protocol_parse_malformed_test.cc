@@ -1897,7 +1897,9 @@ TEST(ProtocolParse, FiftyThousandBadKeysPrintAHundredAndACount) {
   EXPECT_TRUE(printed.starts_with(
       "big.toml:14:1: error: unknown key \"k0\" in [observer]; accepted: "
       "weber_stiffness, weber_removal, lapse, criterion, rule, "
-      "probe_force_n, drill_force_n\nk0 = 1\n^\n"))
+      "probe_force_n, drill_force_n, exploration, force_spread, "
+      "speed_spread, subject_force_spread, subject_speed_spread\nk0 = "
+      "1\n^\n"))
       << printed.substr(0, 300);
   EXPECT_TRUE(printed.ends_with("big.toml: ... and 49900 more errors\n"))
       << printed.substr(printed.size() - 300);

@@ -604,7 +604,10 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
                 "simulated[:weber=W,lapse=L,...] (default: answers typed at "
                 "the prompt); keys weber, weber_stiffness, weber_removal, "
                 "lapse, criterion, rt_median_s, rule=fixed|differencing|"
-                "likelihood (how a same-different observer decides), and "
+                "likelihood (how a same-different observer decides), "
+                "exploration=fixed|varied, force_spread, speed_spread, "
+                "subject_force_spread, subject_speed_spread (how the "
+                "simulated hand's force and speed vary), and "
                 "always=correct or always=wrong: every answer right (or "
                 "wrong), to dry-run a protocol to the ends of its levels",
                 &observer);

@@ -47,6 +47,27 @@ ObserverParticipantColumns() {
          "the independent-observation rule: 'different' when the pair of "
          "percepts is likelier under different materials than under the "
          "same, given the variability it felt"}}},
+      {"observer_force_factor",
+       "Simulated subjects: the simulated hand's typical force (probing "
+       "presses and drilling) relative to the protocol's probe_force_n and "
+       "drill_force_n; n/a for a person",
+       "",
+       {}},
+      {"observer_speed_factor",
+       "Simulated subjects: the simulated hand's typical pressing speed "
+       "relative to the protocol's (one press a second); n/a for a person",
+       "",
+       {}},
+      {"observer_force_spread",
+       "Simulated subjects: SD of ln(force) of the simulated hand from one "
+       "interval to the next; n/a for a person",
+       "",
+       {}},
+      {"observer_speed_spread",
+       "Simulated subjects: SD of ln(pressing speed) of the simulated hand "
+       "from one interval to the next; n/a for a person",
+       "",
+       {}},
       {"observer_rt_median",
        "Simulated subjects: median of the simulated observer's log-normal "
        "response times; n/a for a person",
@@ -89,6 +110,10 @@ std::vector<results_schema::ParticipantValue> ObserverParticipantValues(
       {"observer_lapse", number(o.lapse)},
       {"observer_criterion", number(o.criterion)},
       {"observer_rule", std::string(protocols::SameDifferentRuleName(o.rule))},
+      {"observer_force_factor", number(o.exploration.force_factor)},
+      {"observer_speed_factor", number(o.exploration.speed_factor)},
+      {"observer_force_spread", number(o.exploration.force_spread)},
+      {"observer_speed_spread", number(o.exploration.speed_spread)},
       {"observer_rt_median", number(o.rt_median_s)},
       {"observer_rt_log_sd", number(o.rt_log_sd)},
       {"observer_match_tolerance", number(o.match_tolerance)},

@@ -27,7 +27,8 @@ std::uint64_t Fnv1a(const std::string& bytes) {
 
 }  // namespace
 
-std::string StimulusKey(const stimuli::IntervalOptions& o) {
+std::string StimulusKey(const stimuli::IntervalOptions& o,
+                        const protocols::Exploration& e) {
   const double values[] = {o.material.c_e_n_per_mm2,
                            o.material.alpha_per_s,
                            o.material.c_mu_n_per_mm2,
@@ -42,7 +43,13 @@ std::string StimulusKey(const stimuli::IntervalOptions& o) {
                            o.drill_force_n,
                            o.voxel_mm,
                            static_cast<double>(o.trace_hz)};
-  return std::string(reinterpret_cast<const char*>(values), sizeof values);
+  std::string key(reinterpret_cast<const char*>(values), sizeof values);
+  if (e.Varies()) {
+    const double exploration[] = {e.force_factor, e.speed_factor,
+                                  e.force_spread, e.speed_spread};
+    key.append(reinterpret_cast<const char*>(exploration), sizeof exploration);
+  }
+  return key;
 }
 
 RenderingPool::RenderingPool(int renderings, std::uint64_t seed,
@@ -69,11 +76,18 @@ RenderingPool::Entry& RenderingPool::EntryFor(const std::string& key) {
 }
 
 Result<stimuli::IntervalResult> RenderingPool::Render(
-    const stimuli::IntervalOptions& o, const std::string& key, int index) {
+    const stimuli::IntervalOptions& o, const protocols::Exploration& e,
+    const std::string& key, int index) {
+  const std::uint64_t stimulus = kPoolStreamBase + (Fnv1a(key) >> 24);
   stimuli::IntervalOptions r = o;
+  if (e.Varies()) {
+    boost::random::mt19937 stream =
+        protocols::StreamFor(seed_, protocols::StreamPurpose::kExploration,
+                             stimulus, static_cast<std::uint64_t>(index));
+    r = protocols::ExploredInterval(o, e, stream);
+  }
   r.seed = protocols::SeedFor(seed_, protocols::StreamPurpose::kErosion,
-                              kPoolStreamBase + (Fnv1a(key) >> 24),
-                              static_cast<std::uint64_t>(index));
+                              stimulus, static_cast<std::uint64_t>(index));
   Result<stimuli::IntervalResult> result = stimuli::PresentSimulatedInterval(r);
   if (result.ok() && !keep_traces_) result->rows.clear();
   std::lock_guard<std::mutex> lock(mutex_);
@@ -82,30 +96,31 @@ Result<stimuli::IntervalResult> RenderingPool::Render(
 }
 
 const Result<stimuli::IntervalResult>& RenderingPool::Get(
-    const stimuli::IntervalOptions& o, const std::string& key, int index) {
+    const stimuli::IntervalOptions& o, const protocols::Exploration& e,
+    const std::string& key, int index) {
   Slot& slot = *EntryFor(key).slots[static_cast<std::size_t>(index)];
   std::lock_guard<std::mutex> lock(slot.mutex);
   if (!slot.done) {
-    slot.result = Render(o, key, index);
+    slot.result = Render(o, e, key, index);
     slot.done = true;
   }
   return slot.result;
 }
 
 Result<stimuli::IntervalResult> RenderingPool::Present(
-    const stimuli::IntervalOptions& o) {
-  const std::string key = StimulusKey(o);
+    const stimuli::IntervalOptions& o, const protocols::Exploration& e) {
+  const std::string key = StimulusKey(o, e);
   const int index =
       static_cast<int>(o.seed % static_cast<std::uint64_t>(renderings_));
-  return Get(o, key, index);
+  return Get(o, e, key, index);
 }
 
 Result<std::vector<double>> RenderingPool::Cues(
-    const stimuli::IntervalOptions& o) {
-  const std::string key = StimulusKey(o);
+    const stimuli::IntervalOptions& o, const protocols::Exploration& e) {
+  const std::string key = StimulusKey(o, e);
   std::vector<double> cues;
   for (int k = 0; k < renderings_; ++k) {
-    const Result<stimuli::IntervalResult>& r = Get(o, key, k);
+    const Result<stimuli::IntervalResult>& r = Get(o, e, key, k);
     if (!r.ok()) return r.error();
     cues.push_back(r->cue);
   }

@@ -20,12 +20,15 @@
 #include <vector>
 
 #include "burrlab/base/result.h"
+#include "burrlab/protocols/observer.h"
 #include "burrlab/stimuli/interval.h"
 
 namespace burrlab::runner {
 
-// The bytes of everything `o` renders but its seed (a map key).
-std::string StimulusKey(const stimuli::IntervalOptions& o);
+// The bytes of everything `o` renders but its seed, and of `e` when it
+// varies (a map key).
+std::string StimulusKey(const stimuli::IntervalOptions& o,
+                        const protocols::Exploration& e = {});
 
 class RenderingPool {
  public:
@@ -36,10 +39,16 @@ class RenderingPool {
   RenderingPool& operator=(const RenderingPool&) = delete;
 
   // The rendering of `o`'s stimulus with index o.seed mod renderings (a
-  // copy; rendered on first use).
-  Result<stimuli::IntervalResult> Present(const stimuli::IntervalOptions& o);
+  // copy; rendered on first use). With an exploration that varies, the
+  // stimulus is `o` explored with `e`, and each rendering is
+  // protocols::ExploredInterval of `o` with its own draw (from the pool seed,
+  // the stimulus and the index): the pool's renderings then sample the hand's
+  // variability too, with as many draws as renderings.
+  Result<stimuli::IntervalResult> Present(const stimuli::IntervalOptions& o,
+                                          const protocols::Exploration& e = {});
   // The cues of all renderings of `o`'s stimulus, in index order.
-  Result<std::vector<double>> Cues(const stimuli::IntervalOptions& o);
+  Result<std::vector<double>> Cues(const stimuli::IntervalOptions& o,
+                                   const protocols::Exploration& e = {});
 
   int renderings() const { return renderings_; }
   std::uint64_t seed() const { return seed_; }
@@ -57,8 +66,10 @@ class RenderingPool {
   };
   Entry& EntryFor(const std::string& key);
   Result<stimuli::IntervalResult> Render(const stimuli::IntervalOptions& o,
+                                         const protocols::Exploration& e,
                                          const std::string& key, int index);
   const Result<stimuli::IntervalResult>& Get(const stimuli::IntervalOptions& o,
+                                             const protocols::Exploration& e,
                                              const std::string& key, int index);
 
   int renderings_;

@@ -156,12 +156,23 @@ class SessionRunner {
                                           const stimuli::MaterialSet& set,
                                           double duration_s,
                                           std::uint64_t interval) const;
-  // The simulator's rendering of `o`, or the shared pool's.
-  Result<stimuli::IntervalResult> Render(
-      const stimuli::IntervalOptions& o) const {
-    return options_.renderings != nullptr
-               ? options_.renderings->Present(o)
-               : stimuli::PresentSimulatedInterval(o);
+  // The simulator's rendering of `o` as the simulated subject explores it
+  // (its exploration stream indexed by a and b, as the erosion seed), or the
+  // shared pool's.
+  Result<stimuli::IntervalResult> Render(const stimuli::IntervalOptions& o,
+                                         std::uint64_t a,
+                                         std::uint64_t b) const {
+    const protocols::Exploration e = options_.responder == Responder::kSimulated
+                                         ? options_.observer.exploration
+                                         : protocols::Exploration{};
+    if (options_.renderings != nullptr) {
+      return options_.renderings->Present(o, e);
+    }
+    if (!e.Varies()) return stimuli::PresentSimulatedInterval(o);
+    boost::random::mt19937 stream =
+        protocols::StreamFor(options_.seed, StreamPurpose::kExploration, a, b);
+    return stimuli::PresentSimulatedInterval(
+        protocols::ExploredInterval(o, e, stream));
   }
   Result<Presented> PresentTrial(const TrialSpec& trial);
   // An adjustment trial's comparison after `path` (LiveStation), or none
@@ -261,8 +272,10 @@ Result<stimuli::IntervalResult> SessionRunner::Present(
   const std::uint64_t seed = protocols::SeedFor(
       options_.seed, StreamPurpose::kErosion,
       static_cast<std::uint64_t>(trial.trial_index), interval);
-  Result<stimuli::IntervalResult> r = Render(IntervalOptionsFor(
-      loaded_.protocol, options_.radius_mm, trial, set, duration_s, seed));
+  Result<stimuli::IntervalResult> r =
+      Render(IntervalOptionsFor(loaded_.protocol, options_.radius_mm, trial,
+                                set, duration_s, seed),
+             static_cast<std::uint64_t>(trial.trial_index), interval);
   if (!r.ok()) {
     return Error{fmt::format("trial {} interval {}: {}", trial.trial_index,
                              interval + 1, r.error().message)};
@@ -318,7 +331,8 @@ Result<double> SessionRunner::StandardCue(const TrialSpec& trial) {
       protocols::SeedFor(
           options_.seed, StreamPurpose::kErosion,
           kStandardSeedBase + static_cast<std::uint64_t>(trial.block_index)));
-  Result<stimuli::IntervalResult> r = Render(o);
+  Result<stimuli::IntervalResult> r = Render(
+      o, kStandardSeedBase + static_cast<std::uint64_t>(trial.block_index), 0);
   if (!r.ok()) return r.error();
   return protocols::FeltCue(r->cue);
 }
@@ -345,10 +359,13 @@ SessionRunner::FamiliarizedMaterials(const TrialSpec& trial) {
           kFamiliarizationSeedBase +
           static_cast<std::uint64_t>(
               (trial.block_index * 2 + m) * kFamiliarizationRenderings + i);
-      Result<stimuli::IntervalResult> r = Render(IntervalOptionsFor(
-          loaded_.protocol, options_.radius_mm, trial, material->set,
-          trial.intervals.at(0).duration_s,
-          protocols::SeedFor(options_.seed, StreamPurpose::kErosion, index)));
+      Result<stimuli::IntervalResult> r =
+          Render(IntervalOptionsFor(
+                     loaded_.protocol, options_.radius_mm, trial, material->set,
+                     trial.intervals.at(0).duration_s,
+                     protocols::SeedFor(options_.seed, StreamPurpose::kErosion,
+                                        index)),
+                 index, 0);
       if (!r.ok()) return r.error();
       cues.push_back(protocols::FeltCue(r->cue));
     }
@@ -726,13 +743,20 @@ std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
       const protocols::ObserverParams& o = options.observer;
       responder = fmt::format(
           "simulated weber_stiffness={} weber_removal={} lapse={} "
-          "criterion={} rt_median_s={} rt_log_sd={} match_tolerance={}{}{}",
+          "criterion={} rt_median_s={} rt_log_sd={} match_tolerance={}{}{}{}",
           o.weber_stiffness, o.weber_removal, o.lapse, o.criterion,
           o.rt_median_s, o.rt_log_sd, o.match_tolerance,
           o.rule == protocols::SameDifferentRule::kFixed
               ? ""
               : fmt::format(" rule={}",
                             protocols::SameDifferentRuleName(o.rule)),
+          o.exploration.Varies()
+              ? fmt::format(
+                    " force_factor={} speed_factor={} force_spread={} "
+                    "speed_spread={}",
+                    o.exploration.force_factor, o.exploration.speed_factor,
+                    o.exploration.force_spread, o.exploration.speed_spread)
+              : "",
           o.answers == protocols::AnswerRule::kAlwaysCorrect ? " always=correct"
           : o.answers == protocols::AnswerRule::kAlwaysWrong ? " always=wrong"
                                                              : "");

@@ -35,13 +35,14 @@ CuePool::CuePool(RenderingPool& shared, double radius_mm)
 
 Result<const std::vector<double>*> CuePool::Cues(
     const protocols::Protocol& protocol, const TrialSpec& trial,
-    const stimuli::MaterialSet& set, double duration_s) {
+    const stimuli::MaterialSet& set, double duration_s,
+    const protocols::Exploration& e) {
   const stimuli::IntervalOptions o =
       IntervalOptionsFor(protocol, radius_mm_, trial, set, duration_s, 0);
-  std::string key = StimulusKey(o);
+  std::string key = StimulusKey(o, e);
   auto it = cues_.find(key);
   if (it != cues_.end()) return &it->second;
-  Result<std::vector<double>> cues = renderings_->Cues(o);
+  Result<std::vector<double>> cues = renderings_->Cues(o, e);
   if (!cues.ok()) {
     return Error{fmt::format("rendering {} ({}, {} s): {}", set.name,
                              stimuli::TaskName(o.task), duration_s,
@@ -63,6 +64,7 @@ Status ValidateVirtualStudy(const VirtualStudyOptions& options) {
           fmt::format("the Weber spread must be 0 or more, got {}", spread)};
     }
   }
+
   for (const protocols::ObserverParams& p : options.subject_observers) {
     if (Status st = p.Validate(); !st.ok()) return st;
   }
@@ -154,7 +156,7 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
           duration = protocols::ReferenceStandInDuration(trial);
         }
         Result<const std::vector<double>*> pooled =
-            pool.Cues(protocol, trial, *set, duration);
+            pool.Cues(protocol, trial, *set, duration, params.exploration);
         if (!pooled.ok()) return pooled.error();
         cues[i] = draw(**pooled, rng);
       }
@@ -167,8 +169,8 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
             if (!standard.ok()) return standard.error();
             const double duration =
                 trial.intervals.empty() ? 10.0 : trial.intervals[0].duration_s;
-            Result<const std::vector<double>*> pooled =
-                pool.Cues(protocol, trial, *standard, duration);
+            Result<const std::vector<double>*> pooled = pool.Cues(
+                protocol, trial, *standard, duration, params.exploration);
             if (!pooled.ok()) return pooled.error();
             return draw(**pooled, rng);
           });
@@ -186,8 +188,9 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
             return Error{fmt::format("block \"{}\": material \"{}\" is missing",
                                      block.name, id)};
           }
-          Result<const std::vector<double>*> pooled = pool.Cues(
-              protocol, trial, material->set, trial.intervals.at(0).duration_s);
+          Result<const std::vector<double>*> pooled =
+              pool.Cues(protocol, trial, material->set,
+                        trial.intervals.at(0).duration_s, params.exploration);
           if (!pooled.ok()) return pooled.error();
           felt[static_cast<std::size_t>(m++)] =
               protocols::FeltMaterialOf(**pooled);

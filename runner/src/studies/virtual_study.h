@@ -41,11 +41,14 @@ class CuePool {
   CuePool(RenderingPool& shared, double radius_mm);
 
   // Renders (once) and returns the felt cues of `set` under the interval
-  // options the protocol's sessions use for `trial`.
+  // options the protocol's sessions use for `trial`, explored with `e` (each
+  // rendering with its own draw of the hand's force and speed:
+  // RenderingPool::Present).
   Result<const std::vector<double>*> Cues(const protocols::Protocol& protocol,
                                           const protocols::TrialSpec& trial,
                                           const stimuli::MaterialSet& set,
-                                          double duration_s);
+                                          double duration_s,
+                                          const protocols::Exploration& e = {});
   // Simulated intervals rendered so far.
   int rendered() const { return renderings_->rendered(); }
 
@@ -58,8 +61,12 @@ class CuePool {
 
 struct VirtualStudyOptions {
   int subjects = 20;
-  std::uint64_t seed = 1;              // the study seed, as `burrlab study`
-  protocols::ObserverParams observer;  // the population's typical observer
+  std::uint64_t seed = 1;  // the study seed, as `burrlab study`
+  // The population's typical observer. With a subject spread of force or
+  // speed (its exploration), each subject explores with factors of its own
+  // and feels renderings of its own: the pool renders each stimulus for each
+  // such subject.
+  protocols::ObserverParams observer;
   // Spread of each cue's Weber fraction across subjects (SD of ln W; 0: all
   // alike). Subject s draws one z ~ N(0, 1) and has W_stiffness x
   // exp(z spread_stiffness) and W_removal x exp(z spread_removal): one z for

@@ -22,6 +22,11 @@ TEST(ParticipantRows, ObserverValuesReadBackExactly) {
   o.lapse = 0.0;
   o.criterion = 1.5;
   o.rule = protocols::SameDifferentRule::kLikelihood;
+  o.exploration.force_factor = 1.1;
+  o.exploration.speed_factor = 0.9;
+  o.exploration.force_spread = 0.15;
+  o.exploration.speed_spread = 0.12;
+  o.exploration.subject_force_spread = 0.05;  // the population's: no column
   o.rt_median_s = 0.8;
   o.rt_log_sd = 0.35;
   o.match_tolerance = 0.5;
@@ -34,6 +39,10 @@ TEST(ParticipantRows, ObserverValuesReadBackExactly) {
       {"observer_lapse", "0"},
       {"observer_criterion", "1.5"},
       {"observer_rule", "likelihood"},
+      {"observer_force_factor", "1.1"},
+      {"observer_speed_factor", "0.9"},
+      {"observer_force_spread", "0.15"},
+      {"observer_speed_spread", "0.12"},
       {"observer_rt_median", "0.8"},
       {"observer_rt_log_sd", "0.35"},
       {"observer_match_tolerance", "0.5"},
@@ -54,10 +63,11 @@ TEST(ParticipantRows, EveryObserverColumnIsDescribedAndValid) {
         << columns[i].name;
     EXPECT_FALSE(columns[i].description.empty()) << columns[i].name;
   }
-  EXPECT_EQ(columns[5].name, "observer_rt_median");
-  EXPECT_EQ(columns[5].units, "s");
+  EXPECT_EQ(columns[9].name, "observer_rt_median");
+  EXPECT_EQ(columns[9].units, "s");
   std::set<std::string> levels;
-  for (const auto& [value, meaning] : columns[8].levels) levels.insert(value);
+  ASSERT_EQ(columns[12].name, "observer_answers");
+  for (const auto& [value, meaning] : columns[12].levels) levels.insert(value);
   EXPECT_EQ(levels, (std::set<std::string>{"percepts", "always_correct",
                                            "always_wrong"}));
   // Every rule a value can name is a level.

@@ -74,6 +74,33 @@ double SameDifferentLogOdds(SameDifferentRule rule, double psi1, double psi2,
                             const FeltMaterial& a, const FeltMaterial& b,
                             double sigma);
 
+// How a simulated subject explores: its typical force and pressing speed,
+// relative to the protocol's probe_force_n, drill_force_n and 1 /
+// press_period_s, and how they vary from one of its intervals to the next
+// (SD of ln; 0: every interval alike).
+// A simulated population's subjects differ in their typical force and speed
+// by subject_force_spread and subject_speed_spread (SD of ln;
+// DrawSubjectObserver draws a subject's factors from them).
+struct Exploration {
+  double force_factor = 1.0;
+  double speed_factor = 1.0;
+  double force_spread = 0.0;
+  double speed_spread = 0.0;
+  double subject_force_spread = 0.0;
+  double subject_speed_spread = 0.0;
+
+  // True unless every interval is the protocol's nominal one (the subject
+  // spreads do not count: they vary subjects, not this subject's intervals).
+  bool Varies() const {
+    return force_factor != 1.0 || speed_factor != 1.0 || force_spread > 0.0 ||
+           speed_spread > 0.0;
+  }
+};
+
+// The largest factor of a subject's typical force or speed (and the smallest,
+// its inverse).
+inline constexpr double kMaxExplorationFactor = 5.0;
+
 struct ObserverParams {
   double weber_stiffness = 0.20;  // sigma of ln(stiffness) (probe)
   double weber_removal = 0.30;    // sigma of ln(penetration rate) (drill)
@@ -91,10 +118,25 @@ struct ObserverParams {
   // end at the edges of its levels (no lapses then; a trial with neither a
   // correct answer nor "yes" gets the percepts' answer).
   AnswerRule answers = AnswerRule::kPercepts;
+  // How the simulated hand presses and drills (nothing varies by default).
+  Exploration exploration;
 
   // Names the first bad field, its value and the rule broken.
   Status Validate() const;
 };
+
+// The interval `nominal` (the protocol's, SimulatedIntervalOptions) as a
+// subject exploring with `e` performs it: its forces times e.force_factor x
+// exp(e.force_spread z1) and its pressing speed times e.speed_factor x
+// exp(e.speed_spread z2) (press_period_s divided by it), with z1 and z2 ~
+// N(0, 1) drawn from `stream` in that order whenever a spread is > 0 (nothing
+// drawn otherwise). What the interval cannot take is held at its bound: the
+// press period within [0.1 s, duration_s], the probe force at most
+// stimuli::MaxProbeForceN (harder would bury the burr) and 20 N, the drill
+// force at most 20 N. A nominal `e` returns `nominal`.
+stimuli::IntervalOptions ExploredInterval(
+    const stimuli::IntervalOptions& nominal, const Exploration& e,
+    boost::random::mt19937& stream);
 
 // The protocol's [observer] defaults as parameters.
 ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults);
@@ -133,12 +175,15 @@ struct WeberSpread {
 };
 
 // Subject `subject` of a simulated population whose typical observer is
-// `typical`: one z ~ N(0, 1), drawn from StreamFor(seed, kPopulation,
-// subject), scales both Weber fractions, W_stiffness x exp(z
-// spread.stiffness) and W_removal x exp(z spread.removal) (a keen prober is
-// a keen driller); a draw beyond kMaxWeberFraction is held there (an
-// observer at chance stays at chance). Without spread: `typical`, with
-// nothing drawn.
+// `typical`, drawn from StreamFor(seed, kPopulation, subject): one z ~ N(0,
+// 1) scales both Weber fractions, W_stiffness x exp(z spread.stiffness) and
+// W_removal x exp(z spread.removal) (a keen prober is a keen driller); a draw
+// beyond kMaxWeberFraction is held there (an observer at chance stays at
+// chance). When typical.exploration has a subject spread, two more draws z_f
+// and z_s follow and the subject explores with the typical factors times
+// exp(z_f subject_force_spread) and exp(z_s subject_speed_spread) (held
+// within [1 / kMaxExplorationFactor, kMaxExplorationFactor]). Without any
+// spread: `typical`, with nothing drawn.
 ObserverParams DrawSubjectObserver(const ObserverParams& typical,
                                    WeberSpread spread, std::uint64_t seed,
                                    int subject);

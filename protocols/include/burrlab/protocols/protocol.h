@@ -271,6 +271,27 @@ enum class SameDifferentRule {
 inline constexpr std::string_view kSameDifferentRuleNames[] = {
     "fixed", "differencing", "likelihood"};
 
+// Exploration that varies ([observer]; SD of ln, 0: none): the simulated
+// hand's force (probe_force_n, drill_force_n) and pressing speed (1 /
+// press_period_s) from one interval of a subject to the next (force, speed),
+// and each subject's typical force and speed from one simulated subject to
+// the next (subject_force, subject_speed).
+struct ExplorationSpreads {
+  double force = 0.0;
+  double speed = 0.0;
+  double subject_force = 0.0;
+  double subject_speed = 0.0;
+};
+// kVariedExploration, the spreads of `exploration = "varied"`, from the
+// surgeons of the dissertation's end-user tests (§12.3), whose average forces
+// per session were 0.7-1.3 N (expert) and 0.8-1.1 N (trainees) and average tool
+// speeds 8-12 (expert) and 10-17 (trainees), each range read as the mean +- 2
+// SD of a log-normal: force from one interval to the next ln(1.3 / 0.7) / 4 =
+// 0.15, speed ln(12 / 8) / 4 to ln(17 / 10) / 4, 0.12; between subjects,
+// the ranges' centres differ by 5 % in force (1.0 and 0.95 N) and by a factor
+// 1.35 in speed (10 and 13.5), an SD of ln of 0.05 and 0.15.
+inline constexpr ExplorationSpreads kVariedExploration{0.15, 0.12, 0.05, 0.15};
+
 // Defaults for the simulated observer ([observer]); `burrlab run --observer
 // simulated:weber=W,lapse=L` overrides them.
 struct ObserverDefaults {
@@ -281,8 +302,9 @@ struct ObserverDefaults {
                            // "different" when the percepts differ by more
                            // than criterion x sigma x sqrt(2)
   SameDifferentRule rule = SameDifferentRule::kFixed;
-  double probe_force_n = 2.0;  // peak force of each probing press
-  double drill_force_n = 3.0;  // force held while drilling
+  double probe_force_n = 2.0;      // peak force of each probing press
+  double drill_force_n = 3.0;      // force held while drilling
+  ExplorationSpreads exploration;  // none: every interval alike
 };
 
 // A parsed, validated protocol.

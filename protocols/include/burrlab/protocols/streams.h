@@ -2,7 +2,8 @@
 // Boost.Random stream per purpose, each seeded from the master seed and the
 // purpose (StreamFor), so drawing more for one purpose never shifts another:
 // trial order (block plans, interval order, interleaving), level jitter
-// (limits and adjustment starts), erosion (one seed per interval) and
+// (limits and adjustment starts), erosion (one seed per interval), the
+// simulated hand's exploration (one stream per interval) and
 // simulated-observer noise (one stream per trial).
 #ifndef BURRLAB_PROTOCOLS_STREAMS_H_
 #define BURRLAB_PROTOCOLS_STREAMS_H_
@@ -21,6 +22,7 @@ enum class StreamPurpose : std::uint32_t {
   kObserver = 4,     // simulated observer noise, lapses, response times
   kSubjectSeed = 5,  // per-subject master seeds of a simulated study
   kPopulation = 6,   // simulated observer's per-subject parameters
+  kExploration = 7,  // the simulated hand's force and speed of one interval
 };
 
 // A stream for `purpose` from `master_seed` and up to two indices (e.g.

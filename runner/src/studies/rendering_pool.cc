@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "burrlab/protocols/streams.h"
 
@@ -26,6 +27,25 @@ std::uint64_t Fnv1a(const std::string& bytes) {
 }
 
 }  // namespace
+
+protocols::Exploration PooledExploration(const protocols::Exploration& e,
+                                         stimuli::Task task) {
+  protocols::Exploration pooled = e;
+  auto level = [](double factor, double spread) {
+    if (!(spread > 0.0)) return factor;
+    const double z = std::clamp(std::round(std::log(factor) / spread),
+                                -kPooledSubjectLevel, kPooledSubjectLevel);
+    return std::exp(z * spread);
+  };
+  pooled.force_factor = level(e.force_factor, e.subject_force_spread);
+  pooled.speed_factor = level(e.speed_factor, e.subject_speed_spread);
+  if (task == stimuli::Task::kDrill) {
+    // A drill holds its force: how fast the hand would press does nothing.
+    pooled.speed_factor = 1.0;
+    pooled.speed_spread = 0.0;
+  }
+  return pooled;
+}
 
 std::string StimulusKey(const stimuli::IntervalOptions& o,
                         const protocols::Exploration& e) {
@@ -109,18 +129,20 @@ const Result<stimuli::IntervalResult>& RenderingPool::Get(
 
 Result<stimuli::IntervalResult> RenderingPool::Present(
     const stimuli::IntervalOptions& o, const protocols::Exploration& e) {
-  const std::string key = StimulusKey(o, e);
+  const protocols::Exploration pooled = PooledExploration(e, o.task);
+  const std::string key = StimulusKey(o, pooled);
   const int index =
       static_cast<int>(o.seed % static_cast<std::uint64_t>(renderings_));
-  return Get(o, e, key, index);
+  return Get(o, pooled, key, index);
 }
 
 Result<std::vector<double>> RenderingPool::Cues(
     const stimuli::IntervalOptions& o, const protocols::Exploration& e) {
-  const std::string key = StimulusKey(o, e);
+  const protocols::Exploration pooled = PooledExploration(e, o.task);
+  const std::string key = StimulusKey(o, pooled);
   std::vector<double> cues;
   for (int k = 0; k < renderings_; ++k) {
-    const Result<stimuli::IntervalResult>& r = Get(o, e, key, k);
+    const Result<stimuli::IntervalResult>& r = Get(o, pooled, key, k);
     if (!r.ok()) return r.error();
     cues.push_back(r->cue);
   }

@@ -25,6 +25,18 @@
 
 namespace burrlab::runner {
 
+// The most z-levels a pooled subject factor is held to either side of 1.
+inline constexpr double kPooledSubjectLevel = 2.0;
+
+// What a pool renders for a subject exploring with `e`: its typical force and
+// speed factors held to the nearest of five levels, exp(z s) with z in {-2,
+// ..., 2} and s the subject spread (a population then costs at most five
+// sets of renderings per stimulus instead of one per subject; a factor is
+// off by at most half a level, s / 2 in ln, for |z| <= 2.5); for a drill, no
+// speed (a drill holds its force, so the pressing speed does nothing).
+protocols::Exploration PooledExploration(const protocols::Exploration& e,
+                                         stimuli::Task task);
+
 // The bytes of everything `o` renders but its seed, and of `e` when it
 // varies (a map key).
 std::string StimulusKey(const stimuli::IntervalOptions& o,
@@ -40,7 +52,7 @@ class RenderingPool {
 
   // The rendering of `o`'s stimulus with index o.seed mod renderings (a
   // copy; rendered on first use). With an exploration that varies, the
-  // stimulus is `o` explored with `e`, and each rendering is
+  // stimulus is `o` explored with PooledExploration(e), and each rendering is
   // protocols::ExploredInterval of `o` with its own draw (from the pool seed,
   // the stimulus and the index): the pool's renderings then sample the hand's
   // variability too, with as many draws as renderings.

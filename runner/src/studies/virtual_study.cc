@@ -39,7 +39,7 @@ Result<const std::vector<double>*> CuePool::Cues(
     const protocols::Exploration& e) {
   const stimuli::IntervalOptions o =
       IntervalOptionsFor(protocol, radius_mm_, trial, set, duration_s, 0);
-  std::string key = StimulusKey(o, e);
+  std::string key = StimulusKey(o, PooledExploration(e, o.task));
   auto it = cues_.find(key);
   if (it != cues_.end()) return &it->second;
   Result<std::vector<double>> cues = renderings_->Cues(o, e);

@@ -63,9 +63,9 @@ struct VirtualStudyOptions {
   int subjects = 20;
   std::uint64_t seed = 1;  // the study seed, as `burrlab study`
   // The population's typical observer. With a subject spread of force or
-  // speed (its exploration), each subject explores with factors of its own
-  // and feels renderings of its own: the pool renders each stimulus for each
-  // such subject.
+  // speed (its exploration), each subject explores with factors of its own,
+  // felt through the pool's renderings at the nearest of five levels
+  // (PooledExploration).
   protocols::ObserverParams observer;
   // Spread of each cue's Weber fraction across subjects (SD of ln W; 0: all
   // alike). Subject s draws one z ~ N(0, 1) and has W_stiffness x

@@ -7,6 +7,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <set>
 #include <thread>
 
 #include "burrlab/stimuli/materials.h"
@@ -86,6 +89,41 @@ TEST(RenderingPool, RenderingsDependOnTheStimulusNotOnWhoAskedFirst) {
   for (std::thread& t : threads) t.join();
   EXPECT_EQ(shared.rendered(), 2);
   for (int t = 0; t < 8; ++t) EXPECT_EQ(seen[t], (*fa)[t % 2]) << t;
+}
+
+// A subject's typical factors are felt at the nearest of five levels e^(z s),
+// z = -2 ... 2; the interval spreads are kept; a drill drops the speed.
+TEST(RenderingPool, PooledSubjectsExploreAtFiveLevels) {
+  protocols::Exploration e;
+  e.subject_force_spread = 0.05;
+  e.subject_speed_spread = 0.15;
+  e.force_spread = 0.15;
+  e.speed_spread = 0.12;
+  std::set<double> force_levels, speed_levels;
+  for (double z = -4.0; z <= 4.0; z += 0.01) {
+    e.force_factor = std::exp(z * 0.05);
+    e.speed_factor = std::exp(z * 0.15);
+    const protocols::Exploration p =
+        PooledExploration(e, stimuli::Task::kProbe);
+    const double zq = std::clamp(std::round(z), -2.0, 2.0);
+    ASSERT_NEAR(p.force_factor, std::exp(zq * 0.05), 1e-12) << z;
+    ASSERT_NEAR(p.speed_factor, std::exp(zq * 0.15), 1e-12) << z;
+    EXPECT_EQ(p.force_spread, 0.15);
+    EXPECT_EQ(p.speed_spread, 0.12);
+    force_levels.insert(p.force_factor);
+    speed_levels.insert(p.speed_factor);
+    const protocols::Exploration d =
+        PooledExploration(e, stimuli::Task::kDrill);
+    EXPECT_EQ(d.force_factor, p.force_factor);
+    EXPECT_EQ(d.speed_factor, 1.0);
+    EXPECT_EQ(d.speed_spread, 0.0);
+  }
+  EXPECT_EQ(force_levels.size(), 5u);
+  EXPECT_EQ(speed_levels.size(), 5u);
+  // Without subject spreads the factors are kept as they are.
+  protocols::Exploration own;
+  own.force_factor = 1.3;
+  EXPECT_EQ(PooledExploration(own, stimuli::Task::kProbe).force_factor, 1.3);
 }
 
 }  // namespace

@@ -121,6 +121,10 @@ Status ObserverParams::Validate() const {
     return Error{
         fmt::format("observer: lapse must be in [0, 0.5), got {}", lapse)};
   }
+  if (!(bias >= -kMaxBias && bias <= kMaxBias)) {
+    return Error{fmt::format("observer: bias must be in [-{}, {}], got {}",
+                             kMaxBias, kMaxBias, bias)};
+  }
   if (!(std::isfinite(criterion) && criterion >= 0.0)) {
     return Error{fmt::format("observer: criterion must be 0 or more, got {}",
                              criterion)};
@@ -252,6 +256,7 @@ ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults) {
   p.lapse = defaults.lapse;
   p.criterion = defaults.criterion;
   p.rule = defaults.rule;
+  p.bias = defaults.bias;
   p.exploration.force_spread = defaults.exploration.force;
   p.exploration.speed_spread = defaults.exploration.speed;
   p.exploration.subject_force_spread = defaults.exploration.subject_force;
@@ -271,22 +276,15 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
   }
   std::string_view rest =
       spec.size() > kHead.size() ? spec.substr(kHead.size() + 1) : "";
-  constexpr std::string_view kKeys[] = {"weber",
-                                        "weber_stiffness",
-                                        "weber_removal",
-                                        "lapse",
-                                        "criterion",
-                                        "rt_median_s",
-                                        "rule",
-                                        "always",
-                                        "exploration",
-                                        "force_spread",
-                                        "speed_spread",
-                                        "subject_force_spread",
-                                        "subject_speed_spread"};
+  constexpr std::string_view kKeys[] = {
+      "weber",       "weber_stiffness", "weber_removal",
+      "lapse",       "criterion",       "bias",
+      "rt_median_s", "rule",            "always",
+      "exploration", "force_spread",    "speed_spread",
+      "subject_force_spread", "subject_speed_spread"};
   constexpr std::string_view kKeyList =
-      "weber, weber_stiffness, weber_removal, lapse, criterion, rt_median_s, "
-      "rule, always, exploration, force_spread, speed_spread, "
+      "weber, weber_stiffness, weber_removal, lapse, criterion, bias, "
+      "rt_median_s, rule, always, exploration, force_spread, speed_spread, "
       "subject_force_spread, subject_speed_spread";
   while (!rest.empty()) {
     const std::size_t comma = rest.find(',');
@@ -343,6 +341,8 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
       base.lapse = value.value();
     } else if (key == "criterion") {
       base.criterion = value.value();
+    } else if (key == "bias") {
+      base.bias = value.value();
     } else if (key == "rt_median_s") {
       base.rt_median_s = value.value();
     } else if (key == "force_spread") {
@@ -412,9 +412,9 @@ Result<Response> SimulatedObserver::Decide(const TrialSpec& trial,
                 "the observer felt them",
                 SameDifferentRuleName(params_.rule))};
           }
-          different = SameDifferentLogOdds(params_.rule, psi[0], psi[1],
-                                           (*cues.materials)[0],
-                                           (*cues.materials)[1], sigma) > 0.0;
+          different = SameDifferentLogOdds(
+                          params_.rule, psi[0], psi[1], (*cues.materials)[0],
+                          (*cues.materials)[1], sigma) > params_.bias;
         }
         if (trial.method == Method::kSameDifferent) {
           answer = different ? "different" : "same";

@@ -43,18 +43,12 @@ constexpr std::string_view kRootKeys[] = {
 constexpr std::string_view kStudyKeys[] = {
     "name", "description", "instructions", "breaks_between_blocks"};
 constexpr std::string_view kRecordingKeys[] = {"trace_hz"};
-constexpr std::string_view kObserverKeys[] = {"weber_stiffness",
-                                              "weber_removal",
-                                              "lapse",
-                                              "criterion",
-                                              "rule",
-                                              "probe_force_n",
-                                              "drill_force_n",
-                                              "exploration",
-                                              "force_spread",
-                                              "speed_spread",
-                                              "subject_force_spread",
-                                              "subject_speed_spread"};
+constexpr std::string_view kObserverKeys[] = {
+    "weber_stiffness",     "weber_removal", "lapse",
+    "criterion",           "rule",          "bias",
+    "probe_force_n",       "drill_force_n", "exploration",
+    "force_spread",        "speed_spread",  "subject_force_spread",
+    "subject_speed_spread"};
 constexpr std::string_view kCounterbalanceKeys[] = {"scheme"};
 // The spelling of each material parameter, in MaterialParameter order (the
 // order of sim::Material), shared with material files.
@@ -365,6 +359,7 @@ void Parser::ParseObserver(const toml::table& root, Protocol& p) {
       {"weber_removal", &o.weber_removal, 0, 5, true, false},
       {"lapse", &o.lapse, 0, 0.5, false, true},
       {"criterion", &o.criterion, 0, 100, false, false},
+      {"bias", &o.bias, -5, 5, false, false},
       {"probe_force_n", &o.probe_force_n, 0, 20, true, false},
       {"drill_force_n", &o.drill_force_n, 0, 20, true, false},
       {"force_spread", &o.exploration.force, 0, 1, false, false},

@@ -245,6 +245,42 @@ TEST(SameDifferentRules, DecideUsesTheRuleAndNeedsTheFeltMaterials) {
             "as the observer felt them");
 }
 
+// Bias: "different" exactly when the percepts' log odds exceed it, under both
+// rules; a keen observer's percepts are its cues (noise 1e-6 against a margin
+// of 0.01 in log odds).
+TEST(SameDifferentRules, BiasIsTheLogOddsTheObserverNeedsToSayDifferent) {
+  const TrialSpec t = TwoIntervalSpec(Method::kSameDifferent, 0.0, 0.0);
+  const std::array<FeltMaterial, 2> felt = {FeltMaterial{0.0, 0.04},
+                                            FeltMaterial{1.0, 0.09}};
+  const std::vector<double> cues = {std::exp(0.3), std::exp(0.8)};
+  const TrialCues trial_cues{cues, std::nullopt, felt};
+  for (SameDifferentRule rule :
+       {SameDifferentRule::kDifferencing, SameDifferentRule::kLikelihood}) {
+    const double log_odds =
+        SameDifferentLogOdds(rule, 0.3, 0.8, felt[0], felt[1], 1e-6);
+    ObserverParams params = NoLapse(1e-6);
+    params.rule = rule;
+    boost::random::mt19937 rng(5);
+    params.bias = log_odds - 0.01;
+    EXPECT_EQ(SimulatedObserver(params).Decide(t, trial_cues, rng)->answer,
+              "different");
+    params.bias = log_odds + 0.01;
+    EXPECT_EQ(SimulatedObserver(params).Decide(t, trial_cues, rng)->answer,
+              "same");
+  }
+  // The fixed rule's criterion is its bias: bias does not move it.
+  ObserverParams fixed = NoLapse(0.05);
+  fixed.bias = 5.0;
+  boost::random::mt19937 rng(5);
+  EXPECT_EQ(SimulatedObserver(fixed).Decide(t, trial_cues, rng)->answer,
+            "different");
+  EXPECT_EQ(ParseObserverSpec("simulated:bias=0.7", ObserverParams{})->bias,
+            0.7);
+  EXPECT_EQ(
+      ParseObserverSpec("simulated:bias=-6", ObserverParams{}).error().message,
+      "observer: bias must be in [-5, 5], got -6");
+}
+
 TEST(SameDifferentRules, ReadFromTheProtocolsObserverTable) {
   const ParseOutcome outcome = ParseProtocol("p.toml", R"(
 format = "burrlab-protocol/1"
@@ -309,7 +345,7 @@ TEST(SimulatedObserver, ParsesTheObserverFlag) {
                 .error()
                 .message,
             "observer: unknown key \"webber\" (did you mean \"weber\"?) (keys: "
-            "weber, weber_stiffness, weber_removal, lapse, criterion, "
+            "weber, weber_stiffness, weber_removal, lapse, criterion, bias, "
             "rt_median_s, rule, always, exploration, force_spread, "
             "speed_spread, subject_force_spread, subject_speed_spread)");
   EXPECT_EQ(ParseObserverSpec("simulated:lapse=0.7", ObserverParams{})
@@ -931,6 +967,9 @@ b = "bone"
   ASSERT_TRUE(fixed.protocol.has_value());
   EXPECT_FALSE(
       ObserverParamsFrom(fixed.protocol->observer).exploration.Varies());
+  const ParseOutcome biased = parse("bias = 0.5");
+  ASSERT_TRUE(biased.protocol.has_value());
+  EXPECT_EQ(ObserverParamsFrom(biased.protocol->observer).bias, 0.5);
   const ParseOutcome wide = parse("speed_spread = 1.5");
   ASSERT_FALSE(wide.protocol.has_value());
   ASSERT_EQ(wide.diagnostics.size(), 1u);

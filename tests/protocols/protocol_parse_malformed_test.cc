@@ -1896,7 +1896,7 @@ TEST(ProtocolParse, FiftyThousandBadKeysPrintAHundredAndACount) {
   EXPECT_EQ(errors, kMaxPrintedDiagnostics);
   EXPECT_TRUE(printed.starts_with(
       "big.toml:14:1: error: unknown key \"k0\" in [observer]; accepted: "
-      "weber_stiffness, weber_removal, lapse, criterion, rule, "
+      "weber_stiffness, weber_removal, lapse, criterion, rule, bias, "
       "probe_force_n, drill_force_n, exploration, force_spread, "
       "speed_spread, subject_force_spread, subject_speed_spread\nk0 = "
       "1\n^\n"))

@@ -603,7 +603,7 @@ int RunRunCommand(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddText("--observer",
                 "simulated[:weber=W,lapse=L,...] (default: answers typed at "
                 "the prompt); keys weber, weber_stiffness, weber_removal, "
-                "lapse, criterion, rt_median_s, rule=fixed|differencing|"
+                "lapse, criterion, bias, rt_median_s, rule=fixed|differencing|"
                 "likelihood (how a same-different observer decides), "
                 "exploration=fixed|varied, force_spread, speed_spread, "
                 "subject_force_spread, subject_speed_spread (how the "

@@ -47,6 +47,13 @@ ObserverParticipantColumns() {
          "the independent-observation rule: 'different' when the pair of "
          "percepts is likelier under different materials than under the "
          "same, given the variability it felt"}}},
+      {"observer_bias",
+       "Simulated subjects: under the differencing and likelihood rules, the "
+       "ln of the prior odds of a same pair the observer assumes ('different' "
+       "when the log odds of the percepts exceed it; 0: even); n/a for a "
+       "person",
+       "",
+       {}},
       {"observer_force_factor",
        "Simulated subjects: the simulated hand's typical force (probing "
        "presses and drilling) relative to the protocol's probe_force_n and "
@@ -110,6 +117,7 @@ std::vector<results_schema::ParticipantValue> ObserverParticipantValues(
       {"observer_lapse", number(o.lapse)},
       {"observer_criterion", number(o.criterion)},
       {"observer_rule", std::string(protocols::SameDifferentRuleName(o.rule))},
+      {"observer_bias", number(o.bias)},
       {"observer_force_factor", number(o.exploration.force_factor)},
       {"observer_speed_factor", number(o.exploration.speed_factor)},
       {"observer_force_spread", number(o.exploration.force_spread)},

@@ -748,8 +748,8 @@ std::vector<rs::SetupField> SessionSetup(const SessionOptions& options) {
           o.rt_median_s, o.rt_log_sd, o.match_tolerance,
           o.rule == protocols::SameDifferentRule::kFixed
               ? ""
-              : fmt::format(" rule={}",
-                            protocols::SameDifferentRuleName(o.rule)),
+              : fmt::format(" rule={} bias={}",
+                            protocols::SameDifferentRuleName(o.rule), o.bias),
           o.exploration.Varies()
               ? fmt::format(
                     " force_factor={} speed_factor={} force_spread={} "

@@ -202,11 +202,12 @@ TEST_F(RunAtStationTest, ParticipantsFromATableAndFlagsMergeIntoTheDataset) {
        "--participant", "years_of_practice=6"});
   run("02", "1", {"--participants", roster.string()});
   const std::string observer =
-      "0.2\t0.3\t0.02\t1\tfixed\t1\t1\t0\t0\t1\t0.35\t0.5\tpercepts";
+      "0.2\t0.3\t0.02\t1\tfixed\t0\t1\t1\t0\t0\t1\t0.35\t0.5\tpercepts";
   const std::string columns =
       "participant_id\tage\tgroup\thandedness\tyears_of_practice\t"
       "observer_weber_stiffness\tobserver_weber_removal\tobserver_lapse\t"
-      "observer_criterion\tobserver_rule\tobserver_force_factor\t"
+      "observer_criterion\tobserver_rule\tobserver_bias\t"
+      "observer_force_factor\t"
       "observer_speed_factor\tobserver_force_spread\tobserver_speed_spread\t"
       "observer_rt_median\tobserver_rt_log_sd\t"
       "observer_match_tolerance\tobserver_answers\n";
@@ -223,7 +224,7 @@ TEST_F(RunAtStationTest, ParticipantsFromATableAndFlagsMergeIntoTheDataset) {
   EXPECT_EQ(sidecar["age"]["Units"], "year");
   EXPECT_EQ(sidecar["observer_rt_median"]["Units"], "s");
   EXPECT_EQ(sidecar["observer_rule"]["Levels"].size(), 3u);
-  EXPECT_EQ(sidecar.size(), 18u);
+  EXPECT_EQ(sidecar.size(), 19u);
 }
 
 TEST_F(RunAtStationTest, ReportsABadStationFileAndScriptWithTheirPlaces) {

@@ -206,7 +206,7 @@ TEST(Exploration, RenderedSessionsDrawTheHandsForceForEveryInterval) {
     // participants.tsv says how each subject explored.
     const std::string table = ReadFile(study.out_dir / "participants.tsv");
     EXPECT_NE(
-        table.find(fmt::format("\t{}\t{}\t0.15\t0.12\t",
+        table.find(fmt::format("\tfixed\t0\t{}\t{}\t0.15\t0.12\t",
                                study.observers[1].exploration.force_factor,
                                study.observers[1].exploration.speed_factor)),
         std::string::npos)

@@ -22,6 +22,7 @@ TEST(ParticipantRows, ObserverValuesReadBackExactly) {
   o.lapse = 0.0;
   o.criterion = 1.5;
   o.rule = protocols::SameDifferentRule::kLikelihood;
+  o.bias = -0.5;
   o.exploration.force_factor = 1.1;
   o.exploration.speed_factor = 0.9;
   o.exploration.force_spread = 0.15;
@@ -39,6 +40,7 @@ TEST(ParticipantRows, ObserverValuesReadBackExactly) {
       {"observer_lapse", "0"},
       {"observer_criterion", "1.5"},
       {"observer_rule", "likelihood"},
+      {"observer_bias", "-0.5"},
       {"observer_force_factor", "1.1"},
       {"observer_speed_factor", "0.9"},
       {"observer_force_spread", "0.15"},
@@ -63,11 +65,11 @@ TEST(ParticipantRows, EveryObserverColumnIsDescribedAndValid) {
         << columns[i].name;
     EXPECT_FALSE(columns[i].description.empty()) << columns[i].name;
   }
-  EXPECT_EQ(columns[9].name, "observer_rt_median");
-  EXPECT_EQ(columns[9].units, "s");
+  EXPECT_EQ(columns[10].name, "observer_rt_median");
+  EXPECT_EQ(columns[10].units, "s");
   std::set<std::string> levels;
-  ASSERT_EQ(columns[12].name, "observer_answers");
-  for (const auto& [value, meaning] : columns[12].levels) levels.insert(value);
+  ASSERT_EQ(columns[13].name, "observer_answers");
+  for (const auto& [value, meaning] : columns[13].levels) levels.insert(value);
   EXPECT_EQ(levels, (std::set<std::string>{"percepts", "always_correct",
                                            "always_wrong"}));
   // Every rule a value can name is a level.

@@ -792,7 +792,7 @@ TEST_F(SessionTest, StudySessionsListEachSubjectsTrueObserver) {
   EXPECT_EQ(header,
             "participant_id\tobserver_weber_stiffness\tobserver_weber_removal\t"
             "observer_lapse\tobserver_criterion\tobserver_rule\t"
-            "observer_force_factor\tobserver_speed_factor\t"
+            "observer_bias\tobserver_force_factor\tobserver_speed_factor\t"
             "observer_force_spread\tobserver_speed_spread\t"
             "observer_rt_median\tobserver_rt_log_sd\tobserver_match_tolerance\t"
             "observer_answers");
@@ -804,7 +804,7 @@ TEST_F(SessionTest, StudySessionsListEachSubjectsTrueObserver) {
     for (std::string cell; std::getline(split, cell, '\t');) {
       cells.push_back(cell);
     }
-    ASSERT_EQ(cells.size(), 14u) << row;
+    ASSERT_EQ(cells.size(), 15u) << row;
     EXPECT_EQ(cells[0], std::string("sub-") + label);
     auto journal = rs::Journal::Open(out, label, "1");
     ASSERT_TRUE(journal.ok()) << journal.error().message;
@@ -816,8 +816,9 @@ TEST_F(SessionTest, StudySessionsListEachSubjectsTrueObserver) {
                                      " weber_removal=" + cells[2] +
                                      " lapse=" + cells[3] + " "));
     EXPECT_EQ(cells[5], "fixed");
-    EXPECT_EQ(cells[6], "1");  // the protocol's forces, the same for all
-    EXPECT_EQ(cells[13], "percepts");
+    EXPECT_EQ(cells[6], "0");  // no bias
+    EXPECT_EQ(cells[7], "1");  // the protocol's forces, the same for all
+    EXPECT_EQ(cells[14], "percepts");
   }
   EXPECT_FALSE(std::getline(lines, header));
   const nlohmann::json description =

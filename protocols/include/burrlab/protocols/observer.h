@@ -97,6 +97,9 @@ struct Exploration {
   }
 };
 
+// The largest |bias| of an observer (prior odds of e^5 = 148 to 1).
+inline constexpr double kMaxBias = 5.0;
+
 // The largest factor of a subject's typical force or speed (and the smallest,
 // its inverse).
 inline constexpr double kMaxExplorationFactor = 5.0;
@@ -110,6 +113,12 @@ struct ObserverParams {
                                   // criterion x sigma x sqrt(2)
   // Same-different: how the percepts are compared (protocol.h).
   SameDifferentRule rule = SameDifferentRule::kFixed;
+  // Same-different under the differencing and likelihood rules: "different"
+  // when ln P(different) - ln P(same) of the percepts exceeds bias, i.e. the
+  // observer takes the prior odds of a same pair to be e^bias (0: even, the
+  // designs' own; > 0 leans to "same"). The fixed rule's criterion is its
+  // bias.
+  double bias = 0.0;
   double rt_median_s = 1.0;      // response time median
   double rt_log_sd = 0.35;       // response time spread (sd of ln rt)
   double match_tolerance = 0.5;  // adjustment: stop when the percepts differ
@@ -142,8 +151,10 @@ stimuli::IntervalOptions ExploredInterval(
 ObserverParams ObserverParamsFrom(const ObserverDefaults& defaults);
 
 // Parses "simulated" or "simulated:key=value,..." (keys: weber (both cues),
-// weber_stiffness, weber_removal, lapse, criterion, rt_median_s,
-// rule=fixed|differencing|likelihood and always=correct|wrong) over `base`.
+// weber_stiffness, weber_removal, lapse, criterion, bias, rt_median_s,
+// rule=fixed|differencing|likelihood, exploration=fixed|varied, force_spread,
+// speed_spread, subject_force_spread, subject_speed_spread and
+// always=correct|wrong) over `base`.
 Result<ObserverParams> ParseObserverSpec(std::string_view spec,
                                          ObserverParams base);
 

@@ -302,6 +302,8 @@ struct ObserverDefaults {
                            // "different" when the percepts differ by more
                            // than criterion x sigma x sqrt(2)
   SameDifferentRule rule = SameDifferentRule::kFixed;
+  double bias = 0.0;  // same-different, differencing and likelihood rules:
+                      // ln of the prior odds of "same" the observer assumes
   double probe_force_n = 2.0;      // peak force of each probing press
   double drill_force_n = 3.0;      // force held while drilling
   ExplorationSpreads exploration;  // none: every interval alike

@@ -1432,11 +1432,12 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       "studies of the protocol give the observed mean score, the spread of W "
       "across subjects that gives the observed between-subject SD (SEM x "
       "sqrt(n)), and a 95 % interval for W from mean +- 1.96 SEM. Give "
-      "--observed once per block (block=NAME,mean=M,sem=S,n=N). With "
-      "--predict, simulate another protocol with that population and report "
-      "its predicted scores and power.",
+      "--observed once per block (block=NAME,mean=M,sem=S,n=N); --observer "
+      "chooses the observer model fitted (its decision rule, bias and "
+      "exploration). With --predict, simulate another protocol with that "
+      "population and report its predicted scores and power.",
       "burrlab analyze fit-observers"};
-  std::string protocol_path, predict_path, block;
+  std::string protocol_path, predict_path, block, observer;
   std::vector<std::string> observed_texts;
   ObserverFitOptions options;
   double lapse = 0.0, alpha = 0.05;
@@ -1463,6 +1464,14 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                    &options.virtual_subjects);
   flags.AddUnsigned("--seed", "seed (default 1)", &options.seed);
   flags.AddSwitch("--no-spread", "all subjects alike (fit W only)", &no_spread);
+  flags
+      .AddText("--observer",
+               "the observer model fitted, simulated[:key=value,...] over "
+               "the protocol's [observer], as run --observer takes it (e.g. "
+               "simulated:rule=likelihood,exploration=varied); its Weber "
+               "fractions are what is fitted",
+               &observer)
+      ->type_name("SPEC");
   flags.AddNonNegative("--lapse", "lapse rate (default: the protocol's)", "",
                        &lapse);
   flags.AddInteger("--cue-samples",
@@ -1518,12 +1527,30 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   err << loaded->notes;
   options.fit_spread = !no_spread;
   options.base = protocols::ObserverParamsFrom(loaded->protocol.observer);
+  if (!observer.empty()) {
+    Result<protocols::ObserverParams> spec =
+        protocols::ParseObserverSpec(observer, options.base);
+    if (!spec.ok()) {
+      return Fail(err, "analyze fit-observers: " + spec.error().message);
+    }
+    options.base = *spec;
+  }
   if (flags.Given("--lapse")) options.base.lapse = lapse;
   CuePool pool(cue_samples, 2.0, options.seed);
   std::vector<ObserverFit> fits;
   Json j;
   j["protocol"] = protocol_path;
   j["lapse"] = options.base.lapse;
+  const protocols::Exploration& e = options.base.exploration;
+  j["observer"] = {
+      {"rule",
+       std::string(protocols::SameDifferentRuleName(options.base.rule))},
+      {"bias", options.base.bias},
+      {"criterion", options.base.criterion},
+      {"force_spread", e.force_spread},
+      {"speed_spread", e.speed_spread},
+      {"subject_force_spread", e.subject_force_spread},
+      {"subject_speed_spread", e.subject_speed_spread}};
   j["virtual_subjects"] = options.virtual_subjects;
   j["fits"] = Json::array();
   for (const ObservedGroup& g : observed) {
@@ -1585,6 +1612,18 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
   }
+  out << fmt::format(
+      "observer rule {}{}, exploration {}\n",
+      protocols::SameDifferentRuleName(options.base.rule),
+      options.base.rule == protocols::SameDifferentRule::kFixed
+          ? fmt::format(" (criterion {})", options.base.criterion)
+          : fmt::format(" (bias {})", options.base.bias),
+      e.Varies() || e.subject_force_spread > 0.0 || e.subject_speed_spread > 0.0
+          ? fmt::format("varied (SD of ln force {} between intervals and {} "
+                        "between subjects, of ln speed {} and {})",
+                        e.force_spread, e.subject_force_spread, e.speed_spread,
+                        e.subject_speed_spread)
+          : std::string("fixed"));
   for (const Json& f : j["fits"]) {
     out << fmt::format(
         "block {} ({} trials, {} cue): observed {} +- {} (n {}, SD {:.3g})\n",

@@ -992,6 +992,26 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
   EXPECT_EQ(j["population"]["weber_stiffness"], j["fits"][0]["weber"]);
   EXPECT_EQ(j["population"]["weber_removal"], j["fits"][0]["weber"]);
   EXPECT_EQ(j["population"]["notes"].size(), 1u);
+  EXPECT_EQ(j["observer"]["rule"], "fixed");
+  // --observer chooses the model fitted, over the protocol's [observer].
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
+                    "--cue-samples", "1", "--virtual-subjects", "50", "--json",
+                    "--no-spread", "--observer",
+                    "simulated:rule=likelihood,bias=0.3,force_spread=0.1"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json model = nlohmann::json::parse(run.out);
+  EXPECT_EQ(model["observer"]["rule"], "likelihood");
+  EXPECT_EQ(model["observer"]["bias"], 0.3);
+  EXPECT_EQ(model["observer"]["force_spread"], 0.1);
+  EXPECT_EQ(model["observer"]["subject_force_spread"], 0.0);
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
+                    "--observer", "simulated:rule=optimal"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err,
+            "burrlab: analyze fit-observers: observer: rule must be fixed, "
+            "differencing or likelihood, got \"optimal\"\n");
 }
 
 }  // namespace

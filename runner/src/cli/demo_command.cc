@@ -14,8 +14,8 @@ namespace burrlab::runner {
 
 void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
                      std::ostream& out) {
-  out << "Chapter 13 of the dissertation (§13.5.1), re-run with simulated "
-         "subjects\n\n";
+  out << "Chapter 13 of the dissertation (§13.5.1, §13.5.2), re-run with "
+         "simulated subjects\n\n";
   out << "Observer population fitted to the published PVC vs bone scores "
          "(analyze fit-observers):\n";
   for (const ObserverFit& f : r.fits) {
@@ -31,18 +31,24 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
   }
   out << fmt::format(
       "\n{} simulated subjects ran PVC vs bone; the best {} of them (sub-{}) "
-      "ran Pettigrew vs bone, as in the dissertation.\n",
-      o.subjects, r.best_subjects.size(), fmt::join(r.best_subjects, ", sub-"));
+      "ran Pettigrew vs bone, and the best {} (sub-{}) said which of "
+      "simulated Pettigrew and PVC felt like the real Pettigrew sample (felt "
+      "through its simulation), as in the dissertation.\n",
+      o.subjects, r.best_subjects.size(), fmt::join(r.best_subjects, ", sub-"),
+      r.association_subjects.size(),
+      fmt::join(r.association_subjects, ", sub-"));
   out << fmt::format(
-      "Scores are correct answers out of 12. Expected: {} virtual "
-      "replications of the whole design (mean, SD between studies, and how "
-      "often p < {}); one study: the simulated study above, analysed from "
-      "its exports (mean +- SEM; p: one-sided t-test against chance, 6 of "
-      "12). Agreement compares the expected score with the dissertation's "
-      "mean +- SEM, or the chance of a significant result with its "
-      "finding.\n\n",
+      "Scores are correct answers, of 12 (10 for Real Pettigrew). Expected: "
+      "{} virtual replications of the whole design (mean, SD between "
+      "studies, and how often p < {}); one study: the simulated study above, "
+      "analysed from its exports (mean +- SEM; p: one-sided t-test against "
+      "chance, half the trials, or the exact binomial test of the pooled "
+      "answers where every subject scored alike). Agreement compares the "
+      "expected score with "
+      "the dissertation's mean +- SEM, or the chance of a significant result "
+      "with its finding.\n\n",
       r.rows.empty() ? 0 : r.rows[0].runs, kDemoAlpha);
-  out << fmt::format("{:<26}  {:<26}  {:<28}  {:<31}  {}\n", "study, block",
+  out << fmt::format("{:<28}  {:<26}  {:<28}  {:<31}  {}\n", "study, block",
                      "dissertation", "burrlab, expected", "burrlab, one study",
                      "agreement");
   for (const DemoRow& row : r.rows) {
@@ -52,20 +58,21 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
                           *row.paper_sem, *row.paper_p, row.paper_n)
             : fmt::format("not different (n {})", row.paper_n);
     const std::string study =
-        fmt::format("{:.2f} +- {:.2f}, p={:.2g} (n {})", row.mean, row.sem,
-                    row.p, row.subjects);
+        fmt::format("{:.2f} +- {:.2f}, p={:.2g}{} (n {})", row.mean, row.sem,
+                    row.p, row.p_test == "t" ? "" : " binomial", row.subjects);
     const std::string predicted =
         fmt::format("{:.2f} (SD {:.2f}), P(sig) {:.2f}", row.predicted_mean,
                     row.predicted_sd, row.predicted_significant);
-    out << fmt::format("{:<26}  {:<26}  {:<28}  {:<31}  {}\n",
+    out << fmt::format("{:<28}  {:<26}  {:<28}  {:<31}  {}\n",
                        row.study + ", " + row.block, paper, predicted, study,
                        row.verdict);
   }
   out << fmt::format(
-      "\nFigures: {}\nResults (journals, BIDS exports): {}, {}; summary: "
+      "\nFigures: {}\nResults (journals, BIDS exports): {}, {}, {}; summary: "
       "{}\n",
       fmt::join(r.figures, ", "), (o.out_dir / kDemoPvcDir).string(),
       (o.out_dir / kDemoPettigrewDir).string(),
+      (o.out_dir / kDemoAssociationDir).string(),
       (o.out_dir / kDemoMarker).string());
   out << fmt::format(
       "({} simulator intervals rendered for the fit and the replications, {} "
@@ -78,12 +85,14 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
 
 int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
-      "Re-run the dissertation's chapter 13 study (§13.5.1) with simulated "
-      "subjects: fit an observer population to the published PVC vs bone "
-      "scores, run 20 simulated subjects through PVC vs bone and the best 12 "
-      "through Pettigrew vs bone (journals and BIDS exports), analyse them, "
-      "predict the Pettigrew result from virtual replications, and print "
-      "the results beside the dissertation's, with score histograms.",
+      "Re-run the dissertation's chapter 13 studies (§13.5.1, §13.5.2) with "
+      "simulated subjects: fit an observer population to the published PVC "
+      "vs bone scores, run 20 simulated subjects through PVC vs bone, the "
+      "best 12 through Pettigrew vs bone and the best 5 through the "
+      "association with the real Pettigrew sample (journals and BIDS "
+      "exports), analyse them, predict the Pettigrew and association results "
+      "from virtual replications, and print the results beside the "
+      "dissertation's, with score histograms.",
       "burrlab demo"};
   DemoOptions options;
   std::string out_dir = options.out_dir.string();

@@ -44,15 +44,23 @@ constexpr Published kPvcPublished[] = {{"probe", 9.3, 0.4},
 constexpr int kPublishedN = 20;
 constexpr int kPublishedBestN = 12;
 constexpr double kPublishedP = 0.001;
+// §13.5.2: "five subjects each performed ten trials. The mean score (out of
+// 10) over all 5 subjects was 9.4 +- 0.4 ... (p=0.0001)"; the subjects had
+// taken part in the first experiment.
+constexpr Published kAssociationPublished = {"association", 9.4, 0.4};
+constexpr int kPublishedAssociationN = 5;
+constexpr double kPublishedAssociationP = 0.0001;
 
 constexpr const char* kPvcStudy = "PVC vs bone";
 constexpr const char* kPettigrewStudy = "Pettigrew vs bone";
+constexpr const char* kAssociationStudy = "Real Pettigrew";
 
 // The demo's own folders may be replaced; anything else is never touched.
 Status PrepareOutDir(const fs::path& dir) {
   std::error_code ec;
   const bool ours = fs::exists(dir / kDemoMarker, ec);
-  for (const char* sub : {kDemoPvcDir, kDemoPettigrewDir, "figures"}) {
+  for (const char* sub :
+       {kDemoPvcDir, kDemoPettigrewDir, kDemoAssociationDir, "figures"}) {
     if (!fs::exists(dir / sub, ec)) continue;
     if (!ours) {
       return Error{fmt::format(
@@ -154,6 +162,7 @@ Json DemoReportJson(const DemoReport& r, const DemoOptions& o) {
                          {"notes", f.notes}});
   }
   j["best_subjects"] = r.best_subjects;
+  j["association_subjects"] = r.association_subjects;
   j["rows"] = Json::array();
   for (const DemoRow& row : r.rows) {
     Json paper = {{"n", row.paper_n}, {"finding", row.paper_finding}};
@@ -168,7 +177,8 @@ Json DemoReportJson(const DemoReport& r, const DemoOptions& o) {
                           {{"subjects", row.subjects},
                            {"mean", row.mean},
                            {"sem", row.sem},
-                           {"p_one_sided", row.p}}},
+                           {"p_one_sided", row.p},
+                           {"p_test", row.p_test}}},
                          {"predicted",
                           {{"runs", row.runs},
                            {"mean", row.predicted_mean},
@@ -180,28 +190,32 @@ Json DemoReportJson(const DemoReport& r, const DemoOptions& o) {
   return j;
 }
 
-// Means of the dissertation, the simulated study and the prediction, with
-// SEM (SD between replications for the prediction) as vertical bars.
+// Mean proportions correct of the dissertation, the simulated study and the
+// prediction, with SEM (SD between replications for the prediction) as
+// vertical bars (the designs have 12 and 10 trials).
 analysis::LinePlot ComparisonPlot(const DemoReport& r) {
   analysis::LinePlot plot;
   plot.title =
-      "Mean score of 12: dissertation, one burrlab study, burrlab prediction";
+      "Mean proportion correct: dissertation, one burrlab study, burrlab "
+      "prediction";
   plot.x_label = "study and task";
-  plot.y_label = "correct answers out of 12";
+  plot.y_label = "proportion correct";
   plot.x_range = std::pair(0.5, static_cast<double>(r.rows.size()) + 0.5);
   analysis::Series paper{"dissertation (mean ± SEM)", {}, {}, false, true, 2};
   analysis::Series study{"burrlab study (mean ± SEM)", {}, {}, false, true, 0};
   analysis::Series predicted{
       "prediction (mean ± SD of replications)", {}, {}, false, true, 1};
-  const auto add = [](analysis::Series& s, double x, double mid, double half) {
+  double trials = 1.0;
+  const auto add = [&](analysis::Series& s, double x, double mid, double half) {
     s.x.push_back(x);
-    s.y.push_back(mid);
-    s.y_low.push_back(mid - half);
-    s.y_high.push_back(mid + half);
+    s.y.push_back(mid / trials);
+    s.y_low.push_back((mid - half) / trials);
+    s.y_high.push_back((mid + half) / trials);
   };
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const DemoRow& row = r.rows[i];
     const double x = static_cast<double>(i) + 1.0;
+    trials = std::max(1, row.trials);
     plot.x_tick_labels.emplace_back(
         x, fmt::format("{} {}", row.study.substr(0, row.study.find(" vs")),
                        row.block));
@@ -211,10 +225,10 @@ analysis::LinePlot ComparisonPlot(const DemoReport& r) {
     add(study, x, row.mean, row.sem);
     add(predicted, x + 0.2, row.predicted_mean, row.predicted_sd);
   }
-  // Chance: half of the 12 answers (same-different, equal priors).
-  plot.reference_lines.push_back({false, 6.0, "chance (6 of 12)"});
+  // Chance: half the answers (same-different with equal priors, 2AFC).
+  plot.reference_lines.push_back({false, 0.5, "chance"});
   // The whole score range, so chance and a perfect score are in view.
-  plot.reference_lines.push_back({false, 12.0, "all correct"});
+  plot.reference_lines.push_back({false, 1.0, "all correct"});
   plot.series = {paper, study, predicted};
   return plot;
 }
@@ -236,12 +250,17 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   Result<protocols::LoadedProtocol> pettigrew = protocols::ParseLoadedProtocol(
       kDemoPettigrewVsBonePath, kDemoPettigrewVsBone);
   if (!pettigrew.ok()) return pettigrew.error();
+  Result<protocols::LoadedProtocol> association =
+      protocols::ParseLoadedProtocol(kDemoReferencePettigrewPath,
+                                     kDemoReferencePettigrew);
+  if (!association.ok()) return association.error();
   if (Status s = PrepareOutDir(options.out_dir); !s.ok()) return s.error();
 
-  // 1. Render every stimulus of both designs (shared by all that follows).
+  // 1. Render every stimulus of the three designs (shared by all that
+  // follows).
   RenderingPool pool(options.renderings, options.seed);
   for (const protocols::LoadedProtocol* p :
-       {&pvc.value(), &pettigrew.value()}) {
+       {&pvc.value(), &pettigrew.value(), &association.value()}) {
     ProgressBar bar(progress, 100);
     Result<int> n = PrerenderProtocol(
         p->protocol, pool, 2.0, options.jobs, 1, [&](int done, int total) {
@@ -339,9 +358,39 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   Result<std::vector<analysis::BlockScores>> pettigrew_scores =
       Analyse(pettigrew_study.out_dir);
   if (!pettigrew_scores.ok()) return pettigrew_scores.error();
+  // §13.5.2 with subjects trained by the first experiment: its best 5.
+  SimulatedStudyOptions association_study;
+  association_study.out_dir = options.out_dir / kDemoAssociationDir;
+  association_study.seed = protocols::SeedFor(
+      options.seed, protocols::StreamPurpose::kSubjectSeed, 1ull << 45);
+  association_study.jobs = options.jobs;
+  association_study.renderings = options.share_renderings ? &pool : nullptr;
+  for (int i : BestSubjects(totals, options.association_subjects)) {
+    association_study.labels.push_back(
+        pvc_study.labels[static_cast<std::size_t>(i)]);
+    association_study.observers.push_back(
+        pvc_study.observers[static_cast<std::size_t>(i)]);
+  }
+  report.association_subjects = association_study.labels;
+  {
+    ProgressBar bar(progress,
+                    static_cast<int>(association_study.labels.size()));
+    association_study.progress = [&](int done, const std::string& label) {
+      bar.Update(done, "real vs simulated Pettigrew: sub-" + label);
+    };
+    const SimulatedStudyResult r =
+        RunSimulatedStudy(association.value(), association_study);
+    for (const std::string& f : r.failures) {
+      if (!f.empty()) return Error{"real vs simulated Pettigrew study: " + f};
+    }
+  }
+  Result<std::vector<analysis::BlockScores>> association_scores =
+      Analyse(association_study.out_dir);
+  if (!association_scores.ok()) return association_scores.error();
 
   // 4. Virtual replications of the whole design: 20 subjects run PVC vs
-  // bone, the best 12 of them Pettigrew vs bone.
+  // bone, the best 12 of them Pettigrew vs bone and the best 5 the
+  // association design.
   std::map<std::pair<std::string, std::string>, Tally> tallies;
   {
     ProgressBar bar(progress, options.runs);
@@ -378,6 +427,22 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
         t.means.push_back(st.mean);
         t.significant += st.p < kDemoAlpha ? 1 : 0;
       }
+      VirtualStudyOptions trained = *population;
+      for (int i : BestSubjects(sums, options.association_subjects)) {
+        trained.subject_observers.push_back(SubjectObserver(v, i));
+      }
+      trained.seed = protocols::SeedFor(
+          options.seed, protocols::StreamPurpose::kPopulation, 1ull << 45,
+          static_cast<std::uint64_t>(r));
+      Result<std::vector<VirtualBlock>> third =
+          RunVirtualStudy(association->protocol, trained, cues);
+      if (!third.ok()) return third.error();
+      for (const VirtualBlock& b : *third) {
+        const BlockStats st = StatsOf(b);
+        Tally& t = tallies[{kAssociationStudy, b.block}];
+        t.means.push_back(st.mean);
+        t.significant += st.p < kDemoAlpha ? 1 : 0;
+      }
       bar.Update(r + 1, fmt::format("predicting: replication {}", r + 1));
     }
   }
@@ -397,7 +462,13 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
         row.mean = b.mean_score->mean;
         row.sem = b.mean_score->sem;
       }
-      if (b.t_test) row.p = b.t_test->p_greater;
+      if (b.t_test) {
+        row.p = b.t_test->p_greater;
+      } else if (b.binomial) {
+        // No t-test when every subject scored alike (e.g. all perfect).
+        row.p = b.binomial->p_greater;
+        row.p_test = "binomial";
+      }
       row.paper_n = paper_n;
       if (std::string(study) == kPvcStudy) {
         for (const Published& pub : kPvcPublished) {
@@ -407,6 +478,11 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
           row.paper_p = kPublishedP;
           row.paper_finding = "significantly above chance";
         }
+      } else if (std::string(study) == kAssociationStudy) {
+        row.paper_mean = kAssociationPublished.mean;
+        row.paper_sem = kAssociationPublished.sem;
+        row.paper_p = kPublishedAssociationP;
+        row.paper_finding = "significantly above chance";
       } else {
         row.paper_finding = "could not tell them apart";
       }
@@ -450,6 +526,11 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   }
   if (Status s = add_rows(kPettigrewStudy, kDemoPettigrewDir, *pettigrew_scores,
                           kPublishedBestN);
+      !s.ok()) {
+    return s.error();
+  }
+  if (Status s = add_rows(kAssociationStudy, kDemoAssociationDir,
+                          *association_scores, kPublishedAssociationN);
       !s.ok()) {
     return s.error();
   }

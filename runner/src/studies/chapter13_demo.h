@@ -1,12 +1,15 @@
 // The chapter 13 demo (`burrlab demo`, cli/demo_command.h prints it): the
-// dissertation's chapter 13 study (§13.5.1) re-run with
-// simulated subjects. A simulated-observer population is fitted to the
-// published PVC vs bone scores (probing 9.3 +- 0.4, drilling 9.6 +- 0.5 of
-// 12, n = 20), 20 subjects of it run the PVC vs bone protocol, the best 12
-// of them run Pettigrew vs bone (as in the dissertation), both studies are
-// analysed from their BIDS exports, and 200 virtual replications predict the
-// Pettigrew result's mean and its chance of being significant. The table puts
-// the dissertation's numbers beside burrlab's.
+// dissertation's chapter 13 studies (§13.5.1, §13.5.2) re-run with simulated
+// subjects. A simulated-observer population is fitted to the published PVC
+// vs bone scores (probing 9.3 +- 0.4, drilling 9.6 +- 0.5 of 12, n = 20), 20
+// subjects of it run the PVC vs bone protocol, the best 12 of them run
+// Pettigrew vs bone (as in the dissertation) and the best 5 the association
+// design of §13.5.2 (which of simulated Pettigrew and PVC felt like the real
+// Pettigrew sample, felt through its simulation; published 9.4 +- 0.4 of 10
+// from 5 subjects who had run the first experiment), every study is analysed
+// from its BIDS exports, and 200 virtual replications predict each result's
+// mean and its chance of being significant. The table puts the
+// dissertation's numbers beside burrlab's.
 #ifndef BURRLAB_RUNNER_STUDIES_CHAPTER13_DEMO_H_
 #define BURRLAB_RUNNER_STUDIES_CHAPTER13_DEMO_H_
 
@@ -28,6 +31,7 @@ inline constexpr double kDemoAlpha = 0.05;
 // summary (demo.json, which also marks the folder as the demo's).
 inline constexpr const char* kDemoPvcDir = "pvc_vs_bone";
 inline constexpr const char* kDemoPettigrewDir = "pettigrew_vs_bone";
+inline constexpr const char* kDemoAssociationDir = "reference_pettigrew";
 inline constexpr const char* kDemoMarker = "demo.json";
 
 struct DemoOptions {
@@ -44,12 +48,13 @@ struct DemoOptions {
   int runs = 200;                    // virtual replications for the prediction
   int subjects = 20;                 // PVC vs bone subjects (dissertation: 20)
   int best_subjects = 12;            // of them, who run Pettigrew vs bone (12)
+  int association_subjects = 5;      // of them, who run §13.5.2 (5)
   std::ostream* progress = nullptr;  // progress bars (terminal only)
 };
 
 // One block of one study, side by side.
 struct DemoRow {
-  std::string study;  // "PVC vs bone", "Pettigrew vs bone"
+  std::string study;  // "PVC vs bone", "Pettigrew vs bone", "Real Pettigrew"
   std::string block;  // "probe", "drill"
   int trials = 0;     // per subject
   // The dissertation's result; none where it gives no number.
@@ -59,7 +64,10 @@ struct DemoRow {
   // One simulated study (burrlab's sessions, analysed from the exports).
   int subjects = 0;
   double mean = 0.0, sem = 0.0;
-  double p = 1.0;  // one-sided t-test against chance
+  double p = 1.0;  // one-sided test against chance
+  // "t" (t-test of the subjects' proportions) or "binomial" (exact test of
+  // the pooled answers, where every subject scored alike).
+  std::string p_test = "t";
   // Virtual replications of the whole design.
   int runs = 0;
   double predicted_mean = 0.0;
@@ -72,7 +80,8 @@ struct DemoReport {
   std::vector<ObserverFit> fits;  // probe, drill
   double weber_stiffness = 0.0, weber_removal = 0.0;
   double spread_stiffness = 0.0, spread_removal = 0.0;
-  std::vector<std::string> best_subjects;  // labels, PVC study
+  std::vector<std::string> best_subjects;         // labels, PVC study
+  std::vector<std::string> association_subjects;  // labels, PVC study
   std::vector<DemoRow> rows;
   std::vector<std::string> figures;  // PNG paths
   int rendered = 0;                  // simulator intervals rendered

@@ -1,15 +1,19 @@
 // `burrlab demo`: the chapter 13 study re-run end to end. The full default
 // run is what `make demo` shows: the fitted experiment (PVC vs bone, both
 // tasks) lands within the dissertation's SEM, the Pettigrew rows carry a
-// prediction and a verdict, the figures and the summary are written, and a
+// prediction and a verdict, the association design (§13.5.2) is compared with
+// its published 9.4 +- 0.4, the figures and the summary are written, and a
 // second run replaces its own earlier results but never another folder.
 #include "cli/demo_command.h"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "../results_schema/temp_dir.h"
 #include "run_cli.h"
@@ -38,6 +42,7 @@ TEST(Demo, ReproducesThePvcScoresAndPredictsPettigrew) {
   EXPECT_THAT(run.out, HasSubstr("9.3 +- 0.4, p=0.001 (n 20)"));
   EXPECT_THAT(run.out, HasSubstr("9.6 +- 0.5, p=0.001 (n 20)"));
   EXPECT_THAT(run.out, HasSubstr("not different (n 12)"));
+  EXPECT_THAT(run.out, HasSubstr("9.4 +- 0.4, p=0.0001 (n 5)"));
   std::ifstream in(out / "demo.json");
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
   ASSERT_TRUE(j.is_object());
@@ -49,12 +54,15 @@ TEST(Demo, ReproducesThePvcScoresAndPredictsPettigrew) {
   EXPECT_EQ(j["sessions_share_renderings"], false);
   EXPECT_THAT(run.out, HasSubstr("every session rendered its own intervals"));
 #endif
-  ASSERT_EQ(j["rows"].size(), 4u);
+  ASSERT_EQ(j["rows"].size(), 5u);
   ASSERT_EQ(j["best_subjects"].size(), 12u);
+  ASSERT_EQ(j["association_subjects"].size(), 5u);
   for (const auto& row : j["rows"]) {
     const bool pvc = row["study"] == "PVC vs bone";
-    EXPECT_EQ(row["simulated_study"]["subjects"], pvc ? 20 : 12);
-    EXPECT_EQ(row["trials"], 12);
+    const bool association = row["study"] == "Real Pettigrew";
+    EXPECT_EQ(row["simulated_study"]["subjects"],
+              pvc ? 20 : (association ? 5 : 12));
+    EXPECT_EQ(row["trials"], association ? 10 : 12);
 #ifndef __SANITIZE_ADDRESS__
     EXPECT_EQ(row["predicted"]["runs"], 200);
     if (pvc) {
@@ -73,7 +81,16 @@ TEST(Demo, ReproducesThePvcScoresAndPredictsPettigrew) {
       EXPECT_LT(row["simulated_study"]["p_one_sided"].get<double>(), 0.001);
     }
 #endif
-    if (!pvc) {
+    if (association) {
+      // §13.5.2: a number to compare with, and a verdict on it.
+      EXPECT_EQ(row["dissertation"]["mean"], 9.4);
+      EXPECT_EQ(row["block"], "association");
+      const double off = row["predicted"]["mean"].get<double>() - 9.4;
+      EXPECT_EQ(row["verdict"],
+                std::abs(off) <= 0.4
+                    ? std::string("within its SEM")
+                    : fmt::format("outside its SEM ({:+.2f})", off));
+    } else if (!pvc) {
       EXPECT_TRUE(row["dissertation"]["mean"].is_null());
       const double p_sig = row["predicted"]["p_significant"];
       EXPECT_EQ(row["verdict"], p_sig >= 0.5
@@ -84,7 +101,7 @@ TEST(Demo, ReproducesThePvcScoresAndPredictsPettigrew) {
   for (const auto& png : j["figures"]) {
     EXPECT_GT(std::filesystem::file_size(png.get<std::string>()), 5000u) << png;
   }
-  EXPECT_EQ(j["figures"].size(), 5u);
+  EXPECT_EQ(j["figures"].size(), 6u);
   // The studies are ordinary results folders.
   const CliRun scores =
       RunBurrlab({"analyze", "scores", (out / "pettigrew_vs_bone").string()});

@@ -74,7 +74,8 @@ struct ErosionVisitor {
   Moments* reuse = nullptr;
   double* reuse_budget_mm3 = nullptr;
   glm::dvec3 reuse_centre_vox{0.0};
-  double unit_mm3 = 0.0;  // volume of one occupancy unit
+  double inverse_r2 = 0.0;  // 1 / radius_vox^2
+  double unit_mm3 = 0.0;    // volume of one occupancy unit
   double voxel_mm = 0.0;
   std::int64_t removed_units = 0;
 
@@ -118,6 +119,23 @@ struct ErosionVisitor {
 
   internal::BlockAction OnBlock(const internal::BlockView& b) {
     if (b.level > kThinningLevel) return internal::BlockAction::kRefine;
+    boost::random::uniform_01<double> uniform;
+    // Bounds of p_max below without its square root and division (f = 1 -
+    // d^2/R^2 to within rounding, widened as in the candidates' bound). Where
+    // they show that the block is thinned and that its first skip passes it
+    // (see below), p_max itself is never needed.
+    const double f_approx = 1.0 - b.dmin2_vox2 * inverse_r2;
+    const double p_scale = rate_per_step * max_factor * kSolidOccupancy;
+    const double p_high = p_scale * (f_approx + 1e-9) * (1.0 + 1e-6);
+    const double p_low = p_scale * (f_approx - 1e-9) * (1.0 - 1e-6);
+    double first_x = -1.0;  // the first skip's 1 - u once drawn
+    if (p_low >= 1e-9 && p_high < 0.5) {
+      first_x = 1.0 - uniform(*rng);
+      // keep^count falls with p: the bound from p_high is the smaller.
+      if (FirstSkipPassesBlock(first_x, 1.0 - p_high, 3 * b.level)) {
+        return internal::BlockAction::kAccept;
+      }
+    }
     const double p_max = std::min(
         1.0, rate_per_step * max_factor *
                  ErosionShape(b.DminVox() / radius_vox) * kSolidOccupancy);
@@ -135,14 +153,13 @@ struct ErosionVisitor {
     // double>(p_max)'s draws, computed as it does (the same uniform, the same
     // log(1 - p_max), the same quotient; the quotient is >= 0, so truncation
     // is its floor): byte-identical to drawing from it.
-    boost::random::uniform_01<double> uniform;
     const double keep = 1.0 - p_max;
     // Most blocks get no candidate: the first skip already passes the block,
     // i.e. x = 1 - u <= keep^count. Where x is clearly below keep^count (by
     // far more than the logarithm's and the division's rounding can move the
     // quotient, see FirstSkipPassesBlock) the block is done without a
     // logarithm; otherwise the skip is computed as boost computes it.
-    const double first_x = 1.0 - uniform(*rng);
+    if (first_x < 0.0) first_x = 1.0 - uniform(*rng);
     if (FirstSkipPassesBlock(first_x, keep, 3 * b.level)) {
       return internal::BlockAction::kAccept;
     }
@@ -150,7 +167,6 @@ struct ErosionVisitor {
     const auto skip = [&](double x) {
       return static_cast<std::int64_t>(std::log(x) / log_keep);
     };
-    const double inverse_r2 = 1.0 / (radius_vox * radius_vox);
     for (std::int64_t n = skip(first_x); n < count;
          n += 1 + skip(1.0 - uniform(*rng))) {
       const int cell = static_cast<int>(n);
@@ -427,6 +443,7 @@ void Step(const Model& model, State& state, const Input& input,
                            alpha * scale * model.dt_s,
                            state.max_erosion_factor_};
     erosion.centre_vox = input.position_mm / v;
+    erosion.inverse_r2 = 1.0 / (erosion.radius_vox * erosion.radius_vox);
     if (reusing && state.reuse_reach_mm_ > 0.0) {
       erosion.reuse = &state.reuse_moments_;
       erosion.reuse_budget_mm3 = &state.reuse_budget_mm3_;

@@ -59,12 +59,18 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
   int top = 0;
   const int levels = std::min(tree.levels(), kMaxLevels);
   const std::array<int, 3> n = {volume.nx(), volume.ny(), volume.nz()};
-  // Each level's blocks and extents, looked up once per walk.
-  std::array<const MomentOctree::Node*, kMaxLevels + 1> level_nodes{};
-  std::array<std::array<int, 3>, kMaxLevels + 1> level_blocks{};
-  for (int l = 1; l <= levels; ++l) {
-    level_nodes[l] = tree.LevelNodes(l);
-    level_blocks[l] = {tree.BlocksX(l), tree.BlocksY(l), tree.BlocksZ(l)};
+  // Start where a block spans the sphere's box, so at most 2 blocks per axis
+  // are needed.
+  int start = 1;
+  while (start < levels && (1 << start) < 2.0 * outer_vox + 1.0) ++start;
+  // The blocks and extents of the levels the walk visits (start and below),
+  // looked up once per walk; the entries above start are never read.
+  std::array<const MomentOctree::Node*, kMaxLevels + 1> level_nodes;
+  std::array<std::array<int, 3>, kMaxLevels + 1> level_blocks;
+  for (int l = 1; l <= start; ++l) {
+    level_nodes[static_cast<std::size_t>(l)] = tree.LevelNodes(l);
+    level_blocks[static_cast<std::size_t>(l)] = {
+        tree.BlocksX(l), tree.BlocksY(l), tree.BlocksZ(l)};
   }
   const double outer2_vox2 = outer_vox * outer_vox;
   // Squared distances from the centre to the nearest and the farthest voxel
@@ -98,10 +104,6 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
       stack[top++] = {level, x, y, z, node, dmin2, sx.far2 + sy.far2 + sz.far2};
     }
   };
-  // Start where a block spans the sphere's box, so at most 2 blocks per axis
-  // are needed.
-  int start = 1;
-  while (start < levels && (1 << start) < 2.0 * outer_vox + 1.0) ++start;
   std::array<int, 3> lo_b{}, hi_b{};
   const std::array<int, 3>& nb = level_blocks[start];
   for (int a = 0; a < 3; ++a) {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <glm/vec3.hpp>
@@ -43,22 +44,68 @@ template <typename Visitor>
 void WalkSphere(const MomentOctree& tree, const Volume& volume,
                 const glm::dvec3& centre_vox, double outer_vox,
                 Visitor& visitor) noexcept {
+  // A block on the stack has mass and reaches into the sphere: both are
+  // checked before it is pushed, so a block the walk would drop costs no push
+  // and no pop (erosion changes only the blocks below the one being visited,
+  // never a block waiting on the stack, so the checks hold until its turn).
   struct Item {
     int level, bx, by, bz;
+    const MomentOctree::Node* node;
+    double dmin2_vox2, dmax2_vox2;
   };
   constexpr int kStackSize = 256;
+  constexpr int kMaxLevels = 32;
   std::array<Item, kStackSize> stack;
   int top = 0;
-  const int levels = tree.levels();
+  const int levels = std::min(tree.levels(), kMaxLevels);
   const std::array<int, 3> n = {volume.nx(), volume.ny(), volume.nz()};
   // Start where a block spans the sphere's box, so at most 2 blocks per axis
   // are needed.
-  const double outer2_vox2 = outer_vox * outer_vox;
   int start = 1;
   while (start < levels && (1 << start) < 2.0 * outer_vox + 1.0) ++start;
+  // The blocks and extents of the levels the walk visits (start and below),
+  // looked up once per walk; the entries above start are never read.
+  std::array<const MomentOctree::Node*, kMaxLevels + 1> level_nodes;
+  std::array<std::array<int, 3>, kMaxLevels + 1> level_blocks;
+  for (int l = 1; l <= start; ++l) {
+    level_nodes[static_cast<std::size_t>(l)] = tree.LevelNodes(l);
+    level_blocks[static_cast<std::size_t>(l)] = {
+        tree.BlocksX(l), tree.BlocksY(l), tree.BlocksZ(l)};
+  }
+  const double outer2_vox2 = outer_vox * outer_vox;
+  // Squared distances from the centre to the nearest and the farthest voxel
+  // centre of block b (level l) along axis a.
+  struct AxisSpan {
+    double near2, far2;
+  };
+  const auto span = [&](int a, int b, int size) {
+    const double lo = b * size + 0.5;
+    const double hi = std::min((b + 1) * size, n[a]) - 0.5;
+    const double c = centre_vox[a];
+    const double near = c < lo ? lo - c : (c > hi ? c - hi : 0.0);
+    const double far = std::max(std::abs(c - lo), std::abs(c - hi));
+    return AxisSpan{near * near, far * far};
+  };
+  // Pushes block (level, x, y, z) with its axis spans if it has mass and
+  // reaches into the sphere.
+  const auto push = [&](int level, int x, int y, int z, const AxisSpan& sx,
+                        const AxisSpan& sy, const AxisSpan& sz) {
+    const double dmin2 = sx.near2 + sy.near2 + sz.near2;
+    if (dmin2 >= outer2_vox2) return;
+    const auto& d = level_blocks[level];
+    const MomentOctree::Node* node =
+        level_nodes[level] +
+        ((static_cast<std::size_t>(z) * static_cast<std::size_t>(d[1]) +
+          static_cast<std::size_t>(y)) *
+             static_cast<std::size_t>(d[0]) +
+         static_cast<std::size_t>(x));
+    if (node->m0 == 0) return;
+    if (top < kStackSize) {
+      stack[top++] = {level, x, y, z, node, dmin2, sx.far2 + sy.far2 + sz.far2};
+    }
+  };
   std::array<int, 3> lo_b{}, hi_b{};
-  const std::array<int, 3> nb = {tree.BlocksX(start), tree.BlocksY(start),
-                                 tree.BlocksZ(start)};
+  const std::array<int, 3>& nb = level_blocks[start];
   for (int a = 0; a < 3; ++a) {
     const double lo = std::floor(centre_vox[a] - outer_vox);
     const double hi = std::floor(centre_vox[a] + outer_vox);
@@ -67,60 +114,83 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
     hi_b[a] = std::min(nb[a] - 1,
                        static_cast<int>(std::min(hi, n[a] - 1.0)) >> start);
   }
-  for (int bz = lo_b[2]; bz <= hi_b[2]; ++bz)
-    for (int by = lo_b[1]; by <= hi_b[1]; ++by)
+  const int start_size = 1 << start;
+  for (int bz = lo_b[2]; bz <= hi_b[2]; ++bz) {
+    const AxisSpan sz = span(2, bz, start_size);
+    for (int by = lo_b[1]; by <= hi_b[1]; ++by) {
+      const AxisSpan sy = span(1, by, start_size);
       for (int bx = lo_b[0]; bx <= hi_b[0]; ++bx)
-        stack[top++] = {start, bx, by, bz};
+        push(start, bx, by, bz, span(0, bx, start_size), sy, sz);
+    }
+  }
 
+  const std::uint8_t* occupancy = volume.occupancy();
+  const std::size_t stride_y = static_cast<std::size_t>(n[0]);
+  const std::size_t stride_z = stride_y * static_cast<std::size_t>(n[1]);
   while (top > 0) {
     const Item item = stack[--top];
-    if (item.level == 0)
-      continue;  // not used: voxels are visited directly below
-    const MomentOctree::Node& node =
-        tree.At(item.level, item.bx, item.by, item.bz);
-    if (node.m0 == 0) continue;
-    const int size = 1 << item.level;
-    const std::array<int, 3> b = {item.bx, item.by, item.bz};
-    double dmin2 = 0.0, dmax2 = 0.0;
-    for (int a = 0; a < 3; ++a) {
-      const double lo = b[a] * size + 0.5;
-      const double hi = std::min((b[a] + 1) * size, n[a]) - 0.5;
-      const double c = centre_vox[a];
-      const double near = c < lo ? lo - c : (c > hi ? c - hi : 0.0);
-      const double far = std::max(std::abs(c - lo), std::abs(c - hi));
-      dmin2 += near * near;
-      dmax2 += far * far;
-    }
-    if (dmin2 >= outer2_vox2) continue;
-    const BlockView view{item.level, item.bx, item.by, item.bz,
-                         &node,      dmin2,   dmax2};
+    const BlockView view{item.level, item.bx,         item.by,        item.bz,
+                         item.node,  item.dmin2_vox2, item.dmax2_vox2};
     const BlockAction action = visitor.OnBlock(view);
     if (action != BlockAction::kRefine) continue;
+    const int x0 = 2 * item.bx, y0 = 2 * item.by, z0 = 2 * item.bz;
     if (item.level == 1) {
-      for (int s = 0; s < 8; ++s) {
-        const int i = 2 * item.bx + (s & 1), j = 2 * item.by + ((s >> 1) & 1),
-                  k = 2 * item.bz + ((s >> 2) & 1);
-        if (i >= n[0] || j >= n[1] || k >= n[2]) continue;
-        const std::uint8_t occupancy =
-            volume.occupancy()[volume.Index(i, j, k)];
-        if (occupancy == 0) continue;
-        const glm::dvec3 offset(i + 0.5 - centre_vox.x, j + 0.5 - centre_vox.y,
-                                k + 0.5 - centre_vox.z);
-        const double d2 =
-            offset.x * offset.x + offset.y * offset.y + offset.z * offset.z;
-        if (d2 >= outer2_vox2) continue;
-        visitor.OnVoxel(i, j, k, occupancy, offset, d2);
+      // The block's 8 voxels, x fastest.
+      const std::array<double, 2> ox = {x0 + 0.5 - centre_vox.x,
+                                        (x0 + 1) + 0.5 - centre_vox.x};
+      const std::array<double, 2> oy = {y0 + 0.5 - centre_vox.y,
+                                        (y0 + 1) + 0.5 - centre_vox.y};
+      const std::array<double, 2> oz = {z0 + 0.5 - centre_vox.z,
+                                        (z0 + 1) + 0.5 - centre_vox.z};
+      const std::array<double, 2> ox2 = {ox[0] * ox[0], ox[1] * ox[1]};
+      const std::array<double, 2> oy2 = {oy[0] * oy[0], oy[1] * oy[1]};
+      const std::array<double, 2> oz2 = {oz[0] * oz[0], oz[1] * oz[1]};
+      const std::uint8_t* base = occupancy + volume.Index(x0, y0, z0);
+      const std::array<bool, 2> in_x = {true, x0 + 1 < n[0]};
+      const std::array<bool, 2> in_y = {true, y0 + 1 < n[1]};
+      const std::array<bool, 2> in_z = {true, z0 + 1 < n[2]};
+      // Which voxels hold mass with their centre inside the sphere, found
+      // without a branch per voxel (their pattern is as good as random to the
+      // branch predictor), then visited in order.
+      std::array<std::uint8_t, 8> o{};
+      std::array<double, 8> d2{};
+      unsigned visit = 0;
+      for (std::size_t s = 0; s < 8; ++s) {
+        const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
+        const bool inside = in_x[dx] & in_y[dy] & in_z[dz];
+        o[s] =
+            inside ? base[dx + dy * stride_y + dz * stride_z] : std::uint8_t{0};
+        d2[s] = ox2[dx] + oy2[dy] + oz2[dz];
+        visit |= static_cast<unsigned>((o[s] != 0) & (d2[s] < outer2_vox2))
+                 << s;
+      }
+      while (visit != 0) {
+        const auto s = static_cast<std::size_t>(std::countr_zero(visit));
+        visit &= visit - 1;
+        const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
+        visitor.OnVoxel(x0 + static_cast<int>(dx), y0 + static_cast<int>(dy),
+                        z0 + static_cast<int>(dz), o[s],
+                        glm::dvec3(ox[dx], oy[dy], oz[dz]), d2[s]);
       }
       continue;
     }
+    // The children, pushed in octant order so that they are visited from
+    // the last octant to the first.
     const int child_level = item.level - 1;
-    const int cbx = tree.BlocksX(child_level), cby = tree.BlocksY(child_level),
-              cbz = tree.BlocksZ(child_level);
+    const int child_size = 1 << child_level;
+    const std::array<int, 3>& cb = level_blocks[child_level];
+    const std::array<AxisSpan, 2> sx = {span(0, x0, child_size),
+                                        span(0, x0 + 1, child_size)};
+    const std::array<AxisSpan, 2> sy = {span(1, y0, child_size),
+                                        span(1, y0 + 1, child_size)};
+    const std::array<AxisSpan, 2> sz = {span(2, z0, child_size),
+                                        span(2, z0 + 1, child_size)};
     for (int s = 0; s < 8; ++s) {
-      const int x = 2 * item.bx + (s & 1), y = 2 * item.by + ((s >> 1) & 1),
-                z = 2 * item.bz + ((s >> 2) & 1);
-      if (x >= cbx || y >= cby || z >= cbz) continue;
-      if (top < kStackSize) stack[top++] = {child_level, x, y, z};
+      const int dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
+      const int x = x0 + dx, y = y0 + dy, z = z0 + dz;
+      if (x >= cb[0] || y >= cb[1] || z >= cb[2]) continue;
+      push(child_level, x, y, z, sx[static_cast<std::size_t>(dx)],
+           sy[static_cast<std::size_t>(dy)], sz[static_cast<std::size_t>(dz)]);
     }
   }
 }

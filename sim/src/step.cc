@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <boost/random/bernoulli_distribution.hpp>
-#include <boost/random/geometric_distribution.hpp>
 #include <boost/random/uniform_01.hpp>
 #include <cmath>
 #include <numbers>
@@ -33,6 +32,21 @@ double ErosionShape(double r_over_r) {
   return r_over_r < 1.0 ? 1.0 - r_over_r * r_over_r : 0.0;
 }
 
+// Whether the first geometric skip of parameter p = 1 - keep (boost's
+// floor(log(x) / log(keep)), x = 1 - u) is at least 2^count_log2, i.e. passes
+// a block of that many voxels, decided without a logarithm where that is
+// certain: exactly when ln x / ln keep >= count; it holds with a margin when
+// x <= keep^count (1 - 1e-10), keep^count here by repeated squaring (relative
+// error under 2^count_log2 ulp, 64 ulp for a block of 4^3). The margin stands
+// for a quotient above count (1 + 1e-12) for any keep >= 1/2 (p < 1/2, the
+// thinning's range), far more than the logarithms (< 1 ulp in glibc) and the
+// division can take off. False means: compute the skip.
+bool FirstSkipPassesBlock(double x, double keep, int count_log2) {
+  double power = keep;
+  for (int s = 0; s < count_log2; ++s) power *= power;
+  return x <= power * (1.0 - 1e-10);
+}
+
 // Russian-roulette erosion (§7.3.2): each voxel with its centre inside the burr
 // loses on average lambda * occupancy units per step, lambda = alpha k f(r/R) w
 // dt, with k the voxel's erosion factor and w its overlap fraction with the
@@ -48,6 +62,8 @@ double ErosionShape(double r_over_r) {
 struct ErosionVisitor {
   // Blocks of up to 2^kThinningLevel voxels per axis are sampled by thinning.
   static constexpr int kThinningLevel = 2;
+  // FirstSkipPassesBlock's margin holds for blocks of up to 4^3 voxels.
+  static_assert(kThinningLevel <= 2);
   Volume* volume;
   MomentOctree* octree;
   boost::random::mt19937* rng;
@@ -58,7 +74,8 @@ struct ErosionVisitor {
   Moments* reuse = nullptr;
   double* reuse_budget_mm3 = nullptr;
   glm::dvec3 reuse_centre_vox{0.0};
-  double unit_mm3 = 0.0;  // volume of one occupancy unit
+  double inverse_r2 = 0.0;  // 1 / radius_vox^2
+  double unit_mm3 = 0.0;    // volume of one occupancy unit
   double voxel_mm = 0.0;
   std::int64_t removed_units = 0;
 
@@ -102,6 +119,23 @@ struct ErosionVisitor {
 
   internal::BlockAction OnBlock(const internal::BlockView& b) {
     if (b.level > kThinningLevel) return internal::BlockAction::kRefine;
+    boost::random::uniform_01<double> uniform;
+    // Bounds of p_max below without its square root and division (f = 1 -
+    // d^2/R^2 to within rounding, widened as in the candidates' bound). Where
+    // they show that the block is thinned and that its first skip passes it
+    // (see below), p_max itself is never needed.
+    const double f_approx = 1.0 - b.dmin2_vox2 * inverse_r2;
+    const double p_scale = rate_per_step * max_factor * kSolidOccupancy;
+    const double p_high = p_scale * (f_approx + 1e-9) * (1.0 + 1e-6);
+    const double p_low = p_scale * (f_approx - 1e-9) * (1.0 - 1e-6);
+    double first_x = -1.0;  // the first skip's 1 - u once drawn
+    if (p_low >= 1e-9 && p_high < 0.5) {
+      first_x = 1.0 - uniform(*rng);
+      // keep^count falls with p: the bound from p_high is the smaller.
+      if (FirstSkipPassesBlock(first_x, 1.0 - p_high, 3 * b.level)) {
+        return internal::BlockAction::kAccept;
+      }
+    }
     const double p_max = std::min(
         1.0, rate_per_step * max_factor *
                  ErosionShape(b.DminVox() / radius_vox) * kSolidOccupancy);
@@ -115,9 +149,26 @@ struct ErosionVisitor {
     const int size = 1 << b.level;
     const int x0 = b.bx * size, y0 = b.by * size, z0 = b.bz * size;
     const std::int64_t count = std::int64_t{size} * size * size;
-    boost::random::geometric_distribution<std::int64_t, double> skip(p_max);
-    boost::random::uniform_01<double> uniform;
-    for (std::int64_t n = skip(*rng); n < count; n += 1 + skip(*rng)) {
+    // The skips are boost::random::geometric_distribution<std::int64_t,
+    // double>(p_max)'s draws, computed as it does (the same uniform, the same
+    // log(1 - p_max), the same quotient; the quotient is >= 0, so truncation
+    // is its floor): byte-identical to drawing from it.
+    const double keep = 1.0 - p_max;
+    // Most blocks get no candidate: the first skip already passes the block,
+    // i.e. x = 1 - u <= keep^count. Where x is clearly below keep^count (by
+    // far more than the logarithm's and the division's rounding can move the
+    // quotient, see FirstSkipPassesBlock) the block is done without a
+    // logarithm; otherwise the skip is computed as boost computes it.
+    if (first_x < 0.0) first_x = 1.0 - uniform(*rng);
+    if (FirstSkipPassesBlock(first_x, keep, 3 * b.level)) {
+      return internal::BlockAction::kAccept;
+    }
+    const double log_keep = std::log(keep);
+    const auto skip = [&](double x) {
+      return static_cast<std::int64_t>(std::log(x) / log_keep);
+    };
+    for (std::int64_t n = skip(first_x); n < count;
+         n += 1 + skip(1.0 - uniform(*rng))) {
       const int cell = static_cast<int>(n);
       const int i = x0 + (cell & (size - 1)),
                 j = y0 + ((cell >> b.level) & (size - 1)),
@@ -128,9 +179,21 @@ struct ErosionVisitor {
       if (occupancy == 0) continue;
       const double dx = i + 0.5 - centre_vox.x, dy = j + 0.5 - centre_vox.y,
                    dz = k + 0.5 - centre_vox.z;
-      const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      const double threshold = uniform(*rng) * p_max;
+      // The candidate is kept if threshold < p (Expected). Most are not, and
+      // an upper bound of p without the square root, the division and the
+      // lens shows it: p <= alpha dt k f occupancy with the overlap <= 1 and
+      // f = 1 - d^2 / R^2, the bound widened far beyond rounding (1e-9 in f,
+      // 1e-6 relative, against errors near 1e-15 and, for the lens, 1e-9).
+      const double factor =
+          rate_per_step * volume->ErosionFactor(volume->labels()[index]);
+      const double bound =
+          factor * occupancy * (1.0 - d2 * inverse_r2 + 1e-9) * (1.0 + 1e-6);
+      if (threshold >= bound) continue;
+      const double d = std::sqrt(d2);
       const double p = Expected(index, occupancy, d);
-      if (uniform(*rng) * p_max < p) Remove(i, j, k, index, occupancy, 1, d);
+      if (threshold < p) Remove(i, j, k, index, occupancy, 1, d);
     }
     return internal::BlockAction::kAccept;
   }
@@ -380,6 +443,7 @@ void Step(const Model& model, State& state, const Input& input,
                            alpha * scale * model.dt_s,
                            state.max_erosion_factor_};
     erosion.centre_vox = input.position_mm / v;
+    erosion.inverse_r2 = 1.0 / (erosion.radius_vox * erosion.radius_vox);
     if (reusing && state.reuse_reach_mm_ > 0.0) {
       erosion.reuse = &state.reuse_moments_;
       erosion.reuse_budget_mm3 = &state.reuse_budget_mm3_;

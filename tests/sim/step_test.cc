@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <glm/geometric.hpp>
@@ -185,6 +186,44 @@ TEST(Step, SameSeedGivesIdenticalVolumeAfterTenThousandDrillingSteps) {
   const std::vector<std::uint8_t> a = run(42), b = run(42), c = run(43);
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
+}
+
+// The erosion's random stream is part of the results (a seed replays a study
+// byte for byte), so a faster step must draw the same numbers in the same
+// order. The recorded values are those of the step that drew its thinning
+// skips from boost::random::geometric_distribution and computed every
+// candidate's rate (ea5b0d5), for a bone, a PVC and a rate high enough for
+// per-voxel draws near the burr centre; the fingerprint is FNV-1a of the
+// volume after 3000 steps.
+TEST(Step, DrillingReplaysTheRecordedErosionStream) {
+  struct Case {
+    double alpha_per_s;
+    std::uint64_t volume_fnv;
+    double force_z_n;
+  };
+  for (const Case& c : {Case{0.087, 0x8d9b475c86c81e5bULL, 8.9973209006988206},
+                        Case{0.296, 0x3acf23015a4e0425ULL, 8.4924726232148195},
+                        Case{2.0, 0xb98c54b879fc75c5ULL, 5.8159390574296932}}) {
+    const Model model = DrillModel(2.0, c.alpha_per_s);
+    State state = State::Create(model, SolidBelow(48, 24, 0.3, 12), 42).value();
+    Input input;
+    input.spindle_rad_s = glm::dvec3(0.0, 0.0, 2000.0);
+    Output out;
+    for (int s = 0; s < 3000; ++s) {
+      const double t = s * 1e-3;
+      input.position_mm =
+          glm::dvec3(7.0 + 2.0 * std::sin(t), 7.0 + 2.0 * std::cos(0.7 * t),
+                     3.6 + 2.0 - 0.6 - 0.5 * t);
+      Step(model, state, input, &out);
+    }
+    std::uint64_t fnv = 14695981039346656037ULL;
+    const Volume& v = state.volume();
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      fnv = (fnv ^ v.occupancy()[i]) * 1099511628211ULL;
+    }
+    EXPECT_EQ(fnv, c.volume_fnv) << "alpha " << c.alpha_per_s;
+    EXPECT_EQ(out.force_n.z, c.force_z_n) << "alpha " << c.alpha_per_s;
+  }
 }
 
 // After the sample moves up under the burr, the state's octree is the one a

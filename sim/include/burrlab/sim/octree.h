@@ -42,6 +42,8 @@ class MomentOctree {
     return nodes_[level - 1]
                  [(static_cast<std::size_t>(bz) * d[1] + by) * d[0] + bx];
   }
+  // The blocks of level l >= 1, x fastest then y then z (At's order).
+  const Node* LevelNodes(int level) const { return nodes_[level - 1].data(); }
   // Updates every ancestor of voxel (i, j, k) after its occupancy dropped by
   // `amount`.
   void OnVoxelDecrement(int i, int j, int k, int amount) noexcept;

@@ -48,7 +48,7 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
       "the dissertation's mean +- SEM, or the chance of a significant result "
       "with its finding.\n\n",
       r.rows.empty() ? 0 : r.rows[0].runs, kDemoAlpha);
-  out << fmt::format("{:<28}  {:<26}  {:<28}  {:<31}  {}\n", "study, block",
+  out << fmt::format("{:<28}  {:<26}  {:<28}  {:<39}  {}\n", "study, block",
                      "dissertation", "burrlab, expected", "burrlab, one study",
                      "agreement");
   for (const DemoRow& row : r.rows) {
@@ -63,7 +63,7 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
     const std::string predicted =
         fmt::format("{:.2f} (SD {:.2f}), P(sig) {:.2f}", row.predicted_mean,
                     row.predicted_sd, row.predicted_significant);
-    out << fmt::format("{:<28}  {:<26}  {:<28}  {:<31}  {}\n",
+    out << fmt::format("{:<28}  {:<26}  {:<28}  {:<39}  {}\n",
                        row.study + ", " + row.block, paper, predicted, study,
                        row.verdict);
   }

@@ -1568,6 +1568,7 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     f["weber_ci"] = {fit->weber_low, fit->weber_high};
     f["weber_spread"] = fit->weber_spread;
     f["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
+    f["published_probability"] = fit->published_probability;
     f["virtual_studies"] = fit->virtual_studies;
     f["notes"] = fit->notes;
     j["fits"].push_back(f);
@@ -1639,9 +1640,12 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
         options.base.lapse);
     out << fmt::format(
         "         population mean {:.2f}, SD {:.2f} ({} virtual subjects, {} "
-        "virtual studies)\n",
+        "virtual studies); P({} subjects report {} +- {}) = {:.3g}\n",
         f["fitted"]["mean"].get<double>(), f["fitted"]["sd"].get<double>(),
-        options.virtual_subjects, f["virtual_studies"].get<int>());
+        options.virtual_subjects, f["virtual_studies"].get<int>(),
+        f["observed"]["n"].get<int>(), f["observed"]["mean"].get<double>(),
+        f["observed"]["sem"].get<double>(),
+        f["published_probability"].get<double>());
     for (const Json& note : f["notes"]) {
       out << "note     " << note.get<std::string>() << '\n';
     }

@@ -4,11 +4,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <map>
 #include <optional>
+#include <string_view>
 #include <utility>
+#include <vector>
+
+#include "burrlab/analysis/published_scores.h"
 
 namespace burrlab::runner {
 namespace {
@@ -16,7 +21,20 @@ namespace {
 struct Moments {
   double mean = 0.0;
   double sd = 0.0;
+  std::vector<double> distribution;  // share of subjects scoring 0..trials
 };
+
+// Decimals of a number as written ("9.3": 1, "12": 0).
+int DecimalsOf(std::string_view value) {
+  const std::size_t dot = value.find('.');
+  if (dot == std::string_view::npos) return 0;
+  std::size_t digits = 0;
+  while (dot + 1 + digits < value.size() &&
+         std::isdigit(static_cast<unsigned char>(value[dot + 1 + digits]))) {
+    ++digits;
+  }
+  return static_cast<int>(digits);
+}
 
 class PopulationFitter {
  public:
@@ -77,6 +95,10 @@ class PopulationFitter {
     m.mean = sum / n;
     m.sd = n > 1 ? std::sqrt(std::max(0.0, (sum2 - sum * sum / n) / (n - 1)))
                  : 0.0;
+    m.distribution.assign(static_cast<std::size_t>(trials_) + 1, 0.0);
+    for (int c : block->correct) {
+      m.distribution[static_cast<std::size_t>(c)] += 1.0 / n;
+    }
     return m;
   }
 
@@ -175,6 +197,7 @@ class PopulationFitter {
 
 Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
   ObservedGroup g;
+  g.decimals = 0;
   bool mean = false, sem = false, n = false;
   const auto bad = [&] {
     return Error{fmt::format(
@@ -205,9 +228,11 @@ Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
     }
     if (key == "mean") {
       g.mean = v;
+      g.decimals = std::max(g.decimals, DecimalsOf(value));
       mean = true;
     } else if (key == "sem") {
       g.sem = v;
+      g.decimals = std::max(g.decimals, DecimalsOf(value));
       sem = true;
     } else if (key == "n" && v == std::floor(v) && v >= 2 && v <= 1e6) {
       g.n = static_cast<int>(v);
@@ -338,6 +363,17 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
   if (!fitted.ok()) return fitted.error();
   fit.fitted_mean = fitted->mean;
   fit.fitted_sd = fitted->sd;
+  // How likely the fitted population makes the publication itself.
+  {
+    double total = 0.0;
+    for (double p : fitted->distribution) total += p;
+    std::vector<double> p = fitted->distribution;
+    for (double& x : p) x /= total;  // exact sum for the check
+    Result<double> probability = analysis::PublishedScoresProbability(
+        p, {observed.mean, observed.sem, observed.n,
+            std::min(observed.decimals, 6)});
+    if (probability.ok()) fit.published_probability = *probability;
+  }
   fit.virtual_studies = fitter.evaluations();
   return fit;
 }

@@ -25,6 +25,8 @@ struct ObservedGroup {
   double sem = 0.0;   // standard error of the mean
   int n = 0;          // subjects
   std::string block;  // the block scored; empty: not said
+  int decimals = 1;   // the rounding of mean and sem as given (the most
+                      // decimals of the two)
 };
 
 // Parses "mean=9.3,sem=0.4,n=20" (keys in any order, all three required),
@@ -53,7 +55,11 @@ struct ObserverFit {
   double fitted_mean = 0.0;   // mean score of the fitted population
   double fitted_sd = 0.0;     // between-subject SD of its scores
   double observed_sd = 0.0;   // sem x sqrt(n)
-  int virtual_studies = 0;    // evaluations used
+  // The probability that n subjects of the fitted population report the
+  // observed mean +- SEM to its rounding (analysis::PublishedScoresProbability
+  // of the population's score distribution): the likelihood of the fit.
+  double published_probability = 0.0;
+  int virtual_studies = 0;  // evaluations used
   std::vector<std::string> notes;
 };
 

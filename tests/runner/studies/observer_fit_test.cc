@@ -88,6 +88,15 @@ TEST(ObserverFit, SpreadExplainsAnSdAboveTheBinomial) {
   EXPECT_GT(fit->weber_spread, 0.1);
   EXPECT_NEAR(fit->fitted_sd, 2.2, 0.25);
   EXPECT_NEAR(fit->fitted_mean, 9.0, 0.15);
+  // The likelihood tells the models apart: 20 subjects all alike (their SD
+  // about 1.5, binomial) rarely report an SD of 2.2 (SEM 0.49); the spread
+  // population reports it far more often.
+  options.fit_spread = false;
+  Result<ObserverFit> alike = FitObservers(protocol, observed, options, pool);
+  ASSERT_TRUE(alike.ok()) << alike.error().message;
+  RecordProperty("p_spread", std::to_string(fit->published_probability));
+  RecordProperty("p_alike", std::to_string(alike->published_probability));
+  EXPECT_GT(fit->published_probability, 5.0 * alike->published_probability);
 #endif
 }
 
@@ -97,6 +106,9 @@ TEST(ObserverFit, ObservedTextIsParsedStrictly) {
   EXPECT_EQ(g->mean, 9.3);
   EXPECT_EQ(g->sem, 0.4);
   EXPECT_EQ(g->n, 20);
+  EXPECT_EQ(g->decimals, 1);  // the rounding of the published numbers
+  EXPECT_EQ(ParseObservedGroup("mean=9.25,sem=0.4,n=20")->decimals, 2);
+  EXPECT_EQ(ParseObservedGroup("mean=9,sem=1,n=20")->decimals, 0);
   for (const std::string bad :
        {"mean=9.3,sem=0.4", "mean=9.3,sem=0,n=20", "mean=x,sem=0.4,n=20",
         "mean=9.3,sem=0.4,n=2.5", "mean=9.3;sem=0.4;n=20", "",

@@ -21,10 +21,11 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
   for (const ObserverFit& f : r.fits) {
     out << fmt::format(
         "  {:<6} {} cue: Weber {:.3g} [{:.3g}, {:.3g}] (95 %), spread {:.3g} "
-        "(SD of ln W); fitted mean {:.2f}, SD {:.2f}\n",
+        "(SD of ln W); fitted mean {:.2f}, SD {:.2f}; P(the published "
+        "result) {:.3g}\n",
         f.block, f.task == protocols::Task::kProbe ? "stiffness" : "removal",
         f.weber, f.weber_low, f.weber_high, f.weber_spread, f.fitted_mean,
-        f.fitted_sd);
+        f.fitted_sd, f.published_probability);
     for (const std::string& note : f.notes) {
       out << "         note: " << note << '\n';
     }

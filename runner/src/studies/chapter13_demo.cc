@@ -159,6 +159,7 @@ Json DemoReportJson(const DemoReport& r, const DemoOptions& o) {
                          {"weber_spread", f.weber_spread},
                          {"fitted_mean", f.fitted_mean},
                          {"fitted_sd", f.fitted_sd},
+                         {"published_probability", f.published_probability},
                          {"notes", f.notes}});
   }
   j["best_subjects"] = r.best_subjects;

@@ -1437,12 +1437,12 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       "exploration). With --predict, simulate another protocol with that "
       "population and report its predicted scores and power.",
       "burrlab analyze fit-observers"};
-  std::string protocol_path, predict_path, block, observer;
+  std::string protocol_path, predict_path, block, observer, variant_name;
   std::vector<std::string> observed_texts;
   ObserverFitOptions options;
   double lapse = 0.0, alpha = 0.05;
   int cue_samples = 8, runs = 200, predict_subjects = 0;
-  bool no_spread = false, json = false;
+  bool no_spread = false, json = false, compare_variants = false;
   FlagSet flags(&app);
   flags
       .AddText("--protocol", "the protocol the observed results come from",
@@ -1472,6 +1472,18 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                "fractions are what is fitted",
                &observer)
       ->type_name("SPEC");
+  flags
+      .AddText("--variant",
+               "a named observer model (fixed, differencing, likelihood, "
+               "likelihood_varied, likelihood_alike): its rule, exploration "
+               "and whether W spreads across subjects, over --observer",
+               &variant_name)
+      ->type_name("NAME");
+  flags.AddSwitch("--compare-variants",
+                  "fit every named observer model and compare them by how "
+                  "likely each makes the observed results (AIC, BIC); "
+                  "--predict then uses the best",
+                  &compare_variants);
   flags.AddNonNegative("--lapse", "lapse rate (default: the protocol's)", "",
                        &lapse);
   flags.AddInteger("--cue-samples",
@@ -1536,7 +1548,92 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     options.base = *spec;
   }
   if (flags.Given("--lapse")) options.base.lapse = lapse;
+  if (!variant_name.empty() && compare_variants) {
+    return Fail(err, "--variant and --compare-variants exclude each other");
+  }
   CuePool pool(cue_samples, 2.0, options.seed);
+  // Fits every observed block with `o`; the JSON of each fit into `out_fits`.
+  const auto fit_blocks =
+      [&](const ObserverFitOptions& o,
+          Json* out_fits) -> Result<std::vector<ObserverFit>> {
+    std::vector<ObserverFit> fitted;
+    for (const ObservedGroup& g : observed) {
+      Result<ObserverFit> fit = FitObservers(loaded->protocol, g, o, pool);
+      if (!fit.ok()) return fit.error();
+      fitted.push_back(*fit);
+      Json f;
+      f["block"] = fit->block;
+      f["cue"] = fit->task == protocols::Task::kProbe ? "stiffness" : "removal";
+      f["trials_per_subject"] = fit->trials_per_subject;
+      f["observed"] = {{"mean", g.mean},
+                       {"sem", g.sem},
+                       {"n", g.n},
+                       {"sd", fit->observed_sd}};
+      f["weber"] = fit->weber;
+      f["weber_ci"] = {fit->weber_low, fit->weber_high};
+      f["weber_spread"] = fit->weber_spread;
+      f["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
+      f["published_probability"] = fit->published_probability;
+      f["virtual_studies"] = fit->virtual_studies;
+      f["notes"] = fit->notes;
+      out_fits->push_back(f);
+    }
+    return fitted;
+  };
+  Json comparison = Json::array();
+  std::optional<std::vector<ObserverFit>> best_fits;
+  Json best_fits_json;
+  if (!variant_name.empty() || compare_variants) {
+    std::vector<ObserverVariant> variants;
+    if (compare_variants) {
+      variants.assign(std::begin(kObserverVariants),
+                      std::end(kObserverVariants));
+    } else {
+      Result<ObserverVariant> v = FindObserverVariant(variant_name);
+      if (!v.ok()) return Fail(err, "--variant: " + v.error().message);
+      variants.push_back(*v);
+    }
+    int subjects = 0;
+    for (const ObservedGroup& g : observed) subjects += g.n;
+    double best_aic = std::numeric_limits<double>::infinity();
+    ProgressBar bar(err, static_cast<int>(variants.size()));
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+      const ObserverVariant& v = variants[i];
+      bar.Update(static_cast<int>(i), fmt::format("fitting {}", v.name));
+      ObserverFitOptions o = options;
+      o.base = VariantObserver(v, options.base);
+      o.fit_spread = v.spread && !no_spread;
+      Json fits_json = Json::array();
+      Result<std::vector<ObserverFit>> fitted = fit_blocks(o, &fits_json);
+      if (!fitted.ok()) {
+        return Fail(err, "analyze fit-observers: " + fitted.error().message);
+      }
+      double log_likelihood = 0.0;
+      for (const ObserverFit& f : *fitted) {
+        log_likelihood += std::log(f.published_probability);
+      }
+      const int k = static_cast<int>(fitted->size()) * (o.fit_spread ? 2 : 1);
+      const double aic = 2.0 * k - 2.0 * log_likelihood;
+      const double bic =
+          k * std::log(static_cast<double>(subjects)) - 2.0 * log_likelihood;
+      comparison.push_back({{"variant", std::string(v.name)},
+                            {"parameters", k},
+                            {"log_likelihood", log_likelihood},
+                            {"aic", aic},
+                            {"bic", bic}});
+      if (!best_fits.has_value() || aic < best_aic) {
+        best_aic = aic;
+        best_fits = *fitted;
+        best_fits_json = fits_json;
+        options.base = o.base;
+        options.fit_spread = o.fit_spread;
+      }
+    }
+    bar.Update(static_cast<int>(variants.size()), "variants fitted");
+    for (Json& c : comparison) {
+      c["delta_aic"] = c["aic"].get<double>() - best_aic;
+    }
+  }
   std::vector<ObserverFit> fits;
   Json j;
   j["protocol"] = protocol_path;
@@ -1553,25 +1650,16 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       {"subject_speed_spread", e.subject_speed_spread}};
   j["virtual_subjects"] = options.virtual_subjects;
   j["fits"] = Json::array();
-  for (const ObservedGroup& g : observed) {
-    Result<ObserverFit> fit = FitObservers(loaded->protocol, g, options, pool);
-    if (!fit.ok())
-      return Fail(err, "analyze fit-observers: " + fit.error().message);
-    fits.push_back(*fit);
-    Json f;
-    f["block"] = fit->block;
-    f["cue"] = fit->task == protocols::Task::kProbe ? "stiffness" : "removal";
-    f["trials_per_subject"] = fit->trials_per_subject;
-    f["observed"] = {
-        {"mean", g.mean}, {"sem", g.sem}, {"n", g.n}, {"sd", fit->observed_sd}};
-    f["weber"] = fit->weber;
-    f["weber_ci"] = {fit->weber_low, fit->weber_high};
-    f["weber_spread"] = fit->weber_spread;
-    f["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
-    f["published_probability"] = fit->published_probability;
-    f["virtual_studies"] = fit->virtual_studies;
-    f["notes"] = fit->notes;
-    j["fits"].push_back(f);
+  if (best_fits.has_value()) {
+    fits = *best_fits;
+    j["fits"] = best_fits_json;
+    j["variants"] = comparison;
+  } else {
+    Result<std::vector<ObserverFit>> fitted = fit_blocks(options, &j["fits"]);
+    if (!fitted.ok()) {
+      return Fail(err, "analyze fit-observers: " + fitted.error().message);
+    }
+    fits = *fitted;
   }
   std::vector<std::string> population_notes;
   Result<VirtualStudyOptions> population =
@@ -1612,6 +1700,26 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   if (json) {
     out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
     return 0;
+  }
+  if (j.contains("variants") && j["variants"].size() > 1) {
+    Json sorted = j["variants"];
+    std::stable_sort(sorted.begin(), sorted.end(),
+                     [](const Json& a, const Json& b) {
+                       return a["aic"].get<double>() < b["aic"].get<double>();
+                     });
+    out << "observer variants (each fitted to the observed means and SDs; "
+           "ln L: log probability of the observed results at that fit):\n";
+    out << fmt::format("  {:<18} {:>2} {:>9} {:>8} {:>8} {:>7}\n", "variant",
+                       "k", "ln L", "AIC", "BIC", "dAIC");
+    for (const Json& v : sorted) {
+      out << fmt::format(
+          "  {:<18} {:>2} {:>9.3f} {:>8.2f} {:>8.2f} {:>7.2f}\n",
+          v["variant"].get<std::string>(), v["parameters"].get<int>(),
+          v["log_likelihood"].get<double>(), v["aic"].get<double>(),
+          v["bic"].get<double>(), v["delta_aic"].get<double>());
+    }
+    out << fmt::format("best: {} (below)\n",
+                       sorted.front()["variant"].get<std::string>());
   }
   out << fmt::format(
       "observer rule {}{}, exploration {}\n",

@@ -246,6 +246,29 @@ Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
   return g;
 }
 
+Result<ObserverVariant> FindObserverVariant(std::string_view name) {
+  std::string names;
+  for (const ObserverVariant& v : kObserverVariants) {
+    if (v.name == name) return v;
+    names += (names.empty() ? "" : ", ") + std::string(v.name);
+  }
+  return Error{
+      fmt::format("no observer variant \"{}\" (variants: {})", name, names)};
+}
+
+protocols::ObserverParams VariantObserver(const ObserverVariant& variant,
+                                          protocols::ObserverParams base) {
+  base.rule = variant.rule;
+  const protocols::ExplorationSpreads spreads =
+      variant.varied_exploration ? protocols::kVariedExploration
+                                 : protocols::ExplorationSpreads{};
+  base.exploration.force_spread = spreads.force;
+  base.exploration.speed_spread = spreads.speed;
+  base.exploration.subject_force_spread = spreads.subject_force;
+  base.exploration.subject_speed_spread = spreads.subject_speed;
+  return base;
+}
+
 Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
                                  const ObservedGroup& observed,
                                  const ObserverFitOptions& options,

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "burrlab/base/result.h"
@@ -62,6 +63,34 @@ struct ObserverFit {
   int virtual_studies = 0;  // evaluations used
   std::vector<std::string> notes;
 };
+
+// Observer models `analyze fit-observers` fits and compares by name
+// (--variant, --compare-variants): a same-different decision rule, how the
+// simulated hand explores, and whether the Weber fraction spreads across
+// subjects. Each fits one Weber fraction per observed block (the block's cue)
+// and, with `spread`, its spread; the rest (lapse, criterion, bias) stays at
+// the protocol's [observer] values.
+struct ObserverVariant {
+  std::string_view name;
+  protocols::SameDifferentRule rule;
+  bool varied_exploration;  // kVariedExploration (§12.3), else every
+                            // interval alike
+  bool spread;              // fit the spread of W across subjects
+};
+inline constexpr ObserverVariant kObserverVariants[] = {
+    {"fixed", protocols::SameDifferentRule::kFixed, false, true},
+    {"differencing", protocols::SameDifferentRule::kDifferencing, false, true},
+    {"likelihood", protocols::SameDifferentRule::kLikelihood, false, true},
+    {"likelihood_varied", protocols::SameDifferentRule::kLikelihood, true,
+     true},
+    {"likelihood_alike", protocols::SameDifferentRule::kLikelihood, false,
+     false},
+};
+// The variant named `name`, or an error listing the names.
+Result<ObserverVariant> FindObserverVariant(std::string_view name);
+// `base` with the variant's rule and exploration.
+protocols::ObserverParams VariantObserver(const ObserverVariant& variant,
+                                          protocols::ObserverParams base);
 
 // Search range of W.
 inline constexpr double kMinWeber = 0.01;

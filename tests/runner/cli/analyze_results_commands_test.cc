@@ -1005,6 +1005,46 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
   EXPECT_EQ(model["observer"]["bias"], 0.3);
   EXPECT_EQ(model["observer"]["force_spread"], 0.1);
   EXPECT_EQ(model["observer"]["subject_force_spread"], 0.0);
+  // Named variants, compared by the likelihood of the observed result: an SD
+  // of 2.2 (SEM 0.49) from 20 subjects needs a spread of W, so the variant
+  // whose subjects are all alike comes last.
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=probe2afc,mean=9,sem=0.49,n=20",
+                    "--cue-samples", "1", "--virtual-subjects", "60", "--json",
+                    "--compare-variants"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json compared = nlohmann::json::parse(run.out);
+  ASSERT_EQ(compared["variants"].size(), 5u);
+  double alike_aic = 0.0, best_aic = 1e300;
+  for (const nlohmann::json& v : compared["variants"]) {
+    const double aic = v["aic"].get<double>();
+    EXPECT_NEAR(aic,
+                2.0 * v["parameters"].get<int>() -
+                    2.0 * v["log_likelihood"].get<double>(),
+                1e-9);
+    EXPECT_NEAR(v["bic"].get<double>(),
+                v["parameters"].get<int>() * std::log(20.0) -
+                    2.0 * v["log_likelihood"].get<double>(),
+                1e-9);
+    EXPECT_GE(v["delta_aic"].get<double>(), 0.0);
+    best_aic = std::min(best_aic, aic);
+    if (v["variant"] == "likelihood_alike") {
+      alike_aic = aic;
+      EXPECT_EQ(v["parameters"], 1);
+    } else {
+      EXPECT_EQ(v["parameters"], 2);
+    }
+  }
+  EXPECT_GT(alike_aic, best_aic);
+  EXPECT_NE(compared["observer"]["rule"], "");
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
+                    "--variant", "optimal"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err,
+            "burrlab: --variant: no observer variant \"optimal\" (variants: "
+            "fixed, differencing, likelihood, likelihood_varied, "
+            "likelihood_alike)\n");
   run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
                     "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
                     "--observer", "simulated:rule=optimal"});

@@ -281,8 +281,10 @@ TEST(SameDifferentRules, BiasIsTheLogOddsTheObserverNeedsToSayDifferent) {
       "observer: bias must be in [-5, 5], got -6");
 }
 
-TEST(SameDifferentRules, ReadFromTheProtocolsObserverTable) {
-  const ParseOutcome outcome = ParseProtocol("p.toml", R"(
+// A PVC vs bone same-different protocol whose [observer] table holds
+// `observer` (TOML lines).
+ParseOutcome ParseWithObserver(const std::string& observer) {
+  return ParseProtocol("p.toml", R"(
 format = "burrlab-protocol/1"
 [study]
 name = "t"
@@ -291,13 +293,17 @@ builtin = "pvc_k70"
 [materials.bone]
 builtin = "human_temporal_bone"
 [observer]
-rule = "likelihood"
+)" + observer + R"(
 [[blocks]]
 method = "same_different"
-task = "probe"
+task = "drill"
 a = "pvc"
 b = "bone"
 )");
+}
+
+TEST(SameDifferentRules, ReadFromTheProtocolsObserverTable) {
+  const ParseOutcome outcome = ParseWithObserver("rule = \"likelihood\"");
   ASSERT_TRUE(outcome.protocol.has_value());
   EXPECT_EQ(ObserverParamsFrom(outcome.protocol->observer).rule,
             SameDifferentRule::kLikelihood);
@@ -931,24 +937,7 @@ TEST(Exploration, SubjectFactorsFollowTheWeberDrawInThePopulationStream) {
 }
 
 TEST(Exploration, ReadFromTheProtocolsObserverTable) {
-  auto parse = [](const std::string& observer) {
-    return ParseProtocol("p.toml", R"(
-format = "burrlab-protocol/1"
-[study]
-name = "t"
-[materials.pvc]
-builtin = "pvc_k70"
-[materials.bone]
-builtin = "human_temporal_bone"
-[observer]
-)" + observer + R"(
-[[blocks]]
-method = "same_different"
-task = "drill"
-a = "pvc"
-b = "bone"
-)");
-  };
+  const auto parse = ParseWithObserver;
   const ParseOutcome varied = parse("exploration = \"varied\"");
   ASSERT_TRUE(varied.protocol.has_value());
   const ObserverParams p = ObserverParamsFrom(varied.protocol->observer);

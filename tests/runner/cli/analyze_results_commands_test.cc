@@ -1010,7 +1010,7 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
   // whose subjects are all alike comes last.
   run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
                     "--observed", "block=probe2afc,mean=9,sem=0.49,n=20",
-                    "--cue-samples", "1", "--virtual-subjects", "60", "--json",
+                    "--cue-samples", "1", "--virtual-subjects", "20", "--json",
                     "--compare-variants"});
   ASSERT_EQ(run.code, 0) << run.err;
   const nlohmann::json compared = nlohmann::json::parse(run.out);

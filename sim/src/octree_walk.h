@@ -39,7 +39,10 @@ struct BlockView {
 // d2_vox2), with d2_vox2 the squared distance of the voxel centre (a visitor
 // takes the square root only where it needs the distance itself).
 // Blocks with zero mass or with dmin >= outer_vox are skipped before the
-// visitor sees them; so are voxels.
+// visitor sees them; so are voxels, and, for a visitor that has the optional
+// bool Ignores(std::uint8_t occupancy, double d2_vox2) const, the voxels for
+// which it returns true (voxels whose OnVoxel would do nothing, dropped without
+// a call or a branch of their own).
 template <typename Visitor>
 void WalkSphere(const MomentOctree& tree, const Volume& volume,
                 const glm::dvec3& centre_vox, double outer_vox,
@@ -161,8 +164,11 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
         o[s] =
             inside ? base[dx + dy * stride_y + dz * stride_z] : std::uint8_t{0};
         d2[s] = ox2[dx] + oy2[dy] + oz2[dz];
-        visit |= static_cast<unsigned>((o[s] != 0) & (d2[s] < outer2_vox2))
-                 << s;
+        bool wanted = (o[s] != 0) & (d2[s] < outer2_vox2);
+        if constexpr (requires { visitor.Ignores(o[s], d2[s]); }) {
+          wanted &= !visitor.Ignores(o[s], d2[s]);
+        }
+        visit |= static_cast<unsigned>(wanted) << s;
       }
       while (visit != 0) {
         const auto s = static_cast<std::size_t>(std::countr_zero(visit));

@@ -180,23 +180,49 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
       }
       continue;
     }
-    // The children, pushed in octant order so that they are visited from
-    // the last octant to the first.
+    // The children, pushed in octant order (x fastest, then y, then z) so
+    // that they are visited from the last octant to the first. A child x0 + 1
+    // (likewise y, z) exists only inside the level; x0 always does (a block's
+    // first child is inside the level below).
     const int child_level = item.level - 1;
     const int child_size = 1 << child_level;
     const std::array<int, 3>& cb = level_blocks[child_level];
-    const std::array<AxisSpan, 2> sx = {span(0, x0, child_size),
-                                        span(0, x0 + 1, child_size)};
-    const std::array<AxisSpan, 2> sy = {span(1, y0, child_size),
-                                        span(1, y0 + 1, child_size)};
-    const std::array<AxisSpan, 2> sz = {span(2, z0, child_size),
-                                        span(2, z0 + 1, child_size)};
-    for (int s = 0; s < 8; ++s) {
-      const int dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
-      const int x = x0 + dx, y = y0 + dy, z = z0 + dz;
-      if (x >= cb[0] || y >= cb[1] || z >= cb[2]) continue;
-      push(child_level, x, y, z, sx[static_cast<std::size_t>(dx)],
-           sy[static_cast<std::size_t>(dy)], sz[static_cast<std::size_t>(dz)]);
+    const int cx = x0 + 1 < cb[0] ? 2 : 1;
+    const int cy = y0 + 1 < cb[1] ? 2 : 1;
+    const int cz = z0 + 1 < cb[2] ? 2 : 1;
+    std::array<AxisSpan, 2> sx, sy, sz;
+    for (int c = 0; c < cx; ++c) sx[c] = span(0, x0 + c, child_size);
+    for (int c = 0; c < cy; ++c) sy[c] = span(1, y0 + c, child_size);
+    for (int c = 0; c < cz; ++c) sz[c] = span(2, z0 + c, child_size);
+    const std::size_t node_y = static_cast<std::size_t>(cb[0]);
+    const std::size_t node_z = node_y * static_cast<std::size_t>(cb[1]);
+    const MomentOctree::Node* first =
+        level_nodes[child_level] +
+        ((static_cast<std::size_t>(z0) * static_cast<std::size_t>(cb[1]) +
+          static_cast<std::size_t>(y0)) *
+             node_y +
+         static_cast<std::size_t>(x0));
+    for (int dz = 0; dz < cz; ++dz) {
+      for (int dy = 0; dy < cy; ++dy) {
+        for (int dx = 0; dx < cx; ++dx) {
+          const double dmin2 = sx[dx].near2 + sy[dy].near2 + sz[dz].near2;
+          if (dmin2 >= outer2_vox2) continue;
+          const MomentOctree::Node* node =
+              first + (static_cast<std::size_t>(dx) +
+                       static_cast<std::size_t>(dy) * node_y +
+                       static_cast<std::size_t>(dz) * node_z);
+          if (node->m0 == 0) continue;
+          if (top < kStackSize) {
+            stack[top++] = {child_level,
+                            x0 + dx,
+                            y0 + dy,
+                            z0 + dz,
+                            node,
+                            dmin2,
+                            sx[dx].far2 + sy[dy].far2 + sz[dz].far2};
+          }
+        }
+      }
     }
   }
 }

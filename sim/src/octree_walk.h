@@ -130,6 +130,50 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
   const std::uint8_t* occupancy = volume.occupancy();
   const std::size_t stride_y = static_cast<std::size_t>(n[0]);
   const std::size_t stride_z = stride_y * static_cast<std::size_t>(n[1]);
+  // The voxels of a level-1 block the visitor refines, first voxel (x0, y0,
+  // z0).
+  const auto visit_voxels = [&](int x0, int y0, int z0) {
+    // The block's 8 voxels, x fastest.
+    const std::array<double, 2> ox = {x0 + 0.5 - centre_vox.x,
+                                      (x0 + 1) + 0.5 - centre_vox.x};
+    const std::array<double, 2> oy = {y0 + 0.5 - centre_vox.y,
+                                      (y0 + 1) + 0.5 - centre_vox.y};
+    const std::array<double, 2> oz = {z0 + 0.5 - centre_vox.z,
+                                      (z0 + 1) + 0.5 - centre_vox.z};
+    const std::array<double, 2> ox2 = {ox[0] * ox[0], ox[1] * ox[1]};
+    const std::array<double, 2> oy2 = {oy[0] * oy[0], oy[1] * oy[1]};
+    const std::array<double, 2> oz2 = {oz[0] * oz[0], oz[1] * oz[1]};
+    const std::uint8_t* base = occupancy + volume.Index(x0, y0, z0);
+    const std::array<bool, 2> in_x = {true, x0 + 1 < n[0]};
+    const std::array<bool, 2> in_y = {true, y0 + 1 < n[1]};
+    const std::array<bool, 2> in_z = {true, z0 + 1 < n[2]};
+    // Which voxels hold mass with their centre inside the sphere, found
+    // without a branch per voxel (their pattern is as good as random to the
+    // branch predictor), then visited in order.
+    std::array<std::uint8_t, 8> o{};
+    std::array<double, 8> d2{};
+    unsigned visit = 0;
+    for (std::size_t s = 0; s < 8; ++s) {
+      const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
+      const bool inside = in_x[dx] & in_y[dy] & in_z[dz];
+      o[s] =
+          inside ? base[dx + dy * stride_y + dz * stride_z] : std::uint8_t{0};
+      d2[s] = ox2[dx] + oy2[dy] + oz2[dz];
+      bool wanted = (o[s] != 0) & (d2[s] < outer2_vox2);
+      if constexpr (requires { visitor.Ignores(o[s], d2[s]); }) {
+        wanted &= !visitor.Ignores(o[s], d2[s]);
+      }
+      visit |= static_cast<unsigned>(wanted) << s;
+    }
+    while (visit != 0) {
+      const auto s = static_cast<std::size_t>(std::countr_zero(visit));
+      visit &= visit - 1;
+      const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
+      visitor.OnVoxel(x0 + static_cast<int>(dx), y0 + static_cast<int>(dy),
+                      z0 + static_cast<int>(dz), o[s],
+                      glm::dvec3(ox[dx], oy[dy], oz[dz]), d2[s]);
+    }
+  };
   while (top > 0) {
     const Item item = stack[--top];
     const BlockView view{item.level, item.bx,         item.by,        item.bz,
@@ -138,46 +182,7 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
     if (action != BlockAction::kRefine) continue;
     const int x0 = 2 * item.bx, y0 = 2 * item.by, z0 = 2 * item.bz;
     if (item.level == 1) {
-      // The block's 8 voxels, x fastest.
-      const std::array<double, 2> ox = {x0 + 0.5 - centre_vox.x,
-                                        (x0 + 1) + 0.5 - centre_vox.x};
-      const std::array<double, 2> oy = {y0 + 0.5 - centre_vox.y,
-                                        (y0 + 1) + 0.5 - centre_vox.y};
-      const std::array<double, 2> oz = {z0 + 0.5 - centre_vox.z,
-                                        (z0 + 1) + 0.5 - centre_vox.z};
-      const std::array<double, 2> ox2 = {ox[0] * ox[0], ox[1] * ox[1]};
-      const std::array<double, 2> oy2 = {oy[0] * oy[0], oy[1] * oy[1]};
-      const std::array<double, 2> oz2 = {oz[0] * oz[0], oz[1] * oz[1]};
-      const std::uint8_t* base = occupancy + volume.Index(x0, y0, z0);
-      const std::array<bool, 2> in_x = {true, x0 + 1 < n[0]};
-      const std::array<bool, 2> in_y = {true, y0 + 1 < n[1]};
-      const std::array<bool, 2> in_z = {true, z0 + 1 < n[2]};
-      // Which voxels hold mass with their centre inside the sphere, found
-      // without a branch per voxel (their pattern is as good as random to the
-      // branch predictor), then visited in order.
-      std::array<std::uint8_t, 8> o{};
-      std::array<double, 8> d2{};
-      unsigned visit = 0;
-      for (std::size_t s = 0; s < 8; ++s) {
-        const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
-        const bool inside = in_x[dx] & in_y[dy] & in_z[dz];
-        o[s] =
-            inside ? base[dx + dy * stride_y + dz * stride_z] : std::uint8_t{0};
-        d2[s] = ox2[dx] + oy2[dy] + oz2[dz];
-        bool wanted = (o[s] != 0) & (d2[s] < outer2_vox2);
-        if constexpr (requires { visitor.Ignores(o[s], d2[s]); }) {
-          wanted &= !visitor.Ignores(o[s], d2[s]);
-        }
-        visit |= static_cast<unsigned>(wanted) << s;
-      }
-      while (visit != 0) {
-        const auto s = static_cast<std::size_t>(std::countr_zero(visit));
-        visit &= visit - 1;
-        const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
-        visitor.OnVoxel(x0 + static_cast<int>(dx), y0 + static_cast<int>(dy),
-                        z0 + static_cast<int>(dz), o[s],
-                        glm::dvec3(ox[dx], oy[dy], oz[dz]), d2[s]);
-      }
+      visit_voxels(x0, y0, z0);
       continue;
     }
     // The children, pushed in octant order (x fastest, then y, then z) so
@@ -202,6 +207,38 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
           static_cast<std::size_t>(y0)) *
              node_y +
          static_cast<std::size_t>(x0));
+    if (child_level == 1) {
+      // Level-1 children are visited here, from the last octant to the
+      // first, as they would be popped had they been pushed: a child's
+      // visit pushes nothing, and erosion changes only the block being
+      // visited, never a sibling's mass (the stack, at most 7 per level
+      // below the start and 8 at the start, never fills, so no child would
+      // have been dropped).
+      for (int dz = cz - 1; dz >= 0; --dz) {
+        for (int dy = cy - 1; dy >= 0; --dy) {
+          for (int dx = cx - 1; dx >= 0; --dx) {
+            const double dmin2 = sx[dx].near2 + sy[dy].near2 + sz[dz].near2;
+            if (dmin2 >= outer2_vox2) continue;
+            const MomentOctree::Node* node =
+                first + (static_cast<std::size_t>(dx) +
+                         static_cast<std::size_t>(dy) * node_y +
+                         static_cast<std::size_t>(dz) * node_z);
+            if (node->m0 == 0) continue;
+            const BlockView child{1,
+                                  x0 + dx,
+                                  y0 + dy,
+                                  z0 + dz,
+                                  node,
+                                  dmin2,
+                                  sx[dx].far2 + sy[dy].far2 + sz[dz].far2};
+            if (visitor.OnBlock(child) == BlockAction::kRefine) {
+              visit_voxels(2 * (x0 + dx), 2 * (y0 + dy), 2 * (z0 + dz));
+            }
+          }
+        }
+      }
+      continue;
+    }
     for (int dz = 0; dz < cz; ++dz) {
       for (int dy = 0; dy < cy; ++dy) {
         for (int dx = 0; dx < cx; ++dx) {

@@ -174,6 +174,77 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
                       glm::dvec3(ox[dx], oy[dy], oz[dz]), d2[s]);
     }
   };
+  // The children of the block whose first child is (x0, y0, z0) at
+  // child_level: which exist (x0 always does, x0 + 1 only inside the level;
+  // likewise y, z), their axis spans and the first child's node.
+  struct Children {
+    int cx, cy, cz;
+    std::array<AxisSpan, 2> sx, sy, sz;
+    std::size_t node_y, node_z;
+    const MomentOctree::Node* first;
+    double Dmin2(int dx, int dy, int dz) const {
+      return sx[dx].near2 + sy[dy].near2 + sz[dz].near2;
+    }
+    double Dmax2(int dx, int dy, int dz) const {
+      return sx[dx].far2 + sy[dy].far2 + sz[dz].far2;
+    }
+    const MomentOctree::Node* Node(int dx, int dy, int dz) const {
+      return first + (static_cast<std::size_t>(dx) +
+                      static_cast<std::size_t>(dy) * node_y +
+                      static_cast<std::size_t>(dz) * node_z);
+    }
+  };
+  const auto children = [&](int child_level, int x0, int y0, int z0) {
+    const int child_size = 1 << child_level;
+    const std::array<int, 3>& cb = level_blocks[child_level];
+    Children c;
+    c.cx = x0 + 1 < cb[0] ? 2 : 1;
+    c.cy = y0 + 1 < cb[1] ? 2 : 1;
+    c.cz = z0 + 1 < cb[2] ? 2 : 1;
+    for (int i = 0; i < c.cx; ++i) c.sx[i] = span(0, x0 + i, child_size);
+    for (int i = 0; i < c.cy; ++i) c.sy[i] = span(1, y0 + i, child_size);
+    for (int i = 0; i < c.cz; ++i) c.sz[i] = span(2, z0 + i, child_size);
+    c.node_y = static_cast<std::size_t>(cb[0]);
+    c.node_z = c.node_y * static_cast<std::size_t>(cb[1]);
+    c.first = level_nodes[child_level] +
+              ((static_cast<std::size_t>(z0) * static_cast<std::size_t>(cb[1]) +
+                static_cast<std::size_t>(y0)) *
+                   c.node_y +
+               static_cast<std::size_t>(x0));
+    return c;
+  };
+  // Children at levels 1 and 2 are visited as soon as their parent is
+  // refined, from the last octant to the first, just as they would be popped
+  // had they been pushed in octant order: nothing is pushed while they are
+  // visited, and erosion changes only the block being visited and its
+  // ancestors, never a sibling's mass, so each child meets the same tests
+  // with the same values. (The stack, at most 7 blocks per level below the
+  // start and 8 at the start, never fills, so none would have been
+  // dropped.)
+  const auto visit_inline = [&](int child_level, int x0, int y0, int z0,
+                                const auto& refine) {
+    const Children c = children(child_level, x0, y0, z0);
+    for (int dz = c.cz - 1; dz >= 0; --dz) {
+      for (int dy = c.cy - 1; dy >= 0; --dy) {
+        for (int dx = c.cx - 1; dx >= 0; --dx) {
+          const double dmin2 = c.Dmin2(dx, dy, dz);
+          if (dmin2 >= outer2_vox2) continue;
+          const MomentOctree::Node* node = c.Node(dx, dy, dz);
+          if (node->m0 == 0) continue;
+          const BlockView child{
+              child_level,        x0 + dx, y0 + dy, z0 + dz, node, dmin2,
+              c.Dmax2(dx, dy, dz)};
+          if (visitor.OnBlock(child) == BlockAction::kRefine) {
+            refine(2 * (x0 + dx), 2 * (y0 + dy), 2 * (z0 + dz));
+          }
+        }
+      }
+    }
+  };
+  // The level-1 children of a level-2 block, first child (x0, y0, z0).
+  const auto visit_level1 = [&](int x0, int y0, int z0) {
+    visit_inline(1, x0, y0, z0, visit_voxels);
+  };
   while (top > 0) {
     const Item item = stack[--top];
     const BlockView view{item.level, item.bx,         item.by,        item.bz,
@@ -185,78 +256,29 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
       visit_voxels(x0, y0, z0);
       continue;
     }
-    // The children, pushed in octant order (x fastest, then y, then z) so
-    // that they are visited from the last octant to the first. A child x0 + 1
-    // (likewise y, z) exists only inside the level; x0 always does (a block's
-    // first child is inside the level below).
     const int child_level = item.level - 1;
-    const int child_size = 1 << child_level;
-    const std::array<int, 3>& cb = level_blocks[child_level];
-    const int cx = x0 + 1 < cb[0] ? 2 : 1;
-    const int cy = y0 + 1 < cb[1] ? 2 : 1;
-    const int cz = z0 + 1 < cb[2] ? 2 : 1;
-    std::array<AxisSpan, 2> sx, sy, sz;
-    for (int c = 0; c < cx; ++c) sx[c] = span(0, x0 + c, child_size);
-    for (int c = 0; c < cy; ++c) sy[c] = span(1, y0 + c, child_size);
-    for (int c = 0; c < cz; ++c) sz[c] = span(2, z0 + c, child_size);
-    const std::size_t node_y = static_cast<std::size_t>(cb[0]);
-    const std::size_t node_z = node_y * static_cast<std::size_t>(cb[1]);
-    const MomentOctree::Node* first =
-        level_nodes[child_level] +
-        ((static_cast<std::size_t>(z0) * static_cast<std::size_t>(cb[1]) +
-          static_cast<std::size_t>(y0)) *
-             node_y +
-         static_cast<std::size_t>(x0));
     if (child_level == 1) {
-      // Level-1 children are visited here, from the last octant to the
-      // first, as they would be popped had they been pushed: a child's
-      // visit pushes nothing, and erosion changes only the block being
-      // visited, never a sibling's mass (the stack, at most 7 per level
-      // below the start and 8 at the start, never fills, so no child would
-      // have been dropped).
-      for (int dz = cz - 1; dz >= 0; --dz) {
-        for (int dy = cy - 1; dy >= 0; --dy) {
-          for (int dx = cx - 1; dx >= 0; --dx) {
-            const double dmin2 = sx[dx].near2 + sy[dy].near2 + sz[dz].near2;
-            if (dmin2 >= outer2_vox2) continue;
-            const MomentOctree::Node* node =
-                first + (static_cast<std::size_t>(dx) +
-                         static_cast<std::size_t>(dy) * node_y +
-                         static_cast<std::size_t>(dz) * node_z);
-            if (node->m0 == 0) continue;
-            const BlockView child{1,
-                                  x0 + dx,
-                                  y0 + dy,
-                                  z0 + dz,
-                                  node,
-                                  dmin2,
-                                  sx[dx].far2 + sy[dy].far2 + sz[dz].far2};
-            if (visitor.OnBlock(child) == BlockAction::kRefine) {
-              visit_voxels(2 * (x0 + dx), 2 * (y0 + dy), 2 * (z0 + dz));
-            }
-          }
-        }
-      }
+      visit_level1(x0, y0, z0);
       continue;
     }
-    for (int dz = 0; dz < cz; ++dz) {
-      for (int dy = 0; dy < cy; ++dy) {
-        for (int dx = 0; dx < cx; ++dx) {
-          const double dmin2 = sx[dx].near2 + sy[dy].near2 + sz[dz].near2;
+    if (child_level == 2) {
+      visit_inline(2, x0, y0, z0, visit_level1);
+      continue;
+    }
+    // Higher children are pushed in octant order (x fastest, then y, then z)
+    // so that they are visited from the last octant to the first.
+    const Children c = children(child_level, x0, y0, z0);
+    for (int dz = 0; dz < c.cz; ++dz) {
+      for (int dy = 0; dy < c.cy; ++dy) {
+        for (int dx = 0; dx < c.cx; ++dx) {
+          const double dmin2 = c.Dmin2(dx, dy, dz);
           if (dmin2 >= outer2_vox2) continue;
-          const MomentOctree::Node* node =
-              first + (static_cast<std::size_t>(dx) +
-                       static_cast<std::size_t>(dy) * node_y +
-                       static_cast<std::size_t>(dz) * node_z);
+          const MomentOctree::Node* node = c.Node(dx, dy, dz);
           if (node->m0 == 0) continue;
           if (top < kStackSize) {
-            stack[top++] = {child_level,
-                            x0 + dx,
-                            y0 + dy,
-                            z0 + dz,
-                            node,
-                            dmin2,
-                            sx[dx].far2 + sy[dy].far2 + sz[dz].far2};
+            stack[top++] = {
+                child_level,        x0 + dx, y0 + dy, z0 + dz, node, dmin2,
+                c.Dmax2(dx, dy, dz)};
           }
         }
       }

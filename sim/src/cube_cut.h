@@ -32,6 +32,24 @@ inline double CutUnitCube(std::array<double, 3> a, double b) {
   }
   if (b <= 0.0) return 0.0;
   if (dims == 1) return std::min(b / a[0], 1.0);
+  if (dims == 3) {
+    // The general loop below for three dimensions, unrolled and without a
+    // branch per corner (whether a corner counts is as good as random to the
+    // branch predictor): a corner with t <= 0 adds max(t, 0)^3 = +-0, which
+    // leaves the sum as it was (the sum starts at +0 and is never -0), so the
+    // result is the loop's to the bit.
+    double sum = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+      double t = b;
+      if (corner & 1) t -= a[0];
+      if (corner & 2) t -= a[1];
+      if (corner & 4) t -= a[2];
+      const double m = std::max(t, 0.0);
+      const double power = m * m * m;
+      sum += ((corner ^ (corner >> 1) ^ (corner >> 2)) & 1) ? -power : power;
+    }
+    return sum / (6.0 * a[0] * a[1] * a[2]);
+  }
   double sum = 0.0;
   const int corners = 1 << dims;
   for (int corner = 0; corner < corners; ++corner) {
@@ -56,10 +74,17 @@ inline double CutUnitCube(std::array<double, 3> a, double b) {
 inline double CubeFractionBelow(const glm::dvec3& unit, double s_over_edge) {
   std::array<double, 3> a = {std::abs(unit.x), std::abs(unit.y),
                              std::abs(unit.z)};
-  // Descending, by three compare-exchanges (the same order std::sort gives).
-  if (a[0] < a[1]) std::swap(a[0], a[1]);
-  if (a[1] < a[2]) std::swap(a[1], a[2]);
-  if (a[0] < a[1]) std::swap(a[0], a[1]);
+  // Descending, by three compare-exchanges (the same order std::sort gives),
+  // each as a max and a min rather than a branch (the components are
+  // absolute values and finite, so the two give the same doubles).
+  const auto exchange = [&](std::size_t i, std::size_t j) {
+    const double hi = std::max(a[i], a[j]), lo = std::min(a[i], a[j]);
+    a[i] = hi;
+    a[j] = lo;
+  };
+  exchange(0, 1);
+  exchange(1, 2);
+  exchange(0, 1);
   const double total = a[0] + a[1] + a[2];
   // Corner form: u = w + 1/2 in [0, 1]^3, so a . u <= s + total / 2.
   const double b = s_over_edge + 0.5 * total;

@@ -208,13 +208,34 @@ struct MomentVisitor {
   // lies wholly inside the burr; -1 when no block can.
   double whole2_vox2;
   Moments moments;
+  // What OnBlock needs of the voxel size and of each level whose blocks it may
+  // take as partial blocks (2^level <= ell_vox), computed once per evaluation
+  // by the expressions OnBlock used per block (SetUp): the same values.
+  struct PartialLevel {
+    double side_mm, eta_block, sag, gradient_scale;
+  };
+  static constexpr int kMaxPartialLevel = 30;
+  double unit = 0.0;     // mm^3 per occupancy unit
+  double m1_unit = 0.0;  // mm^4 per occupancy unit x half-voxel
+  std::array<PartialLevel, kMaxPartialLevel + 1> partial_levels{};
+
+  void SetUp() {
+    unit = voxel_volume / kSolidOccupancy;
+    m1_unit = 0.5 * voxel_mm * unit;
+    for (int level = 1; level <= kMaxPartialLevel &&
+                        static_cast<double>(1 << level) <= ell_vox;
+         ++level) {
+      const double side_mm = static_cast<double>(1 << level) * voxel_mm;
+      partial_levels[static_cast<std::size_t>(level)] = {
+          side_mm, EqualVolumeSphereRadius(side_mm),
+          side_mm * side_mm / (12.0 * radius_mm), 12.0 / (side_mm * side_mm)};
+    }
+  }
 
   internal::BlockAction OnBlock(const internal::BlockView& b) {
     const double size_vox = static_cast<double>(1 << b.level);
     const bool whole = b.dmax2_vox2 <= whole2_vox2;
     if (!whole && size_vox > ell_vox) return internal::BlockAction::kRefine;
-    const double unit =
-        voxel_volume / kSolidOccupancy;  // mm^3 per occupancy unit
     const double m0 = static_cast<double>(b.node->m0) * unit;
     const glm::dvec3 m1_about_block(static_cast<double>(b.node->m1[0]),
                                     static_cast<double>(b.node->m1[1]),
@@ -227,7 +248,7 @@ struct MomentVisitor {
       // Every voxel sphere of the block lies inside the burr, even a moved
       // partial-volume voxel sphere (see AddVoxel): the exact block moments.
       moments.m0_mm3 += m0;
-      moments.m1_mm4 += m0 * rel_mm + m1_about_block * (0.5 * voxel_mm * unit);
+      moments.m1_mm4 += m0 * rel_mm + m1_about_block * m1_unit;
       return internal::BlockAction::kAccept;
     }
     // A block holding a sharp surface (of the bone or of an eroded cavity) is
@@ -256,27 +277,40 @@ struct MomentVisitor {
     // with the gradient implied by the block's first moment (for a cube of side
     // L, m1 = g V L^2 / 12); eq. 7.11 writes this correction as m1 . (R_c -
     // R_I), and the factor 12 / L^2 makes it dimensionally consistent.
-    const double side_mm = size_vox * voxel_mm;
-    const double eta_block = EqualVolumeSphereRadius(side_mm);
+    // (A block of a level with 2^level > ell_vox is refined above.)
+    const PartialLevel& pl = partial_levels[static_cast<std::size_t>(b.level)];
+    const double side_mm = pl.side_mm;
     const double d = std::sqrt(rel_mm.x * rel_mm.x + rel_mm.y * rel_mm.y +
                                rel_mm.z * rel_mm.z);
     if (d <= 0.0) return internal::BlockAction::kRefine;
-    const double sag = side_mm * side_mm / (12.0 * radius_mm);
-    const double fraction = internal::CubeFractionBelow(
-        rel_mm / d, (radius_mm - d - sag) / side_mm);
+    // The cut plane lies beyond the cube's far corner whatever the direction
+    // (its distance from the centre is at most sqrt(3)/2 of an edge), so that
+    // CubeFractionBelow would return 0: skipped before the direction's
+    // divisions, with a margin far beyond rounding.
+    const double below = radius_mm - d - pl.sag;
+    if (below < -0.8661 * side_mm) return internal::BlockAction::kSkip;
+    const double fraction =
+        internal::CubeFractionBelow(rel_mm / d, below / side_mm);
     if (fraction <= 0.0) return internal::BlockAction::kSkip;
     const glm::dvec3 centroid =
-        rel_mm * (LensCentroidDistance(d, radius_mm, eta_block) / d);
-    const glm::dvec3 m1_mm = m1_about_block * (0.5 * voxel_mm * unit);
+        rel_mm * (LensCentroidDistance(d, radius_mm, pl.eta_block) / d);
+    const glm::dvec3 m1_mm = m1_about_block * m1_unit;
     const glm::dvec3 from_block = centroid - rel_mm;
     const double gradient_term =
-        12.0 / (side_mm * side_mm) *
-        (m1_mm.x * from_block.x + m1_mm.y * from_block.y +
-         m1_mm.z * from_block.z);
+        pl.gradient_scale * (m1_mm.x * from_block.x + m1_mm.y * from_block.y +
+                             m1_mm.z * from_block.z);
     const double dm0 = std::clamp(fraction * (m0 + gradient_term), 0.0, m0);
     moments.m0_mm3 += dm0;
     moments.m1_mm4 += dm0 * centroid;
     return internal::BlockAction::kAccept;
+  }
+
+  // A solid voxel whose voxel sphere lies outside the burr adds nothing
+  // (AddVoxel, with d2_mm2 computed as OnVoxel computes it); near the contact
+  // disk most of the voxels the walk meets are such.
+  bool Ignores(std::uint8_t occupancy, double d2_vox2) const {
+    return (occupancy == kSolidOccupancy) &
+           (d2_vox2 * (voxel_mm * voxel_mm) >= sphere.outside2);
   }
 
   void OnVoxel(int i, int j, int k, std::uint8_t occupancy,
@@ -406,6 +440,7 @@ Moments ComputeMomentsOctree(const MomentOctree& octree, const Volume& volume,
           ? (radius_mm - 2.0 * eta) * (radius_mm - 2.0 * eta) / (v * v)
           : -1.0,
       Moments{}};
+  visitor.SetUp();
   internal::WalkSphere(octree, volume, centre_mm / v,
                        (radius_mm + 2.0 * eta) / v, visitor);
   return visitor.moments;

@@ -39,7 +39,10 @@ struct BlockView {
 // d2_vox2), with d2_vox2 the squared distance of the voxel centre (a visitor
 // takes the square root only where it needs the distance itself).
 // Blocks with zero mass or with dmin >= outer_vox are skipped before the
-// visitor sees them; so are voxels.
+// visitor sees them; so are voxels, and, for a visitor that has the optional
+// bool Ignores(std::uint8_t occupancy, double d2_vox2) const, the voxels for
+// which it returns true (voxels whose OnVoxel would do nothing, dropped without
+// a call or a branch of their own).
 template <typename Visitor>
 void WalkSphere(const MomentOctree& tree, const Volume& volume,
                 const glm::dvec3& centre_vox, double outer_vox,
@@ -127,6 +130,121 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
   const std::uint8_t* occupancy = volume.occupancy();
   const std::size_t stride_y = static_cast<std::size_t>(n[0]);
   const std::size_t stride_z = stride_y * static_cast<std::size_t>(n[1]);
+  // The voxels of a level-1 block the visitor refines, first voxel (x0, y0,
+  // z0).
+  const auto visit_voxels = [&](int x0, int y0, int z0) {
+    // The block's 8 voxels, x fastest.
+    const std::array<double, 2> ox = {x0 + 0.5 - centre_vox.x,
+                                      (x0 + 1) + 0.5 - centre_vox.x};
+    const std::array<double, 2> oy = {y0 + 0.5 - centre_vox.y,
+                                      (y0 + 1) + 0.5 - centre_vox.y};
+    const std::array<double, 2> oz = {z0 + 0.5 - centre_vox.z,
+                                      (z0 + 1) + 0.5 - centre_vox.z};
+    const std::array<double, 2> ox2 = {ox[0] * ox[0], ox[1] * ox[1]};
+    const std::array<double, 2> oy2 = {oy[0] * oy[0], oy[1] * oy[1]};
+    const std::array<double, 2> oz2 = {oz[0] * oz[0], oz[1] * oz[1]};
+    const std::uint8_t* base = occupancy + volume.Index(x0, y0, z0);
+    const std::array<bool, 2> in_x = {true, x0 + 1 < n[0]};
+    const std::array<bool, 2> in_y = {true, y0 + 1 < n[1]};
+    const std::array<bool, 2> in_z = {true, z0 + 1 < n[2]};
+    // Which voxels hold mass with their centre inside the sphere, found
+    // without a branch per voxel (their pattern is as good as random to the
+    // branch predictor), then visited in order.
+    std::array<std::uint8_t, 8> o{};
+    std::array<double, 8> d2{};
+    unsigned visit = 0;
+    for (std::size_t s = 0; s < 8; ++s) {
+      const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
+      const bool inside = in_x[dx] & in_y[dy] & in_z[dz];
+      o[s] =
+          inside ? base[dx + dy * stride_y + dz * stride_z] : std::uint8_t{0};
+      d2[s] = ox2[dx] + oy2[dy] + oz2[dz];
+      bool wanted = (o[s] != 0) & (d2[s] < outer2_vox2);
+      if constexpr (requires { visitor.Ignores(o[s], d2[s]); }) {
+        wanted &= !visitor.Ignores(o[s], d2[s]);
+      }
+      visit |= static_cast<unsigned>(wanted) << s;
+    }
+    while (visit != 0) {
+      const auto s = static_cast<std::size_t>(std::countr_zero(visit));
+      visit &= visit - 1;
+      const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
+      visitor.OnVoxel(x0 + static_cast<int>(dx), y0 + static_cast<int>(dy),
+                      z0 + static_cast<int>(dz), o[s],
+                      glm::dvec3(ox[dx], oy[dy], oz[dz]), d2[s]);
+    }
+  };
+  // The children of the block whose first child is (x0, y0, z0) at
+  // child_level: which exist (x0 always does, x0 + 1 only inside the level;
+  // likewise y, z), their axis spans and the first child's node.
+  struct Children {
+    int cx, cy, cz;
+    std::array<AxisSpan, 2> sx, sy, sz;
+    std::size_t node_y, node_z;
+    const MomentOctree::Node* first;
+    double Dmin2(int dx, int dy, int dz) const {
+      return sx[dx].near2 + sy[dy].near2 + sz[dz].near2;
+    }
+    double Dmax2(int dx, int dy, int dz) const {
+      return sx[dx].far2 + sy[dy].far2 + sz[dz].far2;
+    }
+    const MomentOctree::Node* Node(int dx, int dy, int dz) const {
+      return first + (static_cast<std::size_t>(dx) +
+                      static_cast<std::size_t>(dy) * node_y +
+                      static_cast<std::size_t>(dz) * node_z);
+    }
+  };
+  const auto children = [&](int child_level, int x0, int y0, int z0) {
+    const int child_size = 1 << child_level;
+    const std::array<int, 3>& cb = level_blocks[child_level];
+    Children c;
+    c.cx = x0 + 1 < cb[0] ? 2 : 1;
+    c.cy = y0 + 1 < cb[1] ? 2 : 1;
+    c.cz = z0 + 1 < cb[2] ? 2 : 1;
+    for (int i = 0; i < c.cx; ++i) c.sx[i] = span(0, x0 + i, child_size);
+    for (int i = 0; i < c.cy; ++i) c.sy[i] = span(1, y0 + i, child_size);
+    for (int i = 0; i < c.cz; ++i) c.sz[i] = span(2, z0 + i, child_size);
+    c.node_y = static_cast<std::size_t>(cb[0]);
+    c.node_z = c.node_y * static_cast<std::size_t>(cb[1]);
+    c.first = level_nodes[child_level] +
+              ((static_cast<std::size_t>(z0) * static_cast<std::size_t>(cb[1]) +
+                static_cast<std::size_t>(y0)) *
+                   c.node_y +
+               static_cast<std::size_t>(x0));
+    return c;
+  };
+  // Children at levels 1 and 2 are visited as soon as their parent is
+  // refined, from the last octant to the first, just as they would be popped
+  // had they been pushed in octant order: nothing is pushed while they are
+  // visited, and erosion changes only the block being visited and its
+  // ancestors, never a sibling's mass, so each child meets the same tests
+  // with the same values. (The stack, at most 7 blocks per level below the
+  // start and 8 at the start, never fills, so none would have been
+  // dropped.)
+  const auto visit_inline = [&](int child_level, int x0, int y0, int z0,
+                                const auto& refine) {
+    const Children c = children(child_level, x0, y0, z0);
+    for (int dz = c.cz - 1; dz >= 0; --dz) {
+      for (int dy = c.cy - 1; dy >= 0; --dy) {
+        for (int dx = c.cx - 1; dx >= 0; --dx) {
+          const double dmin2 = c.Dmin2(dx, dy, dz);
+          if (dmin2 >= outer2_vox2) continue;
+          const MomentOctree::Node* node = c.Node(dx, dy, dz);
+          if (node->m0 == 0) continue;
+          const BlockView child{
+              child_level,        x0 + dx, y0 + dy, z0 + dz, node, dmin2,
+              c.Dmax2(dx, dy, dz)};
+          if (visitor.OnBlock(child) == BlockAction::kRefine) {
+            refine(2 * (x0 + dx), 2 * (y0 + dy), 2 * (z0 + dz));
+          }
+        }
+      }
+    }
+  };
+  // The level-1 children of a level-2 block, first child (x0, y0, z0).
+  const auto visit_level1 = [&](int x0, int y0, int z0) {
+    visit_inline(1, x0, y0, z0, visit_voxels);
+  };
   while (top > 0) {
     const Item item = stack[--top];
     const BlockView view{item.level, item.bx,         item.by,        item.bz,
@@ -135,62 +253,35 @@ void WalkSphere(const MomentOctree& tree, const Volume& volume,
     if (action != BlockAction::kRefine) continue;
     const int x0 = 2 * item.bx, y0 = 2 * item.by, z0 = 2 * item.bz;
     if (item.level == 1) {
-      // The block's 8 voxels, x fastest.
-      const std::array<double, 2> ox = {x0 + 0.5 - centre_vox.x,
-                                        (x0 + 1) + 0.5 - centre_vox.x};
-      const std::array<double, 2> oy = {y0 + 0.5 - centre_vox.y,
-                                        (y0 + 1) + 0.5 - centre_vox.y};
-      const std::array<double, 2> oz = {z0 + 0.5 - centre_vox.z,
-                                        (z0 + 1) + 0.5 - centre_vox.z};
-      const std::array<double, 2> ox2 = {ox[0] * ox[0], ox[1] * ox[1]};
-      const std::array<double, 2> oy2 = {oy[0] * oy[0], oy[1] * oy[1]};
-      const std::array<double, 2> oz2 = {oz[0] * oz[0], oz[1] * oz[1]};
-      const std::uint8_t* base = occupancy + volume.Index(x0, y0, z0);
-      const std::array<bool, 2> in_x = {true, x0 + 1 < n[0]};
-      const std::array<bool, 2> in_y = {true, y0 + 1 < n[1]};
-      const std::array<bool, 2> in_z = {true, z0 + 1 < n[2]};
-      // Which voxels hold mass with their centre inside the sphere, found
-      // without a branch per voxel (their pattern is as good as random to the
-      // branch predictor), then visited in order.
-      std::array<std::uint8_t, 8> o{};
-      std::array<double, 8> d2{};
-      unsigned visit = 0;
-      for (std::size_t s = 0; s < 8; ++s) {
-        const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
-        const bool inside = in_x[dx] & in_y[dy] & in_z[dz];
-        o[s] =
-            inside ? base[dx + dy * stride_y + dz * stride_z] : std::uint8_t{0};
-        d2[s] = ox2[dx] + oy2[dy] + oz2[dz];
-        visit |= static_cast<unsigned>((o[s] != 0) & (d2[s] < outer2_vox2))
-                 << s;
-      }
-      while (visit != 0) {
-        const auto s = static_cast<std::size_t>(std::countr_zero(visit));
-        visit &= visit - 1;
-        const std::size_t dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
-        visitor.OnVoxel(x0 + static_cast<int>(dx), y0 + static_cast<int>(dy),
-                        z0 + static_cast<int>(dz), o[s],
-                        glm::dvec3(ox[dx], oy[dy], oz[dz]), d2[s]);
-      }
+      visit_voxels(x0, y0, z0);
       continue;
     }
-    // The children, pushed in octant order so that they are visited from
-    // the last octant to the first.
     const int child_level = item.level - 1;
-    const int child_size = 1 << child_level;
-    const std::array<int, 3>& cb = level_blocks[child_level];
-    const std::array<AxisSpan, 2> sx = {span(0, x0, child_size),
-                                        span(0, x0 + 1, child_size)};
-    const std::array<AxisSpan, 2> sy = {span(1, y0, child_size),
-                                        span(1, y0 + 1, child_size)};
-    const std::array<AxisSpan, 2> sz = {span(2, z0, child_size),
-                                        span(2, z0 + 1, child_size)};
-    for (int s = 0; s < 8; ++s) {
-      const int dx = s & 1, dy = (s >> 1) & 1, dz = (s >> 2) & 1;
-      const int x = x0 + dx, y = y0 + dy, z = z0 + dz;
-      if (x >= cb[0] || y >= cb[1] || z >= cb[2]) continue;
-      push(child_level, x, y, z, sx[static_cast<std::size_t>(dx)],
-           sy[static_cast<std::size_t>(dy)], sz[static_cast<std::size_t>(dz)]);
+    if (child_level == 1) {
+      visit_level1(x0, y0, z0);
+      continue;
+    }
+    if (child_level == 2) {
+      visit_inline(2, x0, y0, z0, visit_level1);
+      continue;
+    }
+    // Higher children are pushed in octant order (x fastest, then y, then z)
+    // so that they are visited from the last octant to the first.
+    const Children c = children(child_level, x0, y0, z0);
+    for (int dz = 0; dz < c.cz; ++dz) {
+      for (int dy = 0; dy < c.cy; ++dy) {
+        for (int dx = 0; dx < c.cx; ++dx) {
+          const double dmin2 = c.Dmin2(dx, dy, dz);
+          if (dmin2 >= outer2_vox2) continue;
+          const MomentOctree::Node* node = c.Node(dx, dy, dz);
+          if (node->m0 == 0) continue;
+          if (top < kStackSize) {
+            stack[top++] = {
+                child_level,        x0 + dx, y0 + dy, z0 + dz, node, dmin2,
+                c.Dmax2(dx, dy, dz)};
+          }
+        }
+      }
     }
   }
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "cube_cut.h"
@@ -235,7 +236,21 @@ struct MomentVisitor {
   internal::BlockAction OnBlock(const internal::BlockView& b) {
     const double size_vox = static_cast<double>(1 << b.level);
     const bool whole = b.dmax2_vox2 <= whole2_vox2;
-    if (!whole && size_vox > ell_vox) return internal::BlockAction::kRefine;
+    if (!whole && size_vox > ell_vox) {
+      // Where no level is taken as partial blocks (ell under 2 voxels), a
+      // wholly solid block whose nearest voxel centre lies beyond R + eta
+      // adds nothing: it would be refined down to voxels, each of which
+      // Ignores drops (every voxel's squared distance is at least the
+      // block's, rounding included, the sums being of the same non-negative
+      // terms or larger ones). Skipped rather than refined. (Levels above 18
+      // are left to the refinement: their full mass would overflow m0.)
+      if (ell_vox < 2.0 && b.level <= 18 &&
+          b.node->m0 == std::int64_t{kSolidOccupancy} << (3 * b.level) &&
+          b.dmin2_vox2 * (voxel_mm * voxel_mm) >= sphere.outside2) {
+        return internal::BlockAction::kSkip;
+      }
+      return internal::BlockAction::kRefine;
+    }
     const double m0 = static_cast<double>(b.node->m0) * unit;
     const glm::dvec3 m1_about_block(static_cast<double>(b.node->m1[0]),
                                     static_cast<double>(b.node->m1[1]),

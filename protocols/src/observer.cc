@@ -276,12 +276,20 @@ Result<ObserverParams> ParseObserverSpec(std::string_view spec,
   }
   std::string_view rest =
       spec.size() > kHead.size() ? spec.substr(kHead.size() + 1) : "";
-  constexpr std::string_view kKeys[] = {
-      "weber",       "weber_stiffness", "weber_removal",
-      "lapse",       "criterion",       "bias",
-      "rt_median_s", "rule",            "always",
-      "exploration", "force_spread",    "speed_spread",
-      "subject_force_spread", "subject_speed_spread"};
+  constexpr std::string_view kKeys[] = {"weber",
+                                        "weber_stiffness",
+                                        "weber_removal",
+                                        "lapse",
+                                        "criterion",
+                                        "bias",
+                                        "rt_median_s",
+                                        "rule",
+                                        "always",
+                                        "exploration",
+                                        "force_spread",
+                                        "speed_spread",
+                                        "subject_force_spread",
+                                        "subject_speed_spread"};
   constexpr std::string_view kKeyList =
       "weber, weber_stiffness, weber_removal, lapse, criterion, bias, "
       "rt_median_s, rule, always, exploration, force_spread, speed_spread, "

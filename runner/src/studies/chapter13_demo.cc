@@ -331,62 +331,46 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
       totals[s] += b.subjects[s].correct;
     }
   }
-  const std::vector<int> best = BestSubjects(totals, options.best_subjects);
-  SimulatedStudyOptions pettigrew_study;
-  pettigrew_study.out_dir = options.out_dir / kDemoPettigrewDir;
-  pettigrew_study.seed = protocols::SeedFor(
-      options.seed, protocols::StreamPurpose::kSubjectSeed, 1ull << 42);
-  pettigrew_study.jobs = options.jobs;
-  pettigrew_study.renderings = options.share_renderings ? &pool : nullptr;
-  for (int i : best) {
-    pettigrew_study.labels.push_back(
-        pvc_study.labels[static_cast<std::size_t>(i)]);
-    pettigrew_study.observers.push_back(
-        pvc_study.observers[static_cast<std::size_t>(i)]);
-  }
-  report.best_subjects = pettigrew_study.labels;
-  {
-    ProgressBar bar(progress, static_cast<int>(best.size()));
-    pettigrew_study.progress = [&](int done, const std::string& label) {
-      bar.Update(done, "Pettigrew vs bone: sub-" + label);
-    };
-    const SimulatedStudyResult r =
-        RunSimulatedStudy(pettigrew.value(), pettigrew_study);
-    for (const std::string& f : r.failures) {
-      if (!f.empty()) return Error{"Pettigrew vs bone study: " + f};
+  // A study the best `count` subjects of the PVC study run next (their labels
+  // into `labels`), analysed from its exports.
+  const auto follow_up = [&](const protocols::LoadedProtocol& protocol,
+                             const char* dir, std::uint64_t seed_index,
+                             int count, const std::string& name,
+                             std::vector<std::string>* labels)
+      -> Result<std::vector<analysis::BlockScores>> {
+    SimulatedStudyOptions study;
+    study.out_dir = options.out_dir / dir;
+    study.seed = protocols::SeedFor(
+        options.seed, protocols::StreamPurpose::kSubjectSeed, seed_index);
+    study.jobs = options.jobs;
+    study.renderings = options.share_renderings ? &pool : nullptr;
+    for (int i : BestSubjects(totals, count)) {
+      study.labels.push_back(pvc_study.labels[static_cast<std::size_t>(i)]);
+      study.observers.push_back(
+          pvc_study.observers[static_cast<std::size_t>(i)]);
     }
-  }
-  Result<std::vector<analysis::BlockScores>> pettigrew_scores =
-      Analyse(pettigrew_study.out_dir);
+    *labels = study.labels;
+    {
+      ProgressBar bar(progress, static_cast<int>(study.labels.size()));
+      study.progress = [&](int done, const std::string& label) {
+        bar.Update(done, name + ": sub-" + label);
+      };
+      const SimulatedStudyResult r = RunSimulatedStudy(protocol, study);
+      for (const std::string& f : r.failures) {
+        if (!f.empty()) return Error{name + " study: " + f};
+      }
+    }
+    return Analyse(study.out_dir);
+  };
+  Result<std::vector<analysis::BlockScores>> pettigrew_scores = follow_up(
+      pettigrew.value(), kDemoPettigrewDir, 1ull << 42, options.best_subjects,
+      "Pettigrew vs bone", &report.best_subjects);
   if (!pettigrew_scores.ok()) return pettigrew_scores.error();
   // §13.5.2 with subjects trained by the first experiment: its best 5.
-  SimulatedStudyOptions association_study;
-  association_study.out_dir = options.out_dir / kDemoAssociationDir;
-  association_study.seed = protocols::SeedFor(
-      options.seed, protocols::StreamPurpose::kSubjectSeed, 1ull << 45);
-  association_study.jobs = options.jobs;
-  association_study.renderings = options.share_renderings ? &pool : nullptr;
-  for (int i : BestSubjects(totals, options.association_subjects)) {
-    association_study.labels.push_back(
-        pvc_study.labels[static_cast<std::size_t>(i)]);
-    association_study.observers.push_back(
-        pvc_study.observers[static_cast<std::size_t>(i)]);
-  }
-  report.association_subjects = association_study.labels;
-  {
-    ProgressBar bar(progress,
-                    static_cast<int>(association_study.labels.size()));
-    association_study.progress = [&](int done, const std::string& label) {
-      bar.Update(done, "real vs simulated Pettigrew: sub-" + label);
-    };
-    const SimulatedStudyResult r =
-        RunSimulatedStudy(association.value(), association_study);
-    for (const std::string& f : r.failures) {
-      if (!f.empty()) return Error{"real vs simulated Pettigrew study: " + f};
-    }
-  }
   Result<std::vector<analysis::BlockScores>> association_scores =
-      Analyse(association_study.out_dir);
+      follow_up(association.value(), kDemoAssociationDir, 1ull << 45,
+                options.association_subjects, "real vs simulated Pettigrew",
+                &report.association_subjects);
   if (!association_scores.ok()) return association_scores.error();
 
   // 4. Virtual replications of the whole design: 20 subjects run PVC vs

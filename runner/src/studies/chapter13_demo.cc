@@ -377,6 +377,15 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   // bone, the best 12 of them Pettigrew vs bone and the best 5 the
   // association design.
   std::map<std::pair<std::string, std::string>, Tally> tallies;
+  const auto tally = [&](const char* study,
+                         const std::vector<VirtualBlock>& blocks) {
+    for (const VirtualBlock& b : blocks) {
+      const BlockStats st = StatsOf(b);
+      Tally& t = tallies[{study, b.block}];
+      t.means.push_back(st.mean);
+      t.significant += st.p < kDemoAlpha ? 1 : 0;
+    }
+  };
   {
     ProgressBar bar(progress, options.runs);
     for (int r = 0; r < options.runs; ++r) {
@@ -391,42 +400,36 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
       std::vector<int> sums(static_cast<std::size_t>(options.subjects), 0);
       for (const VirtualBlock& b : *first) {
         for (std::size_t s = 0; s < sums.size(); ++s) sums[s] += b.correct[s];
-        const BlockStats st = StatsOf(b);
-        Tally& t = tallies[{kPvcStudy, b.block}];
-        t.means.push_back(st.mean);
-        t.significant += st.p < kDemoAlpha ? 1 : 0;
       }
-      VirtualStudyOptions w = *population;
-      for (int i : BestSubjects(sums, options.best_subjects)) {
-        w.subject_observers.push_back(SubjectObserver(v, i));
+      tally(kPvcStudy, *first);
+      // The best `count` of this replication's subjects run `protocol`.
+      const auto virtual_follow_up = [&](const protocols::Protocol& protocol,
+                                         int count, std::uint64_t seed_index,
+                                         const char* study) -> Status {
+        VirtualStudyOptions w = *population;
+        for (int i : BestSubjects(sums, count)) {
+          w.subject_observers.push_back(SubjectObserver(v, i));
+        }
+        w.seed = protocols::SeedFor(options.seed,
+                                    protocols::StreamPurpose::kPopulation,
+                                    seed_index, static_cast<std::uint64_t>(r));
+        Result<std::vector<VirtualBlock>> blocks =
+            RunVirtualStudy(protocol, w, cues);
+        if (!blocks.ok()) return blocks.error();
+        tally(study, *blocks);
+        return {};
+      };
+      if (Status s =
+              virtual_follow_up(pettigrew->protocol, options.best_subjects,
+                                1ull << 44, kPettigrewStudy);
+          !s.ok()) {
+        return s.error();
       }
-      w.seed = protocols::SeedFor(options.seed,
-                                  protocols::StreamPurpose::kPopulation,
-                                  1ull << 44, static_cast<std::uint64_t>(r));
-      Result<std::vector<VirtualBlock>> second =
-          RunVirtualStudy(pettigrew->protocol, w, cues);
-      if (!second.ok()) return second.error();
-      for (const VirtualBlock& b : *second) {
-        const BlockStats st = StatsOf(b);
-        Tally& t = tallies[{kPettigrewStudy, b.block}];
-        t.means.push_back(st.mean);
-        t.significant += st.p < kDemoAlpha ? 1 : 0;
-      }
-      VirtualStudyOptions trained = *population;
-      for (int i : BestSubjects(sums, options.association_subjects)) {
-        trained.subject_observers.push_back(SubjectObserver(v, i));
-      }
-      trained.seed = protocols::SeedFor(
-          options.seed, protocols::StreamPurpose::kPopulation, 1ull << 45,
-          static_cast<std::uint64_t>(r));
-      Result<std::vector<VirtualBlock>> third =
-          RunVirtualStudy(association->protocol, trained, cues);
-      if (!third.ok()) return third.error();
-      for (const VirtualBlock& b : *third) {
-        const BlockStats st = StatsOf(b);
-        Tally& t = tallies[{kAssociationStudy, b.block}];
-        t.means.push_back(st.mean);
-        t.significant += st.p < kDemoAlpha ? 1 : 0;
+      if (Status s = virtual_follow_up(association->protocol,
+                                       options.association_subjects, 1ull << 45,
+                                       kAssociationStudy);
+          !s.ok()) {
+        return s.error();
       }
       bar.Update(r + 1, fmt::format("predicting: replication {}", r + 1));
     }

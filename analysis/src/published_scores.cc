@@ -66,46 +66,85 @@ Result<double> PublishedScoresProbability(
   const double sem_lo = std::max(0.0, published.sem - h);
   const double sem_hi = published.sem + h;
   const long q_max = static_cast<long>(n) * k_max * k_max;
-  // dp[s][q]: probability of the scores so far summing to s with squares
-  // summing to q; only s <= m k_max and q <= m k_max^2 after m subjects.
-  const std::size_t q_size = static_cast<std::size_t>(q_max) + 1;
-  std::vector<double> dp((static_cast<std::size_t>(n) * k_max + 1) * q_size,
-                         0.0);
+  // The sums of squares a reported (S, Q) can have: [Q_lo(S_lo), Q_hi(S_hi)].
+  const auto q_low = [&](long s) {
+    const double sd = static_cast<double>(s);
+    return std::max(
+        0L, static_cast<long>(std::ceil(
+                sd * sd / nd + nd * (nd - 1.0) * sem_lo * sem_lo - kSlack)));
+  };
+  const auto q_high = [&](long s) {
+    const double sd = static_cast<double>(s);
+    return std::min(
+        q_max, static_cast<long>(std::floor(
+                   sd * sd / nd + nd * (nd - 1.0) * sem_hi * sem_hi + kSlack)));
+  };
+  // Meet in the middle: the joint distribution of (sum, sum of squares) of
+  // m subjects' scores by a dynamic programme up to m2 = ceil(n / 2), kept
+  // at m1 = floor(n / 2) too; the n subjects report (S, Q) when the first m1
+  // give (s1, q1) and the other m2 give (S - s1, Q - q1), so the probability
+  // is a sum over the first half's states of their probability times the
+  // second half's mass in the window. Rows of the table are sums s, columns
+  // sums of squares q; a state (s, q) of m subjects has s^2 / m <= q <= s
+  // k_max (Cauchy-Schwarz; k^2 <= k k_max), so each row is visited only
+  // there.
+  const int m1 = n / 2, m2 = n - m1;
+  const long s_size = static_cast<long>(m2) * k_max + 1;
+  const long q_size = static_cast<long>(m2) * k_max * k_max + 1;
+  const auto at = [&](std::vector<double>& table, long s, long q) -> double& {
+    return table[static_cast<std::size_t>(s * q_size + q)];
+  };
+  const auto q_first = [](long s, int m) {
+    return m == 0
+               ? 0L
+               : std::max(
+                     0L, static_cast<long>(std::floor(static_cast<double>(s) *
+                                                      static_cast<double>(s) /
+                                                      static_cast<double>(m))) -
+                             1);
+  };
+  std::vector<double> dp(static_cast<std::size_t>(s_size * q_size), 0.0);
   std::vector<double> next(dp.size(), 0.0);
+  std::vector<double> half;  // the table at m1
   dp[0] = 1.0;
-  for (int m = 0; m < n; ++m) {
-    std::fill(next.begin(), next.end(), 0.0);
+  if (m1 == 0) half = dp;
+  for (int m = 0; m < m2; ++m) {
     const long s_reach = static_cast<long>(m) * k_max;
-    const long q_reach = static_cast<long>(m) * k_max * k_max;
+    std::fill(next.begin(),
+              next.begin() +
+                  static_cast<std::ptrdiff_t>((s_reach + k_max + 1) * q_size),
+              0.0);
     for (long s = 0; s <= s_reach; ++s) {
-      const double* row = &dp[static_cast<std::size_t>(s) * q_size];
-      for (long q = 0; q <= q_reach; ++q) {
-        const double mass = row[q];
+      const long q_last = s * k_max;
+      for (long q = q_first(s, m); q <= q_last; ++q) {
+        const double mass = at(dp, s, q);
         if (mass == 0.0) continue;
         for (int k = 0; k <= k_max; ++k) {
           const double pk = score_probabilities[static_cast<std::size_t>(k)];
           if (pk == 0.0) continue;
-          next[static_cast<std::size_t>(s + k) * q_size +
-               static_cast<std::size_t>(q + static_cast<long>(k) * k)] +=
-              mass * pk;
+          at(next, s + k, q + static_cast<long>(k) * k) += mass * pk;
         }
       }
     }
     dp.swap(next);
+    if (m + 1 == m1) half = dp;
   }
+  // dp: the table at m2; half: at m1.
   double probability = 0.0;
-  for (long s = s_lo; s <= s_hi; ++s) {
-    const double sd = static_cast<double>(s);
-    const double base = sd * sd / nd;
-    const long q_lo = std::max(
-        0L, static_cast<long>(
-                std::ceil(base + nd * (nd - 1.0) * sem_lo * sem_lo - kSlack)));
-    const long q_hi = std::min(
-        q_max, static_cast<long>(std::floor(
-                   base + nd * (nd - 1.0) * sem_hi * sem_hi + kSlack)));
-    for (long q = q_lo; q <= q_hi; ++q) {
-      probability += dp[static_cast<std::size_t>(s) * q_size +
-                        static_cast<std::size_t>(q)];
+  const long s1_reach = static_cast<long>(m1) * k_max;
+  for (long s1 = 0; s1 <= std::min(s1_reach, s_hi); ++s1) {
+    for (long q1 = q_first(s1, m1); q1 <= s1 * k_max; ++q1) {
+      const double mass = at(half, s1, q1);
+      if (mass == 0.0) continue;
+      double second = 0.0;
+      for (long sum = std::max(s_lo, s1); sum <= s_hi; ++sum) {
+        const long s2 = sum - s1;
+        if (s2 >= s_size) break;
+        const long q2_lo = std::max(q_low(sum) - q1, q_first(s2, m2));
+        const long q2_hi = std::min(q_high(sum) - q1, s2 * k_max);
+        for (long q2 = q2_lo; q2 <= q2_hi; ++q2) second += at(dp, s2, q2);
+      }
+      probability += mass * second;
     }
   }
   return std::min(1.0, probability);

@@ -20,6 +20,22 @@ namespace {
 // +1, -1 or 0.
 int Sign(double v) { return (v > 0.0) - (v < 0.0); }
 
+// A cue per interval, each finite and > 0.
+Status CheckCues(const TrialSpec& trial, const TrialCues& cues) {
+  if (cues.cues.size() != trial.intervals.size()) {
+    return Error{fmt::format("observer: trial {} has {} intervals but {} cues",
+                             trial.trial_index, trial.intervals.size(),
+                             cues.cues.size())};
+  }
+  for (double c : cues.cues) {
+    if (!(std::isfinite(c) && c > 0.0)) {
+      return Error{fmt::format("observer: trial {}: a cue must be > 0, got {}",
+                               trial.trial_index, c)};
+    }
+  }
+  return {};
+}
+
 // Parses a finite number or returns an error naming the key.
 Result<double> ParseNumber(std::string_view key, std::string_view text) {
   std::string s(text);
@@ -197,39 +213,55 @@ double ReferenceStandInDuration(const TrialSpec& trial) {
   return trial.intervals.size() > 1 ? trial.intervals[1].duration_s : 10.0;
 }
 
+SubjectDraws DrawSubject(std::uint64_t seed, int subject, bool explores) {
+  boost::random::mt19937 population = StreamFor(
+      seed, StreamPurpose::kPopulation, static_cast<std::uint64_t>(subject));
+  boost::random::normal_distribution<double> unit(0.0, 1.0);
+  SubjectDraws d;
+  d.explores = explores;
+  d.z = unit(population);
+  if (explores) {
+    d.z_force = unit(population);
+    d.z_speed = unit(population);
+  }
+  return d;
+}
+
+ObserverParams ApplySubjectDraws(const ObserverParams& typical,
+                                 WeberSpread spread, const SubjectDraws& d) {
+  ObserverParams params = typical;
+  const Exploration& e = typical.exploration;
+  // A draw beyond the largest Weber fraction is held there (an observer at
+  // chance stays at chance).
+  params.weber_stiffness =
+      std::min(kMaxWeberFraction,
+               params.weber_stiffness * std::exp(d.z * spread.stiffness));
+  params.weber_removal = std::min(
+      kMaxWeberFraction, params.weber_removal * std::exp(d.z * spread.removal));
+  if (d.explores) {
+    auto held = [](double factor) {
+      return std::clamp(factor, 1.0 / kMaxExplorationFactor,
+                        kMaxExplorationFactor);
+    };
+    params.exploration.force_factor =
+        held(e.force_factor * std::exp(d.z_force * e.subject_force_spread));
+    params.exploration.speed_factor =
+        held(e.speed_factor * std::exp(d.z_speed * e.subject_speed_spread));
+  }
+  return params;
+}
+
 ObserverParams DrawSubjectObserver(const ObserverParams& typical,
                                    WeberSpread spread, std::uint64_t seed,
                                    int subject) {
-  ObserverParams params = typical;
   const Exploration& e = typical.exploration;
   const bool explores =
       e.subject_force_spread > 0.0 || e.subject_speed_spread > 0.0;
   if (spread.stiffness > 0.0 || spread.removal > 0.0 || explores) {
-    boost::random::mt19937 population = StreamFor(
-        seed, StreamPurpose::kPopulation, static_cast<std::uint64_t>(subject));
-    boost::random::normal_distribution<double> unit(0.0, 1.0);
-    const double z = unit(population);
-    // A draw beyond the largest Weber fraction is held there (an observer
-    // at chance stays at chance).
-    params.weber_stiffness =
-        std::min(kMaxWeberFraction,
-                 params.weber_stiffness * std::exp(z * spread.stiffness));
-    params.weber_removal = std::min(
-        kMaxWeberFraction, params.weber_removal * std::exp(z * spread.removal));
-    if (explores) {
-      const double z_force = unit(population);
-      const double z_speed = unit(population);
-      auto held = [](double factor) {
-        return std::clamp(factor, 1.0 / kMaxExplorationFactor,
-                          kMaxExplorationFactor);
-      };
-      params.exploration.force_factor =
-          held(e.force_factor * std::exp(z_force * e.subject_force_spread));
-      params.exploration.speed_factor =
-          held(e.speed_factor * std::exp(z_speed * e.subject_speed_spread));
-    }
+    return ApplySubjectDraws(typical, spread,
+                             DrawSubject(seed, subject, explores));
   }
-  return params;
+  return typical;
 }
 
 Result<TrialCues> RememberedStandards::CuesFor(
@@ -382,29 +414,44 @@ double SimulatedObserver::ResponseTime(boost::random::mt19937& rng) const {
   return params_.rt_median_s * std::exp(params_.rt_log_sd * z(rng));
 }
 
+SimulatedObserver::Noise SimulatedObserver::DrawNoise(
+    const TrialSpec& trial, boost::random::mt19937& rng) const {
+  boost::random::uniform_01<double> u;
+  boost::random::normal_distribution<double> z(0.0, 1.0);
+  Noise noise;
+  noise.lapse = u(rng) < params_.lapse;
+  for (std::size_t i = 0; i < trial.intervals.size(); ++i) {
+    const double draw = z(rng);
+    if (i < noise.z.size()) noise.z[i] = draw;
+  }
+  if (noise.lapse) {
+    boost::random::uniform_int_distribution<int> pick(
+        0, static_cast<int>(trial.response_options.size()) - 1);
+    noise.lapse_answer = pick(rng);
+  }
+  noise.rt_z = z(rng);
+  return noise;
+}
+
 Result<Response> SimulatedObserver::Decide(const TrialSpec& trial,
                                            const TrialCues& cues,
                                            boost::random::mt19937& rng) const {
-  if (cues.cues.size() != trial.intervals.size()) {
-    return Error{fmt::format("observer: trial {} has {} intervals but {} cues",
-                             trial.trial_index, trial.intervals.size(),
-                             cues.cues.size())};
-  }
-  for (double c : cues.cues) {
-    if (!(std::isfinite(c) && c > 0.0)) {
-      return Error{fmt::format("observer: trial {}: a cue must be > 0, got {}",
-                               trial.trial_index, c)};
-    }
-  }
+  if (Status st = CheckCues(trial, cues); !st.ok()) return st.error();
+  return DecideWith(trial, cues, DrawNoise(trial, rng));
+}
+
+Result<Response> SimulatedObserver::DecideWith(const TrialSpec& trial,
+                                               const TrialCues& cues,
+                                               const Noise& noise) const {
+  if (Status st = CheckCues(trial, cues); !st.ok()) return st.error();
   const double sigma = Sigma(trial.task);
-  boost::random::uniform_01<double> u;
-  boost::random::normal_distribution<double> z(0.0, 1.0);
-  const bool lapse = u(rng) < params_.lapse;
-  std::vector<double> psi;
-  for (double c : cues.cues) psi.push_back(std::log(c) + sigma * z(rng));
+  std::array<double, 4> psi{};
+  for (std::size_t i = 0; i < cues.cues.size() && i < psi.size(); ++i) {
+    psi[i] = std::log(cues.cues[i]) + sigma * noise.z[i];
+  }
 
   std::string answer;
-  const std::size_t n = psi.size();
+  const std::size_t n = cues.cues.size();
   const double k = params_.criterion * sigma * std::sqrt(2.0);
   switch (trial.method) {
     case Method::kSameDifferent:
@@ -478,10 +525,9 @@ Result<Response> SimulatedObserver::Decide(const TrialSpec& trial,
       }
       break;
   }
-  if (lapse) {
-    boost::random::uniform_int_distribution<int> pick(
-        0, static_cast<int>(trial.response_options.size()) - 1);
-    answer = trial.response_options[static_cast<std::size_t>(pick(rng))];
+  if (noise.lapse) {
+    answer =
+        trial.response_options[static_cast<std::size_t>(noise.lapse_answer)];
   }
   if (params_.answers != AnswerRule::kPercepts) {
     // The fixed answer, as a script's "1" or "0" stands for it.
@@ -491,7 +537,8 @@ Result<Response> SimulatedObserver::Decide(const TrialSpec& trial,
   }
   Response r;
   r.answer = answer;
-  r.response_time_s = ResponseTime(rng);
+  r.response_time_s =
+      params_.rt_median_s * std::exp(params_.rt_log_sd * noise.rt_z);
   return r;
 }
 

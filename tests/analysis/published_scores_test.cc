@@ -60,6 +60,39 @@ TEST(PublishedScores, EqualsEveryOutcomeEnumeratedAndRounded) {
   EXPECT_EQ(*PublishedScoresProbability(p, {2.0, 3.0, 3, 1}), 0.0);
 }
 
+// Kind of truth: brute force, an even number of subjects (the computation
+// splits the subjects in halves; 3 and 4 split unequally and equally). Every
+// outcome of 4 subjects with scores 0..3, rounded to two decimals (means are
+// quarters, exact; no SEM lands on a boundary of the rounding, checked by
+// the partition summing to 1).
+TEST(PublishedScores, EqualsEveryOutcomeOfAnEvenGroup) {
+  const std::vector<double> p = {0.1, 0.2, 0.3, 0.4};
+  std::map<std::pair<int, int>, double> reported;  // hundredths
+  for (int a = 0; a < 4; ++a) {
+    for (int b = 0; b < 4; ++b) {
+      for (int c = 0; c < 4; ++c) {
+        for (int d = 0; d < 4; ++d) {
+          const auto [mean, sem] = MeanAndSemOf({a, b, c, d});
+          reported[{static_cast<int>(std::lround(mean * 100.0)),
+                    static_cast<int>(std::lround(sem * 100.0))}] +=
+              p[a] * p[b] * p[c] * p[d];
+        }
+      }
+    }
+  }
+  double total = 0.0;
+  for (const auto& [hundredths, probability] : reported) {
+    const PublishedScores published{hundredths.first / 100.0,
+                                    hundredths.second / 100.0, 4, 2};
+    Result<double> dp = PublishedScoresProbability(p, published);
+    ASSERT_TRUE(dp.ok()) << dp.error().message;
+    EXPECT_NEAR(*dp, probability, 1e-14)
+        << published.mean << " +- " << published.sem;
+    total += *dp;
+  }
+  EXPECT_NEAR(total, 1.0, 1e-12);
+}
+
 // Kind of truth: Monte Carlo. 20 subjects scoring out of 12 as a fitted
 // population might, 200 000 simulated studies, the fraction reporting the
 // dissertation's "9.3 +- 0.4".

@@ -17,11 +17,11 @@
 #include <utility>
 #include <vector>
 
+#include "burrlab/analysis/box_search.h"
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
 #include "burrlab/analysis/model_gap/discover.h"
 #include "burrlab/analysis/model_gap/initial_velocity.h"
 #include "burrlab/sim/effects.h"
-#include "model_gap/box_search.h"
 #include "model_gap/discover_internal.h"
 #include "model_gap/own_factor_fit.h"
 #include "non_finite.h"
@@ -280,7 +280,7 @@ Point FitFromStarts(const Runs& runs, const std::vector<ActiveEffect>& active,
     lower[2 + k] = 0.0;
     upper[2 + k] = active[k].upper;
   }
-  detail::BoxSearch box;
+  BoxSearch box;
   box.lower = lower;
   box.upper = upper;
   box.xtol_abs = 1e-7;
@@ -315,7 +315,7 @@ Point FitFromStarts(const Runs& runs, const std::vector<ActiveEffect>& active,
           std::min(0.1 * active[k].upper,
                    std::max(0.01 * active[k].upper, 0.2 * x[2 + k]));
     }
-    const detail::BoxMinimum found = detail::MinimiseInBox(rss, box, x);
+    const BoxMinimum found = MinimiseInBox(rss, box, x);
     if (found.value < best_rss) {
       best_rss = found.value;
       best.ln_c_e = found.x[0];

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <span>
 
-#include "model_gap/box_search.h"
+#include "burrlab/analysis/box_search.h"
 #include "non_finite.h"
 
 namespace burrlab::analysis::detail {

@@ -14,8 +14,8 @@
 #include <memory>
 #include <span>
 
+#include "burrlab/analysis/box_search.h"
 #include "burrlab/analysis/model_gap/descent_surrogate.h"
-#include "model_gap/box_search.h"
 
 namespace burrlab::analysis {
 namespace {
@@ -386,12 +386,12 @@ Result<TraceGapResult> TestTraceEffects(const std::vector<TraceRun>& runs,
     }
     {
       // x = (log c_e, parameter / bound).
-      detail::BoxSearch box;
+      BoxSearch box;
       box.lower = {lo, 0.0};
       box.upper = {hi, 1.0};
       box.initial_step = {0.05, std::max(0.25 * best_value / upper, 1e-4)};
       box.max_evaluations = 80;
-      const detail::BoxMinimum found = detail::MinimiseInBox(
+      const BoxMinimum found = MinimiseInBox(
           [&](std::span<const double> x) {
             return deviance(evaluate(x[0], with(x[1] * upper)));
           },

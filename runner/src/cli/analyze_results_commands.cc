@@ -1428,10 +1428,11 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   CLI::App app{
       "Fit a simulated-observer population to published group results: for "
       "each observed block, the Weber fraction W of the block's cue "
-      "(stiffness when probing, removal rate when drilling) whose virtual "
-      "studies of the protocol give the observed mean score, the spread of W "
-      "across subjects that gives the observed between-subject SD (SEM x "
-      "sqrt(n)), and a 95 % interval for W from mean +- 1.96 SEM. Give "
+      "(stiffness when probing, removal rate when drilling) and its spread "
+      "across subjects (SD of ln W) that make the published mean +- SEM most "
+      "likely, by maximum likelihood over virtual studies of the protocol "
+      "(the exact probability that n simulated subjects report those rounded "
+      "numbers), with 95 % profile-likelihood intervals for both. Give "
       "--observed once per block (block=NAME,mean=M,sem=S,n=N); --observer "
       "chooses the observer model fitted (its decision rule, bias and "
       "exploration). With --predict, simulate another protocol with that "
@@ -1442,7 +1443,8 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   ObserverFitOptions options;
   double lapse = 0.0, alpha = 0.05;
   int cue_samples = 8, runs = 200, predict_subjects = 0;
-  bool no_spread = false, json = false, compare_variants = false;
+  bool no_spread = false, json = false, compare_variants = false,
+       moments = false;
   FlagSet flags(&app);
   flags
       .AddText("--protocol", "the protocol the observed results come from",
@@ -1464,6 +1466,10 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                    &options.virtual_subjects);
   flags.AddUnsigned("--seed", "seed (default 1)", &options.seed);
   flags.AddSwitch("--no-spread", "all subjects alike (fit W only)", &no_spread);
+  flags.AddSwitch("--moments",
+                  "match the mean and SD only (faster, no likelihood "
+                  "maximised; W's interval from mean +- 1.96 SEM)",
+                  &moments);
   flags
       .AddText("--observer",
                "the observer model fitted, simulated[:key=value,...] over "
@@ -1538,6 +1544,7 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   if (!loaded.ok()) return ReportLoadError(err, loaded.error());
   err << loaded->notes;
   options.fit_spread = !no_spread;
+  options.maximum_likelihood = !moments;
   options.base = protocols::ObserverParamsFrom(loaded->protocol.observer);
   if (!observer.empty()) {
     Result<protocols::ObserverParams> spec =
@@ -1572,6 +1579,9 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       f["weber"] = fit->weber;
       f["weber_ci"] = {fit->weber_low, fit->weber_high};
       f["weber_spread"] = fit->weber_spread;
+      f["spread_ci"] = {fit->spread_low, fit->spread_high};
+      f["method"] = fit->maximum_likelihood ? "maximum likelihood" : "moments";
+      f["log_likelihood"] = fit->log_likelihood;
       f["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
       f["published_probability"] = fit->published_probability;
       f["virtual_studies"] = fit->virtual_studies;
@@ -1741,10 +1751,13 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
         f["observed"]["sem"].get<double>(), f["observed"]["n"].get<int>(),
         f["observed"]["sd"].get<double>());
     out << fmt::format(
-        "fitted   Weber {:.3g} [{:.3g}, {:.3g}] (95 %), spread {:.3g} (SD of "
-        "ln W), lapse {}\n",
+        "fitted   Weber {:.3g} [{:.3g}, {:.3g}], spread {:.3g} [{:.3g}, "
+        "{:.3g}] (SD of ln W; 95 % {} intervals), lapse {}\n",
         f["weber"].get<double>(), f["weber_ci"][0].get<double>(),
         f["weber_ci"][1].get<double>(), f["weber_spread"].get<double>(),
+        f["spread_ci"][0].get<double>(), f["spread_ci"][1].get<double>(),
+        f["method"].get<std::string>() == "moments" ? "moment"
+                                                    : "profile-likelihood",
         options.base.lapse);
     out << fmt::format(
         "         population mean {:.2f}, SD {:.2f} ({} virtual subjects, {} "

@@ -17,15 +17,15 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
   out << "Chapter 13 of the dissertation (§13.5.1, §13.5.2), re-run with "
          "simulated subjects\n\n";
   out << "Observer population fitted to the published PVC vs bone scores "
-         "(analyze fit-observers):\n";
+         "by maximum likelihood (analyze fit-observers):\n";
   for (const ObserverFit& f : r.fits) {
     out << fmt::format(
-        "  {:<6} {} cue: Weber {:.3g} [{:.3g}, {:.3g}] (95 %), spread {:.3g} "
-        "(SD of ln W); fitted mean {:.2f}, SD {:.2f}; P(the published "
-        "result) {:.3g}\n",
+        "  {:<6} {} cue: Weber {:.3g} [{:.3g}, {:.3g}], spread {:.3g} "
+        "[{:.3g}, {:.3g}] (SD of ln W; 95 % profile intervals); fitted mean "
+        "{:.2f}, SD {:.2f}; P(the published result) {:.3g}\n",
         f.block, f.task == protocols::Task::kProbe ? "stiffness" : "removal",
-        f.weber, f.weber_low, f.weber_high, f.weber_spread, f.fitted_mean,
-        f.fitted_sd, f.published_probability);
+        f.weber, f.weber_low, f.weber_high, f.weber_spread, f.spread_low,
+        f.spread_high, f.fitted_mean, f.fitted_sd, f.published_probability);
     for (const std::string& note : f.notes) {
       out << "         note: " << note << '\n';
     }

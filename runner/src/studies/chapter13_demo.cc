@@ -157,6 +157,7 @@ Json DemoReportJson(const DemoReport& r, const DemoOptions& o) {
                          {"weber", f.weber},
                          {"weber_ci", {f.weber_low, f.weber_high}},
                          {"weber_spread", f.weber_spread},
+                         {"spread_ci", {f.spread_low, f.spread_high}},
                          {"fitted_mean", f.fitted_mean},
                          {"fitted_sd", f.fitted_sd},
                          {"published_probability", f.published_probability},

@@ -1,4 +1,5 @@
-// Observer-population fits by bisection over virtual studies.
+// Observer-population fits over virtual studies: moments by bisection, then
+// maximum likelihood with profile intervals.
 #include "studies/observer_fit.h"
 
 #include <fmt/format.h>
@@ -7,12 +8,15 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string_view>
 #include <utility>
 #include <vector>
 
+#include "burrlab/analysis/box_search.h"
 #include "burrlab/analysis/published_scores.h"
 
 namespace burrlab::runner {
@@ -55,8 +59,27 @@ class PopulationFitter {
     o.spread_stiffness = spread;
     o.spread_removal = spread;
     o.only_block = block_.empty() ? options_.block : block_;
-    Result<std::vector<VirtualBlock>> study =
-        RunVirtualStudy(protocol_, o, pool_);
+    // Once the block is known, its trials are recorded and every later
+    // population answers them again (RecordedBlock: exactly the same
+    // studies, without the protocol engine); a block that adapts to the
+    // answers is run afresh each time.
+    Result<std::vector<VirtualBlock>> study = std::vector<VirtualBlock>{};
+    if (record_.has_value()) {
+      Result<VirtualBlock> b = record_->Answer(o);
+      if (!b.ok()) return b.error();
+      study->push_back(std::move(*b));
+    } else if (!o.only_block.empty() && !record_failed_) {
+      Result<RecordedBlock> r =
+          RecordedBlock::Record(protocol_, o, pool_, &*study);
+      if (r.ok()) {
+        record_ = std::move(*r);
+      } else {
+        record_failed_ = true;
+        study = RunVirtualStudy(protocol_, o, pool_);
+      }
+    } else {
+      study = RunVirtualStudy(protocol_, o, pool_);
+    }
     if (!study.ok()) return study.error();
     ++evaluations_;
     const VirtualBlock* block = nullptr;
@@ -179,6 +202,46 @@ class PopulationFitter {
     return std::exp(0.5 * (lo + hi));
   }
 
+  // ln P(n subjects of the population (e^ln_w, spread) report the observed
+  // mean +- SEM to its rounding), from the virtual study's score
+  // distribution with kPseudoSubjects spread evenly over the scores; -inf
+  // where the publication is impossible.
+  Result<double> LogLikelihood(double ln_w, double spread,
+                               const ObservedGroup& observed) {
+    const std::pair<double, double> key{ln_w, spread};
+    if (auto it = log_likelihoods_.find(key); it != log_likelihoods_.end()) {
+      return it->second;
+    }
+    Result<Moments> m = Evaluate(std::exp(ln_w), spread);
+    if (!m.ok()) return m.error();
+    // Nearby populations often answer exactly alike (common random numbers).
+    if (auto it = by_distribution_.find(m->distribution);
+        it != by_distribution_.end()) {
+      log_likelihoods_.emplace(key, it->second);
+      return it->second;
+    }
+    const double subjects = options_.virtual_subjects;
+    const double scores = static_cast<double>(m->distribution.size());
+    std::vector<double> p;
+    double total = 0.0;
+    for (double share : m->distribution) {
+      p.push_back((share * subjects + kPseudoSubjects / scores) /
+                  (subjects + kPseudoSubjects));
+      total += p.back();
+    }
+    for (double& x : p) x /= total;  // exact sum for the check
+    Result<double> probability = analysis::PublishedScoresProbability(
+        p, {observed.mean, observed.sem, observed.n,
+            std::min(observed.decimals, 6)});
+    if (!probability.ok()) return probability.error();
+    const double ll = *probability > 0.0
+                          ? std::log(*probability)
+                          : -std::numeric_limits<double>::infinity();
+    log_likelihoods_.emplace(key, ll);
+    by_distribution_.emplace(m->distribution, ll);
+    return ll;
+  }
+
   const std::string& block() const { return block_; }
   int trials() const { return trials_; }
   int evaluations() const { return evaluations_; }
@@ -191,7 +254,251 @@ class PopulationFitter {
   int trials_ = 0;
   int evaluations_ = 0;
   std::map<double, std::pair<double, double>> peaks_;  // spread -> (W, mean)
+  std::map<std::pair<double, double>, double> log_likelihoods_;
+  std::map<std::vector<double>, double> by_distribution_;
+  std::optional<RecordedBlock> record_;
+  bool record_failed_ = false;
 };
+
+// Half the 95 % point of chi-square with one degree of freedom: a profile
+// interval holds the values whose profile log likelihood is within it of the
+// maximum.
+constexpr double kProfileDrop = 0.5 * 3.841458820694124;
+
+// The maximum-likelihood refinement of a moment fit: (ln W, spread)
+// maximising LogLikelihood by BOBYQA from the moment fit, then each
+// parameter's profile interval (the other re-maximised at every point).
+class LikelihoodFit {
+ public:
+  LikelihoodFit(PopulationFitter& fitter, const ObservedGroup& observed,
+                bool fit_spread)
+      : fitter_(fitter), observed_(observed), fit_spread_(fit_spread) {}
+
+  // Minus the log likelihood (+inf where impossible); the first error is
+  // kept in error_ and every later call returns +inf.
+  double Cost(double ln_w, double spread) {
+    if (error_.has_value()) return kInf;
+    Result<double> ll = fitter_.LogLikelihood(ln_w, spread, observed_);
+    if (!ll.ok()) {
+      error_ = ll.error();
+      return kInf;
+    }
+    if (*ll > best_ll_) {
+      best_ll_ = *ll;
+      best_ = {ln_w, spread};
+    }
+    return -*ll;
+  }
+
+  // The maximum from the start; false with error() on an error.
+  bool Maximise(double ln_w, double spread) {
+    analysis::BoxSearch box;
+    box.lower = {kLnMin, 0.0};
+    box.upper = {kLnMax, fit_spread_ ? kMaxWeberSpread : 0.0};
+    box.initial_step = {0.15, fit_spread_ ? 0.1 : 0.0};
+    box.xtol_abs = 2e-3;
+    box.max_evaluations = fit_spread_ ? 60 : 30;
+    if (!fit_spread_) {
+      box.lower.pop_back();
+      box.upper.pop_back();
+      box.initial_step.pop_back();
+    }
+    Cost(ln_w, spread);
+    analysis::MinimiseInBox(
+        [&](std::span<const double> x) {
+          return Cost(x[0], fit_spread_ ? x[1] : 0.0);
+        },
+        box,
+        fit_spread_ ? std::vector<double>{ln_w, spread}
+                    : std::vector<double>{ln_w});
+    return !error_.has_value();
+  }
+
+  // The profile log likelihood at ln W (spread re-maximised) or at a spread
+  // (ln W re-maximised), starting the inner search at the best point.
+  // Each inner search starts where the previous one of the same profile
+  // ended (the profile is walked step by step); StartProfiles() resets that
+  // to the best point.
+  double ProfileAtWeber(double ln_w) {
+    if (!fit_spread_) return -Cost(ln_w, 0.0);
+    return -InnerMinimum([&](double s) { return Cost(ln_w, s); },
+                         &spread_start_, 0.0, kMaxWeberSpread, 0.1);
+  }
+  double ProfileAtSpread(double spread) {
+    return -InnerMinimum([&](double l) { return Cost(l, spread); },
+                         &weber_start_, kLnMin, kLnMax, 0.15);
+  }
+  void StartProfiles() {
+    weber_start_ = best_.first;
+    spread_start_ = best_.second;
+  }
+
+  // One side of a profile interval: from `at` (the maximum) towards `limit`,
+  // the point where `profile` falls kProfileDrop below `peak`: doubling steps
+  // until it does, then bisection. False: it does not fall that far before
+  // the limit (*bound is the limit).
+  bool Bound(const std::function<double(double)>& profile, double at,
+             double peak, double limit, double first_step, double* bound) {
+    const double direction = limit > at ? 1.0 : -1.0;
+    const auto toward_limit = [&](double x) {
+      return direction > 0 ? std::min(x, limit) : std::max(x, limit);
+    };
+    // Outward: each step aims where a quadratic profile through the peak and
+    // the last point would reach the drop (at least 1.5 times as far, at
+    // most 4 times), until the drop is passed or the limit reached.
+    double inside = at, inside_drop = 0.0;
+    double x = toward_limit(at + direction * first_step);
+    double outside = x, outside_drop = 0.0;
+    bool passed = false;
+    for (int i = 0; i < 10; ++i) {
+      const double drop = peak - profile(x);
+      if (drop > kProfileDrop) {
+        outside = x;
+        outside_drop = drop;
+        passed = true;
+        break;
+      }
+      inside = x;
+      inside_drop = drop;
+      if (x == limit) break;
+      const double reach = std::abs(x - at);
+      const double factor =
+          drop > 1e-6
+              ? std::clamp(std::sqrt(kProfileDrop / drop) * 1.1, 1.5, 4.0)
+              : 4.0;
+      x = toward_limit(at + direction * reach * factor);
+    }
+    if (!passed) {
+      *bound = limit;
+      return false;
+    }
+    // Inward: regula falsi on the drop (kept off the bracket's ends, so
+    // neither end sticks), to within 0.05 of it.
+    for (int j = 0; j < 6; ++j) {
+      const double t =
+          (kProfileDrop - inside_drop) / (outside_drop - inside_drop);
+      const double mid = inside + std::clamp(t, 0.1, 0.9) * (outside - inside);
+      const double drop = peak - profile(mid);
+      if (std::abs(drop - kProfileDrop) < 0.05) {
+        *bound = mid;
+        return true;
+      }
+      if (drop > kProfileDrop) {
+        outside = mid;
+        outside_drop = drop;
+      } else {
+        inside = mid;
+        inside_drop = drop;
+      }
+    }
+    *bound = 0.5 * (inside + outside);
+    return true;
+  }
+
+  const std::optional<Error>& error() const { return error_; }
+  std::pair<double, double> best() const { return best_; }
+  double best_log_likelihood() const { return best_ll_; }
+
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static inline const double kLnMin = std::log(kMinWeber);
+  static inline const double kLnMax = std::log(kMaxWeber);
+
+ private:
+  double InnerMinimum(const std::function<double(double)>& cost, double* start,
+                      double lower, double upper, double step) {
+    analysis::BoxSearch box;
+    box.lower = {lower};
+    box.upper = {upper};
+    box.initial_step = {step};
+    box.xtol_abs = 2e-3;
+    box.max_evaluations = 12;
+    const analysis::BoxMinimum m = analysis::MinimiseInBox(
+        [&](std::span<const double> x) { return cost(x[0]); }, box, {*start});
+    *start = m.x[0];
+    return m.value;
+  }
+
+  PopulationFitter& fitter_;
+  const ObservedGroup& observed_;
+  bool fit_spread_;
+  std::optional<Error> error_;
+  double best_ll_ = -kInf;
+  std::pair<double, double> best_{0.0, 0.0};
+  double weber_start_ = 0.0, spread_start_ = 0.0;
+};
+
+// Moves `fit` (the moment fit) to the maximum of the likelihood and gives
+// W and its spread their profile intervals, with a note for each bound that
+// does not close inside the search range.
+Status RefineByLikelihood(PopulationFitter& fitter,
+                          const ObservedGroup& observed, bool fit_spread,
+                          ObserverFit* fit) {
+  LikelihoodFit ml(fitter, observed, fit_spread);
+  if (!ml.Maximise(std::log(fit->weber), fit->weber_spread)) {
+    return *ml.error();
+  }
+  if (!std::isfinite(ml.best_log_likelihood())) {
+    return Error{fmt::format(
+        "no population in the search range (W {} to {}, spread up to {}) "
+        "makes {} subjects reporting {} +- {} possible",
+        kMinWeber, kMaxWeber, fit_spread ? kMaxWeberSpread : 0.0, observed.n,
+        observed.mean, observed.sem)};
+  }
+  // The profiles may find a higher likelihood than the search stopped at
+  // (the likelihood is estimated by simulation, so its surface is rough on
+  // a fine scale); the intervals are then taken again around it.
+  double ln_w_low = 0.0, ln_w_high = 0.0, s_low = 0.0, s_high = 0.0;
+  bool closed[4] = {};
+  for (int pass = 0; pass < 2; ++pass) {
+    const auto [ln_w, spread] = ml.best();
+    const double peak = ml.best_log_likelihood();
+    const auto at_weber = [&](double l) { return ml.ProfileAtWeber(l); };
+    ml.StartProfiles();
+    closed[0] =
+        ml.Bound(at_weber, ln_w, peak, LikelihoodFit::kLnMin, 0.1, &ln_w_low);
+    ml.StartProfiles();
+    closed[1] =
+        ml.Bound(at_weber, ln_w, peak, LikelihoodFit::kLnMax, 0.1, &ln_w_high);
+    s_low = s_high = spread;
+    if (fit_spread) {
+      const auto at_spread = [&](double s) { return ml.ProfileAtSpread(s); };
+      ml.StartProfiles();
+      closed[2] = ml.Bound(at_spread, spread, peak, 0.0, 0.05, &s_low);
+      ml.StartProfiles();
+      closed[3] =
+          ml.Bound(at_spread, spread, peak, kMaxWeberSpread, 0.05, &s_high);
+    }
+    if (ml.error().has_value()) return *ml.error();
+    if (ml.best_log_likelihood() <= peak + 0.1) break;
+  }
+  const auto [ln_w, spread] = ml.best();
+  fit->maximum_likelihood = true;
+  fit->weber = std::exp(ln_w);
+  fit->weber_spread = spread;
+  fit->weber_low = std::exp(std::min(ln_w_low, ln_w));
+  fit->weber_high = std::exp(std::max(ln_w_high, ln_w));
+  fit->spread_low = std::min(s_low, spread);
+  fit->spread_high = std::max(s_high, spread);
+  const auto unidentified = [&](std::string_view what, std::string_view side,
+                                double limit) {
+    fit->notes.push_back(fmt::format(
+        "{} is not identified {} the fit: the profile likelihood stays "
+        "within {:.2f} of its maximum out to the search limit {} (the "
+        "interval stops there)",
+        what, side, kProfileDrop, limit));
+  };
+  if (!closed[0]) unidentified("W", "below", kMinWeber);
+  if (!closed[1]) unidentified("W", "above", kMaxWeber);
+  if (fit_spread && !closed[2]) {
+    fit->notes.push_back(
+        "the spread's interval reaches 0: subjects all alike are not "
+        "rejected");
+  }
+  if (fit_spread && !closed[3]) {
+    unidentified("the spread", "above", kMaxWeberSpread);
+  }
+  return Status{};
+}
 
 }  // namespace
 
@@ -329,8 +636,10 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
           "observers: no spread across subjects is needed",
           fit.observed_sd, m->sd));
     } else {
-      double lo = 0.0, hi = 2.0;
-      for (int i = 0; i < 10; ++i) {
+      // Only a start for the maximum likelihood: a coarser bisection.
+      const int steps = options.maximum_likelihood ? 5 : 10;
+      double lo = 0.0, hi = kMaxWeberSpread;
+      for (int i = 0; i < steps; ++i) {
         const double mid = 0.5 * (lo + hi);
         bool l = false;
         Result<double> wm = fitter.SolveWeber(observed.mean, mid, &l);
@@ -367,36 +676,40 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
   }
   fit.weber = *w;
   fit.weber_spread = spread;
-  const double z = 1.959963984540054;
-  bool lo_limit = false, hi_limit = false;
-  Result<double> high =  // a lower score needs a larger W
-      fitter.SolveWeber(observed.mean - z * observed.sem, spread, &hi_limit);
-  if (!high.ok()) return high.error();
-  Result<double> low =
-      fitter.SolveWeber(observed.mean + z * observed.sem, spread, &lo_limit);
-  if (!low.ok()) return low.error();
-  fit.weber_low = *low;
-  fit.weber_high = *high;
-  if (lo_limit || hi_limit) {
-    fit.notes.push_back(
-        "an interval bound is at the search limit: the observed mean +- "
-        "1.96 SEM reaches scores no Weber fraction in range gives");
+  fit.spread_low = fit.spread_high = spread;
+  if (options.maximum_likelihood) {
+    if (Status s =
+            RefineByLikelihood(fitter, observed, options.fit_spread, &fit);
+        !s.ok()) {
+      return s.error();
+    }
+  } else {
+    const double z = 1.959963984540054;
+    bool lo_limit = false, hi_limit = false;
+    Result<double> high =  // a lower score needs a larger W
+        fitter.SolveWeber(observed.mean - z * observed.sem, spread, &hi_limit);
+    if (!high.ok()) return high.error();
+    Result<double> low =
+        fitter.SolveWeber(observed.mean + z * observed.sem, spread, &lo_limit);
+    if (!low.ok()) return low.error();
+    fit.weber_low = *low;
+    fit.weber_high = *high;
+    if (lo_limit || hi_limit) {
+      fit.notes.push_back(
+          "an interval bound is at the search limit: the observed mean +- "
+          "1.96 SEM reaches scores no Weber fraction in range gives");
+    }
   }
-  Result<Moments> fitted = fitter.Evaluate(fit.weber, spread);
+  Result<Moments> fitted = fitter.Evaluate(fit.weber, fit.weber_spread);
   if (!fitted.ok()) return fitted.error();
   fit.fitted_mean = fitted->mean;
   fit.fitted_sd = fitted->sd;
   // How likely the fitted population makes the publication itself.
-  {
-    double total = 0.0;
-    for (double p : fitted->distribution) total += p;
-    std::vector<double> p = fitted->distribution;
-    for (double& x : p) x /= total;  // exact sum for the check
-    Result<double> probability = analysis::PublishedScoresProbability(
-        p, {observed.mean, observed.sem, observed.n,
-            std::min(observed.decimals, 6)});
-    if (probability.ok()) fit.published_probability = *probability;
-  }
+  Result<double> ll =
+      fitter.LogLikelihood(std::log(fit.weber), fit.weber_spread, observed);
+  if (!ll.ok()) return ll.error();
+  fit.log_likelihood = *ll;
+  fit.published_probability = std::exp(*ll);
   fit.virtual_studies = fitter.evaluations();
   return fit;
 }

@@ -39,6 +39,10 @@ struct ObserverFitOptions {
   int virtual_subjects = 400;  // subjects per virtual study
   std::uint64_t seed = 1;      // of the virtual studies
   bool fit_spread = true;      // also fit the spread of W across subjects
+  // Refine the moment fit by maximum likelihood (the probability of the
+  // published mean +- SEM to its rounding) with profile-likelihood
+  // intervals; false: the moment fit and its interval from mean +- 1.96 SEM.
+  bool maximum_likelihood = true;
   protocols::ObserverParams base;  // lapse, criterion, ... (W is replaced)
 };
 
@@ -48,19 +52,29 @@ struct ObserverFit {
                                                    // the one fitted
   int trials_per_subject = 0;
   double weber = 0.0;  // fitted typical Weber fraction
-  // W giving mean -+ 1.96 SEM (a larger W gives a lower score); at the search
-  // limit when unreachable, with a note.
+  // Its 95 % interval. Maximum likelihood: where the profile log likelihood
+  // (the spread re-fitted at each W) falls 1.92 below its maximum. Moments:
+  // the W giving mean -+ 1.96 SEM (a larger W gives a lower score). At the
+  // search limit where it does not close, with a note.
   double weber_low = 0.0;
   double weber_high = 0.0;
   double weber_spread = 0.0;  // SD of ln W across subjects
-  double fitted_mean = 0.0;   // mean score of the fitted population
-  double fitted_sd = 0.0;     // between-subject SD of its scores
-  double observed_sd = 0.0;   // sem x sqrt(n)
+  // Its 95 % profile interval (maximum likelihood with a fitted spread; else
+  // both equal weber_spread). A lower bound of 0: subjects all alike are not
+  // rejected.
+  double spread_low = 0.0;
+  double spread_high = 0.0;
+  bool maximum_likelihood = false;  // how the fit was made
+  double fitted_mean = 0.0;         // mean score of the fitted population
+  double fitted_sd = 0.0;           // between-subject SD of its scores
+  double observed_sd = 0.0;         // sem x sqrt(n)
   // The probability that n subjects of the fitted population report the
   // observed mean +- SEM to its rounding (analysis::PublishedScoresProbability
   // of the population's score distribution): the likelihood of the fit.
   double published_probability = 0.0;
-  int virtual_studies = 0;  // evaluations used
+  double log_likelihood = 0.0;  // its log (the smoothed estimate the fit
+                                // maximises: kPseudoSubjects)
+  int virtual_studies = 0;      // evaluations used
   std::vector<std::string> notes;
 };
 
@@ -92,9 +106,18 @@ Result<ObserverVariant> FindObserverVariant(std::string_view name);
 protocols::ObserverParams VariantObserver(const ObserverVariant& variant,
                                           protocols::ObserverParams base);
 
-// Search range of W.
+// Search range of W and of its spread (SD of ln W).
 inline constexpr double kMinWeber = 0.01;
 inline constexpr double kMaxWeber = protocols::kMaxWeberFraction;
+inline constexpr double kMaxWeberSpread = 2.0;
+
+// The likelihood of a population is the probability that n of its subjects
+// report the published mean +- SEM (analysis::PublishedScoresProbability) of
+// the score distribution of its virtual study with this many pseudo-subjects
+// added, spread evenly over the scores: N virtual subjects cannot tell a
+// score's probability below about 1 / N, and without them a score no virtual
+// subject reached would make a publication that needs it impossible.
+inline constexpr double kPseudoSubjects = 1.0;
 
 Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
                                  const ObservedGroup& observed,

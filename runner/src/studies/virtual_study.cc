@@ -81,9 +81,11 @@ protocols::ObserverParams SubjectObserver(const VirtualStudyOptions& options,
       options.seed, s);
 }
 
-Result<std::vector<VirtualBlock>> RunVirtualStudy(
+// RunVirtualStudy; with `record`, every decision of block record->block_ is
+// kept in it.
+Result<std::vector<VirtualBlock>> RunRecordedStudy(
     const protocols::Protocol& protocol, const VirtualStudyOptions& options,
-    CuePool& pool) {
+    CuePool& pool, RecordedBlock* record) {
   if (Status st = ValidateVirtualStudy(options); !st.ok()) return st.error();
   const int subjects = options.subject_observers.empty()
                            ? options.subjects
@@ -114,6 +116,9 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
                            static_cast<std::uint64_t>(s));
     const protocols::ObserverParams params = SubjectObserver(options, s);
     const protocols::SimulatedObserver observer(params);
+    if (record != nullptr) {
+      record->subject_starts_.push_back(record->decisions_.size());
+    }
     Result<protocols::Engine> engine =
         protocols::Engine::Create(protocol, s, subject_seed);
     if (!engine.ok()) return engine.error();
@@ -197,8 +202,30 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
         }
         trial_cues->materials = felt;
       }
+      if (record != nullptr && trial.block == record->block_) {
+        if (trial.method == Method::kLimits ||
+            trial.method == Method::kStaircase ||
+            trial.method == Method::kQuest) {
+          return Error{fmt::format(
+              "block \"{}\" ({}) adapts its trials to the answers: it cannot "
+              "be answered again by other observers",
+              trial.block, protocols::MethodName(trial.method))};
+        }
+      }
+      // Decide's draws, taken apart so that a recording keeps them.
+      const protocols::SimulatedObserver::Noise noise =
+          observer.DrawNoise(trial, rng);
+      if (record != nullptr && trial.block == record->block_) {
+        protocols::TrialCues rest = *trial_cues;
+        rest.cues = {};
+        record->decisions_.push_back(
+            {trial,
+             std::vector<double>(trial_cues->cues.begin(),
+                                 trial_cues->cues.end()),
+             rest, noise});
+      }
       Result<protocols::Response> response =
-          observer.Decide(trial, *trial_cues, rng);
+          observer.DecideWith(trial, *trial_cues, noise);
       if (!response.ok()) return response.error();
       Result<protocols::Outcome> outcome = engine->Respond(*response);
       if (!outcome.ok()) return outcome.error();
@@ -210,6 +237,107 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
     }
   }
   return blocks;
+}
+
+Result<std::vector<VirtualBlock>> RunVirtualStudy(
+    const protocols::Protocol& protocol, const VirtualStudyOptions& options,
+    CuePool& pool) {
+  return RunRecordedStudy(protocol, options, pool, nullptr);
+}
+
+Result<RecordedBlock> RecordedBlock::Record(const protocols::Protocol& protocol,
+                                            const VirtualStudyOptions& options,
+                                            CuePool& pool,
+                                            std::vector<VirtualBlock>* study) {
+  if (options.only_block.empty()) {
+    return Error{
+        "recording a virtual study needs the block to record (only_block)"};
+  }
+  if (!options.subject_observers.empty()) {
+    return Error{
+        "recording a virtual study needs a population (no subject_observers)"};
+  }
+  RecordedBlock record;
+  record.block_ = options.only_block;
+  record.options_ = options;
+  Result<std::vector<VirtualBlock>> blocks =
+      RunRecordedStudy(protocol, options, pool, &record);
+  if (!blocks.ok()) return blocks.error();
+  for (const VirtualBlock& b : *blocks) {
+    if (b.block == record.block_) record.shape_ = b;
+  }
+  if (record.shape_.block.empty()) {
+    return Error{
+        fmt::format("the protocol has no scored block \"{}\"", record.block_)};
+  }
+  const bool explores =
+      options.observer.exploration.subject_force_spread > 0.0 ||
+      options.observer.exploration.subject_speed_spread > 0.0;
+  for (int s = 0; s < options.subjects; ++s) {
+    record.draws_.push_back(protocols::DrawSubject(options.seed, s, explores));
+  }
+  if (study != nullptr) *study = std::move(*blocks);
+  return record;
+}
+
+Result<VirtualBlock> RecordedBlock::Answer(
+    const VirtualStudyOptions& options) const {
+  // Everything but the typical Weber fractions and the spreads must be as
+  // recorded: the same subjects, trials, cues and observer streams.
+  VirtualStudyOptions same = options;
+  same.observer.weber_stiffness = options_.observer.weber_stiffness;
+  same.observer.weber_removal = options_.observer.weber_removal;
+  same.spread_stiffness = options_.spread_stiffness;
+  same.spread_removal = options_.spread_removal;
+  const protocols::ObserverParams& a = same.observer;
+  const protocols::ObserverParams& b = options_.observer;
+  const protocols::Exploration& ea = a.exploration;
+  const protocols::Exploration& eb = b.exploration;
+  const bool observer_as_recorded =
+      a.lapse == b.lapse && a.criterion == b.criterion && a.rule == b.rule &&
+      a.bias == b.bias && a.rt_median_s == b.rt_median_s &&
+      a.rt_log_sd == b.rt_log_sd && a.match_tolerance == b.match_tolerance &&
+      a.answers == b.answers && ea.force_factor == eb.force_factor &&
+      ea.speed_factor == eb.speed_factor &&
+      ea.force_spread == eb.force_spread &&
+      ea.speed_spread == eb.speed_spread &&
+      ea.subject_force_spread == eb.subject_force_spread &&
+      ea.subject_speed_spread == eb.subject_speed_spread;
+  if (!observer_as_recorded || same.subjects != options_.subjects ||
+      same.seed != options_.seed || same.only_block != options_.only_block ||
+      !same.subject_observers.empty()) {
+    return Error{
+        "a recorded virtual study can be answered again only with other Weber "
+        "fractions and spreads"};
+  }
+  if (Status st = ValidateVirtualStudy(options); !st.ok()) return st.error();
+  VirtualBlock block = shape_;
+  std::fill(block.correct.begin(), block.correct.end(), 0);
+  std::fill(block.trials.begin(), block.trials.end(), 0);
+  for (int s = 0; s < options.subjects; ++s) {
+    const auto su = static_cast<std::size_t>(s);
+    const protocols::ObserverParams params = protocols::ApplySubjectDraws(
+        options.observer, {options.spread_stiffness, options.spread_removal},
+        draws_[su]);
+    const protocols::SimulatedObserver observer(params);
+    const std::size_t end = su + 1 < subject_starts_.size()
+                                ? subject_starts_[su + 1]
+                                : decisions_.size();
+    for (std::size_t i = subject_starts_[su]; i < end; ++i) {
+      const Decision& d = decisions_[i];
+      protocols::TrialCues cues = d.rest;
+      cues.cues = d.cues;
+      Result<protocols::Response> response =
+          observer.DecideWith(d.trial, cues, d.noise);
+      if (!response.ok()) return response.error();
+      // As the engine scores a trial with a correct answer (a trial without
+      // one is not counted).
+      if (d.trial.correct_answer.empty()) continue;
+      block.correct[su] += response->answer == d.trial.correct_answer ? 1 : 0;
+      block.trials[su] += 1;
+    }
+  }
+  return block;
 }
 
 Result<std::vector<BlockPower>> EstimatePower(

@@ -110,6 +110,53 @@ Result<std::vector<VirtualBlock>> RunVirtualStudy(
     const protocols::Protocol& protocol, const VirtualStudyOptions& options,
     CuePool& pool);
 
+// One block of a virtual study recorded so that other populations can answer
+// it again: every trial its subjects met, the cues each felt, and the
+// observer stream as it stood before each decision. Answering it with
+// another typical Weber fraction or spread gives exactly the block
+// RunVirtualStudy gives for those options (the same subjects, trials, cues
+// and noise draws: common random numbers), without running the protocol
+// engine or drawing cues and noise again; an observer-population fit evaluates
+// hundreds of populations of one design. Only blocks whose trials do not
+// depend on the answers (same-different, two-interval, constant stimuli);
+// limits, staircases and QUEST adapt.
+class RecordedBlock {
+ public:
+  // Runs the study `options` (only_block names the block; a population, not
+  // subject_observers) and records the block; the study's blocks into
+  // `study` when not null.
+  static Result<RecordedBlock> Record(const protocols::Protocol& protocol,
+                                      const VirtualStudyOptions& options,
+                                      CuePool& pool,
+                                      std::vector<VirtualBlock>* study);
+  // The block as RunVirtualStudy(protocol, options, pool) gives it; an error
+  // when `options` differ from the recording's in anything but the typical
+  // observer's Weber fractions and the spreads.
+  Result<VirtualBlock> Answer(const VirtualStudyOptions& options) const;
+
+ private:
+  friend Result<std::vector<VirtualBlock>> RunRecordedStudy(
+      const protocols::Protocol&, const VirtualStudyOptions&, CuePool&,
+      RecordedBlock*);
+  struct Decision {
+    protocols::TrialSpec trial;
+    std::vector<double> cues;   // TrialCues::cues
+    protocols::TrialCues rest;  // its cues point at `cues` when answered
+    protocols::SimulatedObserver::Noise noise;  // the decision's draws
+  };
+  std::string block_;
+  VirtualStudyOptions options_;
+  VirtualBlock shape_;  // the recorded study's block
+  std::vector<Decision> decisions_;
+  std::vector<std::size_t> subject_starts_;  // first decision of each subject
+  std::vector<protocols::SubjectDraws> draws_;  // each subject's
+};
+
+// RunVirtualStudy, recording into `record` when not null (RecordedBlock).
+Result<std::vector<VirtualBlock>> RunRecordedStudy(
+    const protocols::Protocol& protocol, const VirtualStudyOptions& options,
+    CuePool& pool, RecordedBlock* record);
+
 // The outcome of many virtual studies for one block.
 struct BlockPower {
   std::string block;

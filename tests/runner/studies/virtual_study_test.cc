@@ -115,6 +115,115 @@ TEST(VirtualStudy, AdjustmentBlocksAreRefused) {
             "analysis");
 }
 
+// A recorded block answered by other populations gives exactly what a
+// virtual study run afresh gives (the truth here is RunVirtualStudy itself,
+// the engine and observer as every study uses them): 2AFC probing and
+// same-different drilling under the likelihood rule with a hand that varies
+// between intervals and subjects, over Weber fractions and spreads on both
+// sides of the recording's.
+TEST(RecordedBlock, AnswersExactlyAsAStudyRunAfresh) {
+  struct Case {
+    const char* protocol;
+    const char* block;
+    protocols::ObserverParams observer;
+  };
+  protocols::ObserverParams likelihood;
+  likelihood.rule = protocols::SameDifferentRule::kLikelihood;
+  likelihood.bias = 0.3;
+  likelihood.lapse = 0.05;
+  likelihood.exploration.force_spread = 0.15;
+  likelihood.exploration.subject_force_spread = 0.05;
+  likelihood.exploration.subject_speed_spread = 0.15;
+  const Case cases[] = {
+      {"two_interval_2afc.toml", "probe2afc", protocols::ObserverParams{}},
+      {"same_different_pvc_vs_bone.toml", "drill", likelihood}};
+  RenderingPool renderings(2, 5);
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.protocol);
+    const protocols::Protocol protocol = ExampleProtocol(c.protocol);
+    CuePool pool(renderings, 2.0);
+    VirtualStudyOptions options;
+    options.subjects = 30;
+    options.seed = 17;
+    options.only_block = c.block;
+    options.observer = c.observer;
+    options.observer.weber_stiffness = 0.3;
+    options.observer.weber_removal = 0.6;
+    options.spread_stiffness = options.spread_removal = 0.2;
+    std::vector<VirtualBlock> recorded_study;
+    Result<RecordedBlock> record =
+        RecordedBlock::Record(protocol, options, pool, &recorded_study);
+    ASSERT_TRUE(record.ok()) << record.error().message;
+    Result<std::vector<VirtualBlock>> fresh_study =
+        RunVirtualStudy(protocol, options, pool);
+    ASSERT_TRUE(fresh_study.ok());
+    ASSERT_EQ(recorded_study.size(), fresh_study->size());
+    EXPECT_EQ(recorded_study[0].correct, (*fresh_study)[0].correct);
+    int differing = 0;
+    for (const double weber : {0.05, 0.3, 1.2, 4.0}) {
+      for (const double spread : {0.0, 0.2, 0.9}) {
+        options.observer.weber_stiffness = options.observer.weber_removal =
+            weber;
+        options.spread_stiffness = options.spread_removal = spread;
+        Result<std::vector<VirtualBlock>> fresh =
+            RunVirtualStudy(protocol, options, pool);
+        ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+        const VirtualBlock* b = nullptr;
+        for (const VirtualBlock& v : *fresh) {
+          if (v.block == c.block) b = &v;
+        }
+        ASSERT_NE(b, nullptr);
+        Result<VirtualBlock> again = record->Answer(options);
+        ASSERT_TRUE(again.ok()) << again.error().message;
+        EXPECT_EQ(again->block, b->block);
+        EXPECT_EQ(again->correct, b->correct) << weber << " " << spread;
+        EXPECT_EQ(again->trials, b->trials);
+        differing += again->correct != recorded_study[0].correct ? 1 : 0;
+      }
+    }
+    EXPECT_GE(differing, 8);  // the populations do answer differently
+  }
+}
+
+TEST(RecordedBlock, RefusesAdaptiveBlocksAndOtherObservers) {
+  CuePool pool(1, 2.0, 1);
+  VirtualStudyOptions options;
+  options.subjects = 3;
+  options.only_block = "stairs";
+  Result<RecordedBlock> stairs = RecordedBlock::Record(
+      ExampleProtocol("staircase_1up3down.toml"), options, pool, nullptr);
+  ASSERT_FALSE(stairs.ok());
+  EXPECT_EQ(stairs.error().message,
+            "block \"stairs\" (staircase) adapts its trials to the answers: "
+            "it cannot be answered again by other observers");
+
+  options.only_block = "";
+  Result<RecordedBlock> unnamed = RecordedBlock::Record(
+      ExampleProtocol("two_interval_2afc.toml"), options, pool, nullptr);
+  ASSERT_FALSE(unnamed.ok());
+  EXPECT_EQ(unnamed.error().message,
+            "recording a virtual study needs the block to record "
+            "(only_block)");
+
+  options.only_block = "probe2afc";
+  Result<RecordedBlock> record = RecordedBlock::Record(
+      ExampleProtocol("two_interval_2afc.toml"), options, pool, nullptr);
+  ASSERT_TRUE(record.ok()) << record.error().message;
+  const std::string refusal =
+      "a recorded virtual study can be answered again only with other Weber "
+      "fractions and spreads";
+  for (int change = 0; change < 4; ++change) {
+    VirtualStudyOptions other = options;
+    if (change == 0) other.observer.lapse = 0.1;
+    if (change == 1) other.subjects = 4;
+    if (change == 2) other.seed = 2;
+    if (change == 3) other.observer.exploration.force_spread = 0.1;
+    Result<VirtualBlock> b = record->Answer(other);
+    ASSERT_FALSE(b.ok()) << change;
+    EXPECT_EQ(b.error().message, refusal);
+  }
+}
+
 }  // namespace
 }  // namespace burrlab::runner
 

@@ -199,6 +199,23 @@ ObserverParams DrawSubjectObserver(const ObserverParams& typical,
                                    WeberSpread spread, std::uint64_t seed,
                                    int subject);
 
+// DrawSubjectObserver in two steps, for drawing a population once and
+// applying it to many typical observers: the subject's standard normal draws
+// (z always; z_force and z_speed when `explores`, i.e. the typical observer
+// has a subject spread of force or speed), and the observer they make of a
+// typical one. DrawSubjectObserver(typical, spread, seed, s) equals
+// ApplySubjectDraws(typical, spread, DrawSubject(seed, s, explores)) whenever
+// it draws at all.
+struct SubjectDraws {
+  double z = 0.0;
+  double z_force = 0.0;
+  double z_speed = 0.0;
+  bool explores = false;
+};
+SubjectDraws DrawSubject(std::uint64_t seed, int subject, bool explores);
+ObserverParams ApplySubjectDraws(const ObserverParams& typical,
+                                 WeberSpread spread, const SubjectDraws& d);
+
 // Cues of one trial's intervals, as the simulated hand felt them.
 struct TrialCues {
   std::span<const double> cues;        // one per interval (same order), > 0
@@ -244,6 +261,21 @@ class SimulatedObserver {
   // answer, the response time). An error when a cue is missing or not > 0.
   Result<Response> Decide(const TrialSpec& trial, const TrialCues& cues,
                           boost::random::mt19937& rng) const;
+  // Decide in two steps, for answering one trial again with other Weber
+  // fractions: the draws Decide takes from `rng` for `trial` (they depend on
+  // the lapse rate and the trial, never on the Weber fractions), and the
+  // decision made with them. Decide(trial, cues, rng) equals
+  // DecideWith(trial, cues, DrawNoise(trial, rng)).
+  struct Noise {
+    bool lapse = false;
+    std::array<double, 4> z{};  // standard normal, one per interval (the
+                                // first four: more cannot be decided)
+    int lapse_answer = 0;       // index into the response options
+    double rt_z = 0.0;          // of the response time
+  };
+  Noise DrawNoise(const TrialSpec& trial, boost::random::mt19937& rng) const;
+  Result<Response> DecideWith(const TrialSpec& trial, const TrialCues& cues,
+                              const Noise& noise) const;
   // One adjustment step: '+' to raise the comparison level, '-' to lower
   // it, '=' when it matches. `direction` is +1 when the cue grows with the
   // level and -1 when it shrinks.

@@ -1,5 +1,5 @@
 // Bounded BOBYQA keeping the best point evaluated (box_search.h).
-#include "model_gap/box_search.h"
+#include "burrlab/analysis/box_search.h"
 
 #include <nlopt.h>
 
@@ -9,17 +9,17 @@
 
 #include "nlopt_ptr.h"
 
-namespace burrlab::analysis::detail {
+namespace burrlab::analysis {
 namespace {
 
-struct Tracker {
+struct BoxTracker {
   const std::function<double(std::span<const double>)>* objective;
   std::size_t dimension;
   BoxMinimum best;
 };
 
-double Evaluate(unsigned, const double* x, double*, void* data) {
-  Tracker& t = *static_cast<Tracker*>(data);
+double EvaluateTracked(unsigned, const double* x, double*, void* data) {
+  BoxTracker& t = *static_cast<BoxTracker*>(data);
   const std::span<const double> point(x, t.dimension);
   const double value = (*t.objective)(point);
   if (value < t.best.value) {
@@ -38,12 +38,12 @@ BoxMinimum MinimiseInBox(
   for (std::size_t k = 0; k < n; ++k) {
     start[k] = std::clamp(start[k], search.lower[k], search.upper[k]);
   }
-  Tracker tracker{
+  BoxTracker tracker{
       &objective, n, {start, std::numeric_limits<double>::infinity()}};
-  NloptPtr opt(nlopt_create(NLOPT_LN_BOBYQA, static_cast<unsigned>(n)));
+  detail::NloptPtr opt(nlopt_create(NLOPT_LN_BOBYQA, static_cast<unsigned>(n)));
   nlopt_set_lower_bounds(opt.get(), search.lower.data());
   nlopt_set_upper_bounds(opt.get(), search.upper.data());
-  nlopt_set_min_objective(opt.get(), Evaluate, &tracker);
+  nlopt_set_min_objective(opt.get(), EvaluateTracked, &tracker);
   nlopt_set_xtol_abs1(opt.get(), search.xtol_abs);
   if (search.ftol_rel > 0.0) nlopt_set_ftol_rel(opt.get(), search.ftol_rel);
   nlopt_set_maxeval(opt.get(), search.max_evaluations);
@@ -53,4 +53,4 @@ BoxMinimum MinimiseInBox(
   return tracker.best;
 }
 
-}  // namespace burrlab::analysis::detail
+}  // namespace burrlab::analysis

@@ -1,16 +1,17 @@
-// Private: a bounded derivative-free minimisation (NLopt's BOBYQA, Powell
-// 2009) that returns the best point it evaluated. BOBYQA can stop above its
-// own best evaluation on a kinked or noisy objective (a power limit's RSS, a
-// refreshed transient factor), so every search in the model-gap layer keeps
-// the best point seen rather than trusting the stopping point.
-#ifndef BURRLAB_ANALYSIS_SRC_MODEL_GAP_BOX_SEARCH_H_
-#define BURRLAB_ANALYSIS_SRC_MODEL_GAP_BOX_SEARCH_H_
+// A bounded derivative-free minimisation (NLopt's BOBYQA, Powell 2009) that
+// returns the best point it evaluated. BOBYQA can stop above its own best
+// evaluation on a kinked or noisy objective (a power limit's RSS, a refreshed
+// transient factor, a likelihood estimated by simulation), so every search
+// that uses it keeps the best point seen rather than trusting the stopping
+// point.
+#ifndef BURRLAB_ANALYSIS_BOX_SEARCH_H_
+#define BURRLAB_ANALYSIS_BOX_SEARCH_H_
 
 #include <functional>
 #include <span>
 #include <vector>
 
-namespace burrlab::analysis::detail {
+namespace burrlab::analysis {
 
 struct BoxSearch {
   std::vector<double> lower, upper;  // the box; equal bounds fix a coordinate
@@ -31,6 +32,6 @@ BoxMinimum MinimiseInBox(
     const std::function<double(std::span<const double>)>& objective,
     const BoxSearch& search, std::vector<double> start);
 
-}  // namespace burrlab::analysis::detail
+}  // namespace burrlab::analysis
 
-#endif  // BURRLAB_ANALYSIS_SRC_MODEL_GAP_BOX_SEARCH_H_
+#endif  // BURRLAB_ANALYSIS_BOX_SEARCH_H_

@@ -1559,40 +1559,29 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     return Fail(err, "--variant and --compare-variants exclude each other");
   }
   CuePool pool(cue_samples, 2.0, options.seed);
-  // Fits every observed block with `o`; the JSON of each fit into `out_fits`.
-  const auto fit_blocks =
-      [&](const ObserverFitOptions& o,
-          Json* out_fits) -> Result<std::vector<ObserverFit>> {
-    std::vector<ObserverFit> fitted;
-    for (const ObservedGroup& g : observed) {
-      Result<ObserverFit> fit = FitObservers(loaded->protocol, g, o, pool);
-      if (!fit.ok()) return fit.error();
-      fitted.push_back(*fit);
-      Json f;
-      f["block"] = fit->block;
-      f["cue"] = fit->task == protocols::Task::kProbe ? "stiffness" : "removal";
-      f["trials_per_subject"] = fit->trials_per_subject;
-      f["observed"] = {{"mean", g.mean},
-                       {"sem", g.sem},
-                       {"n", g.n},
-                       {"sd", fit->observed_sd}};
-      f["weber"] = fit->weber;
-      f["weber_ci"] = {fit->weber_low, fit->weber_high};
-      f["weber_spread"] = fit->weber_spread;
-      f["spread_ci"] = {fit->spread_low, fit->spread_high};
-      f["method"] = fit->maximum_likelihood ? "maximum likelihood" : "moments";
-      f["log_likelihood"] = fit->log_likelihood;
-      f["fitted"] = {{"mean", fit->fitted_mean}, {"sd", fit->fitted_sd}};
-      f["published_probability"] = fit->published_probability;
-      f["virtual_studies"] = fit->virtual_studies;
-      f["notes"] = fit->notes;
-      out_fits->push_back(f);
-    }
-    return fitted;
+  // The JSON of the fit of block `g`.
+  const auto fit_json = [](const ObservedGroup& g, const ObserverFit& fit) {
+    Json f;
+    f["block"] = fit.block;
+    f["cue"] = fit.task == protocols::Task::kProbe ? "stiffness" : "removal";
+    f["trials_per_subject"] = fit.trials_per_subject;
+    f["observed"] = {
+        {"mean", g.mean}, {"sem", g.sem}, {"n", g.n}, {"sd", fit.observed_sd}};
+    f["weber"] = fit.weber;
+    f["weber_ci"] = {fit.weber_low, fit.weber_high};
+    f["weber_spread"] = fit.weber_spread;
+    f["spread_ci"] = {fit.spread_low, fit.spread_high};
+    f["method"] = fit.maximum_likelihood ? "maximum likelihood" : "moments";
+    f["log_likelihood"] = fit.log_likelihood;
+    f["fitted"] = {{"mean", fit.fitted_mean}, {"sd", fit.fitted_sd}};
+    f["published_probability"] = fit.published_probability;
+    f["virtual_studies"] = fit.virtual_studies;
+    f["notes"] = fit.notes;
+    return f;
   };
   Json comparison = Json::array();
-  std::optional<std::vector<ObserverFit>> best_fits;
-  Json best_fits_json;
+  std::vector<ObserverFit> fits;
+  Json fits_json = Json::array();
   if (!variant_name.empty() || compare_variants) {
     std::vector<ObserverVariant> variants;
     if (compare_variants) {
@@ -1603,48 +1592,41 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       if (!v.ok()) return Fail(err, "--variant: " + v.error().message);
       variants.push_back(*v);
     }
-    int subjects = 0;
-    for (const ObservedGroup& g : observed) subjects += g.n;
-    double best_aic = std::numeric_limits<double>::infinity();
     ProgressBar bar(err, static_cast<int>(variants.size()));
-    for (std::size_t i = 0; i < variants.size(); ++i) {
-      const ObserverVariant& v = variants[i];
-      bar.Update(static_cast<int>(i), fmt::format("fitting {}", v.name));
-      ObserverFitOptions o = options;
-      o.base = VariantObserver(v, options.base);
-      o.fit_spread = v.spread && !no_spread;
-      Json fits_json = Json::array();
-      Result<std::vector<ObserverFit>> fitted = fit_blocks(o, &fits_json);
-      if (!fitted.ok()) {
-        return Fail(err, "analyze fit-observers: " + fitted.error().message);
-      }
-      double log_likelihood = 0.0;
-      for (const ObserverFit& f : *fitted) {
-        log_likelihood += std::log(f.published_probability);
-      }
-      const int k = static_cast<int>(fitted->size()) * (o.fit_spread ? 2 : 1);
-      const double aic = 2.0 * k - 2.0 * log_likelihood;
-      const double bic =
-          k * std::log(static_cast<double>(subjects)) - 2.0 * log_likelihood;
-      comparison.push_back({{"variant", std::string(v.name)},
-                            {"parameters", k},
-                            {"log_likelihood", log_likelihood},
-                            {"aic", aic},
-                            {"bic", bic}});
-      if (!best_fits.has_value() || aic < best_aic) {
-        best_aic = aic;
-        best_fits = *fitted;
-        best_fits_json = fits_json;
-        options.base = o.base;
-        options.fit_spread = o.fit_spread;
-      }
+    Result<std::vector<VariantFit>> compared = CompareObserverVariants(
+        loaded->protocol, observed, variants, options, pool,
+        [&](int done, std::string_view name) {
+          bar.Update(done, fmt::format("fitting {}", name));
+        });
+    if (!compared.ok()) {
+      return Fail(err, "analyze fit-observers: " + compared.error().message);
     }
     bar.Update(static_cast<int>(variants.size()), "variants fitted");
-    for (Json& c : comparison) {
-      c["delta_aic"] = c["aic"].get<double>() - best_aic;
+    for (const VariantFit& v : *compared) {
+      comparison.push_back({{"variant", std::string(v.variant.name)},
+                            {"parameters", v.parameters},
+                            {"log_likelihood", v.log_likelihood},
+                            {"aic", v.aic},
+                            {"bic", v.bic},
+                            {"delta_aic", v.delta_aic}});
+    }
+    const VariantFit& best = compared->front();
+    options.base = best.observer;
+    options.fit_spread = best.fit_spread;
+    fits = best.fits;
+  } else {
+    for (const ObservedGroup& g : observed) {
+      Result<ObserverFit> fit =
+          FitObservers(loaded->protocol, g, options, pool);
+      if (!fit.ok()) {
+        return Fail(err, "analyze fit-observers: " + fit.error().message);
+      }
+      fits.push_back(*fit);
     }
   }
-  std::vector<ObserverFit> fits;
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    fits_json.push_back(fit_json(observed[i], fits[i]));
+  }
   Json j;
   j["protocol"] = protocol_path;
   j["lapse"] = options.base.lapse;
@@ -1659,18 +1641,8 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       {"subject_force_spread", e.subject_force_spread},
       {"subject_speed_spread", e.subject_speed_spread}};
   j["virtual_subjects"] = options.virtual_subjects;
-  j["fits"] = Json::array();
-  if (best_fits.has_value()) {
-    fits = *best_fits;
-    j["fits"] = best_fits_json;
-    j["variants"] = comparison;
-  } else {
-    Result<std::vector<ObserverFit>> fitted = fit_blocks(options, &j["fits"]);
-    if (!fitted.ok()) {
-      return Fail(err, "analyze fit-observers: " + fitted.error().message);
-    }
-    fits = *fitted;
-  }
+  j["fits"] = fits_json;
+  if (!comparison.empty()) j["variants"] = comparison;
   std::vector<std::string> population_notes;
   Result<VirtualStudyOptions> population =
       PopulationOf(fits, options.base, &population_notes);

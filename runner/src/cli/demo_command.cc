@@ -16,8 +16,22 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
                      std::ostream& out) {
   out << "Chapter 13 of the dissertation (§13.5.1, §13.5.2), re-run with "
          "simulated subjects\n\n";
-  out << "Observer population fitted to the published PVC vs bone scores "
-         "by maximum likelihood (analyze fit-observers):\n";
+  out << "Observer models fitted to the published PVC vs bone scores by "
+         "maximum likelihood (analyze fit-observers --compare-variants; ln "
+         "L: log probability of both published results):\n";
+  out << fmt::format("  {:<18} {:>2} {:>9} {:>8} {:>8} {:>7}\n", "variant", "k",
+                     "ln L", "AIC", "BIC", "dAIC");
+  for (const VariantFit& v : r.variants) {
+    out << fmt::format("  {:<18} {:>2} {:>9.3f} {:>8.2f} {:>8.2f} {:>7.2f}\n",
+                       v.variant.name, v.parameters, v.log_likelihood, v.aic,
+                       v.bic, v.delta_aic);
+  }
+  out << fmt::format(
+      "The demo's subjects are the best's population ({}, rule {}):\n",
+      r.variants.empty() ? "" : r.variants.front().variant.name,
+      r.variants.empty()
+          ? ""
+          : protocols::SameDifferentRuleName(r.variants.front().observer.rule));
   for (const ObserverFit& f : r.fits) {
     out << fmt::format(
         "  {:<6} {} cue: Weber {:.3g} [{:.3g}, {:.3g}], spread {:.3g} "
@@ -40,8 +54,9 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
       fmt::join(r.association_subjects, ", sub-"));
   out << fmt::format(
       "Scores are correct answers, of 12 (10 for Real Pettigrew). Expected: "
-      "{} virtual replications of the whole design (mean, SD between "
-      "studies, and how often p < {}); one study: the simulated study above, "
+      "{} virtual replications of the whole design (mean, the range "
+      "holding 95 % of their means, and how often p < {}); one study: the "
+      "simulated study above, "
       "analysed from its exports (mean +- SEM; p: one-sided t-test against "
       "chance, half the trials, or the exact binomial test of the pooled "
       "answers where every subject scored alike). Agreement compares the "
@@ -49,7 +64,7 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
       "the dissertation's mean +- SEM, or the chance of a significant result "
       "with its finding.\n\n",
       r.rows.empty() ? 0 : r.rows[0].runs, kDemoAlpha);
-  out << fmt::format("{:<28}  {:<26}  {:<28}  {:<39}  {}\n", "study, block",
+  out << fmt::format("{:<28}  {:<26}  {:<31}  {:<39}  {}\n", "study, block",
                      "dissertation", "burrlab, expected", "burrlab, one study",
                      "agreement");
   for (const DemoRow& row : r.rows) {
@@ -61,10 +76,10 @@ void PrintDemoReport(const DemoReport& r, const DemoOptions& o,
     const std::string study =
         fmt::format("{:.2f} +- {:.2f}, p={:.2g}{} (n {})", row.mean, row.sem,
                     row.p, row.p_test == "t" ? "" : " binomial", row.subjects);
-    const std::string predicted =
-        fmt::format("{:.2f} (SD {:.2f}), P(sig) {:.2f}", row.predicted_mean,
-                    row.predicted_sd, row.predicted_significant);
-    out << fmt::format("{:<28}  {:<26}  {:<28}  {:<39}  {}\n",
+    const std::string predicted = fmt::format(
+        "{:.2f} [{:.2f}, {:.2f}], P(sig) {:.2f}", row.predicted_mean,
+        row.predicted_low, row.predicted_high, row.predicted_significant);
+    out << fmt::format("{:<28}  {:<26}  {:<31}  {:<39}  {}\n",
                        row.study + ", " + row.block, paper, predicted, study,
                        row.verdict);
   }
@@ -124,8 +139,8 @@ int RunDemoCommand(const Args& args, std::ostream& out, std::ostream& err) {
                    "virtual replications for the prediction (default 200)", 1,
                    100000, &options.runs);
   flags.AddInteger("--virtual-subjects",
-                   "subjects per virtual study of the observer fit (default "
-                   "400)",
+                   "subjects per virtual study of the observer fits (default "
+                   "2000)",
                    2, 1000000, &options.virtual_subjects);
   flags.AddSwitch("--json", "print the summary (demo.json) as JSON", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;

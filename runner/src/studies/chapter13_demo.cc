@@ -14,6 +14,7 @@
 
 #include "burrlab/analysis/group_stats.h"
 #include "burrlab/analysis/plot.h"
+#include "burrlab/analysis/response_times.h"
 #include "burrlab/analysis/scores.h"
 #include "burrlab/protocols/protocol_file.h"
 #include "burrlab/protocols/streams.h"
@@ -151,6 +152,17 @@ Json DemoReportJson(const DemoReport& r, const DemoOptions& o) {
                      {"weber_removal", r.weber_removal},
                      {"spread_stiffness", r.spread_stiffness},
                      {"spread_removal", r.spread_removal}};
+  j["observer_variant"] =
+      r.variants.empty() ? "" : std::string(r.variants.front().variant.name);
+  j["variants"] = Json::array();
+  for (const VariantFit& v : r.variants) {
+    j["variants"].push_back({{"variant", std::string(v.variant.name)},
+                             {"parameters", v.parameters},
+                             {"log_likelihood", v.log_likelihood},
+                             {"aic", v.aic},
+                             {"bic", v.bic},
+                             {"delta_aic", v.delta_aic}});
+  }
   j["fits"] = Json::array();
   for (const ObserverFit& f : r.fits) {
     j["fits"].push_back({{"block", f.block},
@@ -171,22 +183,24 @@ Json DemoReportJson(const DemoReport& r, const DemoOptions& o) {
     paper["mean"] = row.paper_mean ? Json(*row.paper_mean) : Json();
     paper["sem"] = row.paper_sem ? Json(*row.paper_sem) : Json();
     paper["p"] = row.paper_p ? Json(*row.paper_p) : Json();
-    j["rows"].push_back({{"study", row.study},
-                         {"block", row.block},
-                         {"trials", row.trials},
-                         {"dissertation", paper},
-                         {"simulated_study",
-                          {{"subjects", row.subjects},
-                           {"mean", row.mean},
-                           {"sem", row.sem},
-                           {"p_one_sided", row.p},
-                           {"p_test", row.p_test}}},
-                         {"predicted",
-                          {{"runs", row.runs},
-                           {"mean", row.predicted_mean},
-                           {"sd_between_studies", row.predicted_sd},
-                           {"p_significant", row.predicted_significant}}},
-                         {"verdict", row.verdict}});
+    j["rows"].push_back(
+        {{"study", row.study},
+         {"block", row.block},
+         {"trials", row.trials},
+         {"dissertation", paper},
+         {"simulated_study",
+          {{"subjects", row.subjects},
+           {"mean", row.mean},
+           {"sem", row.sem},
+           {"p_one_sided", row.p},
+           {"p_test", row.p_test}}},
+         {"predicted",
+          {{"runs", row.runs},
+           {"mean", row.predicted_mean},
+           {"sd_between_studies", row.predicted_sd},
+           {"range_95", {row.predicted_low, row.predicted_high}},
+           {"p_significant", row.predicted_significant}}},
+         {"verdict", row.verdict}});
   }
   j["figures"] = r.figures;
   return j;
@@ -273,26 +287,40 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
   }
   CuePool cues(pool, 2.0);
 
-  // 2. Fit the observer population to the published PVC vs bone scores.
+  // 2. Fit the observer models to the published PVC vs bone scores by
+  // maximum likelihood, and keep the best supported.
   DemoReport report;
-  const protocols::ObserverParams base =
+  const protocols::ObserverParams protocol_observer =
       protocols::ObserverParamsFrom(pvc->protocol.observer);
-  for (const Published& published : kPvcPublished) {
-    ProgressBar bar(progress, 1);
-    bar.Update(
-        0, fmt::format("fitting observers to the {} scores", published.block));
+  {
+    std::vector<ObservedGroup> observed;
+    for (const Published& published : kPvcPublished) {
+      observed.push_back(
+          {published.mean, published.sem, kPublishedN, published.block, 1});
+    }
+    std::vector<ObserverVariant> variants;
+    for (std::string_view name : kDemoVariants) {
+      Result<ObserverVariant> v = FindObserverVariant(name);
+      if (!v.ok()) return v.error();
+      variants.push_back(*v);
+    }
     ObserverFitOptions fit_options;
-    fit_options.block = published.block;
     fit_options.virtual_subjects = options.virtual_subjects;
     fit_options.seed = options.seed;
-    fit_options.base = base;
-    Result<ObserverFit> fit = FitObservers(
-        pvc->protocol,
-        {published.mean, published.sem, kPublishedN, published.block},
-        fit_options, cues);
-    if (!fit.ok()) return fit.error();
-    report.fits.push_back(*fit);
+    fit_options.base = protocol_observer;
+    ProgressBar bar(progress, static_cast<int>(variants.size()));
+    Result<std::vector<VariantFit>> compared = CompareObserverVariants(
+        pvc->protocol, observed, variants, fit_options, cues,
+        [&](int done, std::string_view name) {
+          bar.Update(done, fmt::format("fitting the {} observer to the PVC "
+                                       "vs bone scores",
+                                       name));
+        });
+    if (!compared.ok()) return compared.error();
+    report.variants = std::move(*compared);
   }
+  report.fits = report.variants.front().fits;
+  const protocols::ObserverParams base = report.variants.front().observer;
   Result<VirtualStudyOptions> population =
       PopulationOf(report.fits, base, nullptr);
   if (!population.ok()) return population.error();
@@ -480,6 +508,10 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
       if (Result<analysis::MeanSem> m = analysis::MeanAndSem(t.means); m.ok()) {
         row.predicted_mean = m->mean;
         row.predicted_sd = m->sd;
+        std::vector<double> sorted = t.means;
+        std::sort(sorted.begin(), sorted.end());
+        row.predicted_low = analysis::QuantileType7(sorted, 0.025);
+        row.predicted_high = analysis::QuantileType7(sorted, 0.975);
       }
       row.predicted_significant =
           row.runs > 0 ? static_cast<double>(t.significant) / row.runs : 0.0;

@@ -1,8 +1,9 @@
 // The chapter 13 demo (`burrlab demo`, cli/demo_command.h prints it): the
 // dissertation's chapter 13 studies (§13.5.1, §13.5.2) re-run with simulated
-// subjects. A simulated-observer population is fitted to the published PVC
-// vs bone scores (probing 9.3 +- 0.4, drilling 9.6 +- 0.5 of 12, n = 20), 20
-// subjects of it run the PVC vs bone protocol, the best 12 of them run
+// subjects. Simulated-observer models are fitted to the published PVC vs
+// bone scores (probing 9.3 +- 0.4, drilling 9.6 +- 0.5 of 12, n = 20) by
+// maximum likelihood and compared (kDemoVariants); 20 subjects of the best
+// one's population run the PVC vs bone protocol, the best 12 of them run
 // Pettigrew vs bone (as in the dissertation) and the best 5 the association
 // design of §13.5.2 (which of simulated Pettigrew and PVC felt like the real
 // Pettigrew sample, felt through its simulation; published 9.4 +- 0.4 of 10
@@ -18,12 +19,19 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "burrlab/base/result.h"
 #include "studies/observer_fit.h"
 
 namespace burrlab::runner {
+
+// The observer models the demo compares: those whose renderings are the
+// protocol's own (likelihood_varied, whose hand varies, would render every
+// stimulus again at five levels of a subject's force).
+inline constexpr std::string_view kDemoVariants[] = {
+    "fixed", "differencing", "likelihood", "likelihood_alike"};
 
 // The significance level of the predictions (P(p < kDemoAlpha)).
 inline constexpr double kDemoAlpha = 0.05;
@@ -44,7 +52,9 @@ struct DemoOptions {
   // renderings instead of rendering each afresh (faster; every subject then
   // feels one of the same few intervals of a stimulus).
   bool share_renderings = false;
-  int virtual_subjects = 400;        // per virtual study of the observer fit
+  // Per virtual study of the observer fits: with 400 the maximum-likelihood
+  // W moved by 0.04 (probing) between seeds, with 2000 by 0.003.
+  int virtual_subjects = 2000;
   int runs = 200;                    // virtual replications for the prediction
   int subjects = 20;                 // PVC vs bone subjects (dissertation: 20)
   int best_subjects = 12;            // of them, who run Pettigrew vs bone (12)
@@ -71,13 +81,19 @@ struct DemoRow {
   // Virtual replications of the whole design.
   int runs = 0;
   double predicted_mean = 0.0;
-  double predicted_sd = 0.0;           // between replications
+  double predicted_sd = 0.0;  // between replications
+  // The range holding 95 % of the replications' means (2.5 % and 97.5 %
+  // quantiles, type 7): where one study's mean is predicted to fall.
+  double predicted_low = 0.0, predicted_high = 0.0;
   double predicted_significant = 0.0;  // P(p < 0.05), t-test
   std::string verdict;                 // agreement with the dissertation
 };
 
 struct DemoReport {
-  std::vector<ObserverFit> fits;  // probe, drill
+  // The observer models fitted to the published PVC vs bone scores, best
+  // (lowest AIC) first; the demo's subjects are the best's population.
+  std::vector<VariantFit> variants;
+  std::vector<ObserverFit> fits;  // the best's: probe, drill
   double weber_stiffness = 0.0, weber_removal = 0.0;
   double spread_stiffness = 0.0, spread_removal = 0.0;
   std::vector<std::string> best_subjects;         // labels, PVC study

@@ -714,6 +714,45 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
   return fit;
 }
 
+Result<std::vector<VariantFit>> CompareObserverVariants(
+    const protocols::Protocol& protocol,
+    const std::vector<ObservedGroup>& observed,
+    std::span<const ObserverVariant> variants,
+    const ObserverFitOptions& options, CuePool& pool,
+    const std::function<void(int, std::string_view)>& progress) {
+  int subjects = 0;
+  for (const ObservedGroup& g : observed) subjects += g.n;
+  std::vector<VariantFit> compared;
+  for (std::size_t i = 0; i < variants.size(); ++i) {
+    if (progress) progress(static_cast<int>(i), variants[i].name);
+    VariantFit v;
+    v.variant = variants[i];
+    ObserverFitOptions o = options;
+    o.base = VariantObserver(v.variant, options.base);
+    o.fit_spread = v.variant.spread && options.fit_spread;
+    v.observer = o.base;
+    v.fit_spread = o.fit_spread;
+    for (const ObservedGroup& g : observed) {
+      Result<ObserverFit> fit = FitObservers(protocol, g, o, pool);
+      if (!fit.ok()) return fit.error();
+      v.log_likelihood += fit->log_likelihood;
+      v.fits.push_back(std::move(*fit));
+    }
+    v.parameters = static_cast<int>(observed.size()) * (o.fit_spread ? 2 : 1);
+    v.aic = 2.0 * v.parameters - 2.0 * v.log_likelihood;
+    v.bic = v.parameters * std::log(static_cast<double>(subjects)) -
+            2.0 * v.log_likelihood;
+    compared.push_back(std::move(v));
+  }
+  std::stable_sort(
+      compared.begin(), compared.end(),
+      [](const VariantFit& a, const VariantFit& b) { return a.aic < b.aic; });
+  for (VariantFit& v : compared) {
+    v.delta_aic = v.aic - compared.front().aic;
+  }
+  return compared;
+}
+
 Result<VirtualStudyOptions> PopulationOf(const std::vector<ObserverFit>& fits,
                                          const protocols::ObserverParams& base,
                                          std::vector<std::string>* notes) {

@@ -10,6 +10,8 @@
 #define BURRLAB_RUNNER_STUDIES_OBSERVER_FIT_H_
 
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -105,6 +107,33 @@ Result<ObserverVariant> FindObserverVariant(std::string_view name);
 // `base` with the variant's rule and exploration.
 protocols::ObserverParams VariantObserver(const ObserverVariant& variant,
                                           protocols::ObserverParams base);
+
+// Fits of one observer model to every observed block, and how well it does:
+// the log likelihood of all the observed results (the blocks' summed),
+// with k parameters (a W per block, and its spread where fitted), AIC = 2k -
+// 2 ln L and BIC = k ln N - 2 ln L with N the observed subjects over blocks.
+struct VariantFit {
+  ObserverVariant variant;
+  protocols::ObserverParams observer;  // the variant's observer over the base
+  bool fit_spread = true;
+  std::vector<ObserverFit> fits;  // one per observed block, in their order
+  int parameters = 0;
+  double log_likelihood = 0.0;
+  double aic = 0.0;
+  double bic = 0.0;
+  double delta_aic = 0.0;  // above the best's
+};
+
+// Fits each of `variants` (VariantObserver over options.base; its spread
+// fitted where the variant has one and options.fit_spread allows) to every
+// observed group, in order; `progress` (may be empty) is told each variant
+// before it is fitted. Sorted by AIC, best first (stable).
+Result<std::vector<VariantFit>> CompareObserverVariants(
+    const protocols::Protocol& protocol,
+    const std::vector<ObservedGroup>& observed,
+    std::span<const ObserverVariant> variants,
+    const ObserverFitOptions& options, CuePool& pool,
+    const std::function<void(int, std::string_view)>& progress);
 
 // Search range of W and of its spread (SD of ln W).
 inline constexpr double kMinWeber = 0.01;

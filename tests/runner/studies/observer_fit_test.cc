@@ -23,6 +23,22 @@ constexpr std::uint64_t kGroups = 1;
 constexpr std::uint64_t kGroups = 4;
 #endif
 
+// The group result a paper reports of scores `correct`: mean +- SEM (sample
+// SD, divisor n - 1, over sqrt(n)), unrounded.
+ObservedGroup ReportOf(const std::vector<int>& correct) {
+  double sum = 0.0, sum2 = 0.0;
+  for (int c : correct) {
+    sum += c;
+    sum2 += double(c) * c;
+  }
+  const double n = static_cast<double>(correct.size());
+  ObservedGroup g;
+  g.n = static_cast<int>(correct.size());
+  g.mean = sum / n;
+  g.sem = std::sqrt((sum2 - sum * sum / n) / (n - 1.0) / n);
+  return g;
+}
+
 TEST(ObserverFit, RecoversAKnownWeberFractionWithinItsInterval) {
   const protocols::Protocol protocol =
       ExampleProtocol("two_interval_2afc.toml");
@@ -39,15 +55,7 @@ TEST(ObserverFit, RecoversAKnownWeberFractionWithinItsInterval) {
     Result<std::vector<VirtualBlock>> result =
         RunVirtualStudy(protocol, study, pool);
     ASSERT_TRUE(result.ok()) << result.error().message;
-    double sum = 0.0, sum2 = 0.0;
-    for (int c : (*result)[0].correct) {
-      sum += c;
-      sum2 += double(c) * c;
-    }
-    ObservedGroup observed;
-    observed.n = 20;
-    observed.mean = sum / 20.0;
-    observed.sem = std::sqrt((sum2 - sum * sum / 20.0) / 19.0 / 20.0);
+    const ObservedGroup observed = ReportOf((*result)[0].correct);
 
     ObserverFitOptions options;
     options.virtual_subjects = 300;
@@ -129,19 +137,11 @@ TEST(ObserverFit, MaximumLikelihoodIntervalsCoverTheTruth) {
     Result<std::vector<VirtualBlock>> result =
         RunVirtualStudy(protocol, study, published_pool);
     ASSERT_TRUE(result.ok()) << result.error().message;
-    double sum = 0.0, sum2 = 0.0;
-    for (int c : (*result)[0].correct) {
-      sum += c;
-      sum2 += double(c) * c;
-    }
-    ObservedGroup observed;
-    observed.n = 20;
+    // As published: rounded to one decimal (an SEM of 0 is never printed).
+    ObservedGroup observed = ReportOf((*result)[0].correct);
     observed.decimals = 1;
-    observed.mean = std::round(sum / 20.0 * 10.0) / 10.0;
-    observed.sem = std::max(
-        0.1,
-        std::round(std::sqrt((sum2 - sum * sum / 20.0) / 19.0 / 20.0) * 10.0) /
-            10.0);
+    observed.mean = std::round(observed.mean * 10.0) / 10.0;
+    observed.sem = std::max(0.1, std::round(observed.sem * 10.0) / 10.0);
 
     CuePool pool(2, 2.0, seed + 7);
     ObserverFitOptions options;
@@ -231,14 +231,8 @@ TEST(ObserverFit, ADrillBlockFitsTheRemovalCue) {
     if (b.block == "drill") drill = &b;
   }
   ASSERT_NE(drill, nullptr);
-  double sum = 0.0, sum2 = 0.0;
-  for (int c : drill->correct) {
-    sum += c;
-    sum2 += double(c) * c;
-  }
-  ObservedGroup observed{sum / 20.0,
-                         std::sqrt((sum2 - sum * sum / 20.0) / 19.0 / 20.0), 20,
-                         "drill"};
+  ObservedGroup observed = ReportOf(drill->correct);
+  observed.block = "drill";
   ObserverFitOptions options;
   options.virtual_subjects = 200;
   options.seed = 5;

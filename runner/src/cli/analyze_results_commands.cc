@@ -1462,8 +1462,9 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                 "scored one)",
                 &block);
   flags.AddInteger("--virtual-subjects",
-                   "subjects per virtual study (default 400)", 2, 1000000,
-                   &options.virtual_subjects);
+                   "subjects per virtual study (default 2000; fewer are "
+                   "faster and make the fit noisier)",
+                   2, 1000000, &options.virtual_subjects);
   flags.AddUnsigned("--seed", "seed (default 1)", &options.seed);
   flags.AddSwitch("--no-spread", "all subjects alike (fit W only)", &no_spread);
   flags.AddSwitch("--moments",

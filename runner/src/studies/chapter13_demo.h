@@ -52,9 +52,8 @@ struct DemoOptions {
   // renderings instead of rendering each afresh (faster; every subject then
   // feels one of the same few intervals of a stimulus).
   bool share_renderings = false;
-  // Per virtual study of the observer fits: with 400 the maximum-likelihood
-  // W moved by 0.04 (probing) between seeds, with 2000 by 0.003.
-  int virtual_subjects = 2000;
+  int virtual_subjects = 2000;       // per virtual study of the observer fits
+                                     // (ObserverFitOptions)
   int runs = 200;                    // virtual replications for the prediction
   int subjects = 20;                 // PVC vs bone subjects (dissertation: 20)
   int best_subjects = 12;            // of them, who run Pettigrew vs bone (12)

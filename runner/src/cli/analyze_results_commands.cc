@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -1466,6 +1467,11 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                    "faster and make the fit noisier)",
                    2, 1000000, &options.virtual_subjects);
   flags.AddUnsigned("--seed", "seed (default 1)", &options.seed);
+  int jobs = 0;
+  flags.AddInteger("--jobs",
+                   "fits at once, one per block and variant (default: the "
+                   "core count; the results do not depend on it)",
+                   1, 256, &jobs);
   flags.AddSwitch("--no-spread", "all subjects alike (fit W only)", &no_spread);
   flags.AddSwitch("--moments",
                   "match the mean and SD only (faster, no likelihood "
@@ -1510,6 +1516,10 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   flags.AddSwitch("--json", "print the results as JSON", &json);
   if (std::optional<int> code = flags.Parse(args, out, err)) return *code;
   if (Status s = flags.Convert(); !s.ok()) return Fail(err, s.error().message);
+  options.jobs =
+      jobs > 0
+          ? jobs
+          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<ObservedGroup> observed;
   for (const std::string& text : observed_texts) {
     Result<ObservedGroup> g = ParseObservedGroup(text);
@@ -1593,16 +1603,17 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       if (!v.ok()) return Fail(err, "--variant: " + v.error().message);
       variants.push_back(*v);
     }
-    ProgressBar bar(err, static_cast<int>(variants.size()));
+    const int total = static_cast<int>(variants.size() * observed.size());
+    ProgressBar bar(err, total);
     Result<std::vector<VariantFit>> compared = CompareObserverVariants(
         loaded->protocol, observed, variants, options, pool,
         [&](int done, std::string_view name) {
-          bar.Update(done, fmt::format("fitting {}", name));
+          bar.Update(done, fmt::format("fitted {}", name));
         });
     if (!compared.ok()) {
       return Fail(err, "analyze fit-observers: " + compared.error().message);
     }
-    bar.Update(static_cast<int>(variants.size()), "variants fitted");
+    bar.Update(total, "variants fitted");
     for (const VariantFit& v : *compared) {
       comparison.push_back({{"variant", std::string(v.variant.name)},
                             {"parameters", v.parameters},
@@ -1616,14 +1627,12 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     options.fit_spread = best.fit_spread;
     fits = best.fits;
   } else {
-    for (const ObservedGroup& g : observed) {
-      Result<ObserverFit> fit =
-          FitObservers(loaded->protocol, g, options, pool);
-      if (!fit.ok()) {
-        return Fail(err, "analyze fit-observers: " + fit.error().message);
-      }
-      fits.push_back(*fit);
+    Result<std::vector<ObserverFit>> fitted =
+        FitObserverGroups(loaded->protocol, observed, options, pool);
+    if (!fitted.ok()) {
+      return Fail(err, "analyze fit-observers: " + fitted.error().message);
     }
+    fits = std::move(*fitted);
   }
   for (std::size_t i = 0; i < fits.size(); ++i) {
     fits_json.push_back(fit_json(observed[i], fits[i]));

@@ -308,11 +308,13 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
     fit_options.virtual_subjects = options.virtual_subjects;
     fit_options.seed = options.seed;
     fit_options.base = protocol_observer;
-    ProgressBar bar(progress, static_cast<int>(variants.size()));
+    fit_options.jobs = options.jobs;
+    ProgressBar bar(progress,
+                    static_cast<int>(variants.size() * observed.size()));
     Result<std::vector<VariantFit>> compared = CompareObserverVariants(
         pvc->protocol, observed, variants, fit_options, cues,
         [&](int done, std::string_view name) {
-          bar.Update(done, fmt::format("fitting the {} observer to the PVC "
+          bar.Update(done, fmt::format("fitted the {} observer to the PVC "
                                        "vs bone scores",
                                        name));
         });

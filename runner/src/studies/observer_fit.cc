@@ -5,14 +5,17 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <string_view>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -714,6 +717,56 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
   return fit;
 }
 
+namespace {
+
+// Runs task(0) ... task(n - 1) on up to `jobs` threads; `done` (may be empty)
+// is called after each with the index finished, one call at a time.
+void RunFits(int n, int jobs, const std::function<void(int)>& task,
+             const std::function<void(int)>& done) {
+  std::atomic<int> next{0};
+  std::mutex mutex;
+  const auto worker = [&]() {
+    for (int i = next.fetch_add(1); i < n; i = next.fetch_add(1)) {
+      task(i);
+      if (done) {
+        std::lock_guard<std::mutex> lock(mutex);
+        done(i);
+      }
+    }
+  };
+  const int threads = std::clamp(jobs, 1, std::max(1, n));
+  if (threads == 1) {
+    worker();
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+  for (std::thread& t : pool) t.join();
+}
+
+}  // namespace
+
+Result<std::vector<ObserverFit>> FitObserverGroups(
+    const protocols::Protocol& protocol,
+    const std::vector<ObservedGroup>& observed,
+    const ObserverFitOptions& options, CuePool& pool) {
+  std::vector<Result<ObserverFit>> results(observed.size(),
+                                           Error{"not fitted"});
+  RunFits(
+      static_cast<int>(observed.size()), options.jobs,
+      [&](int i) {
+        const std::size_t k = static_cast<std::size_t>(i);
+        results[k] = FitObservers(protocol, observed[k], options, pool);
+      },
+      nullptr);
+  std::vector<ObserverFit> fits;
+  for (Result<ObserverFit>& r : results) {
+    if (!r.ok()) return r.error();
+    fits.push_back(std::move(*r));
+  }
+  return fits;
+}
+
 Result<std::vector<VariantFit>> CompareObserverVariants(
     const protocols::Protocol& protocol,
     const std::vector<ObservedGroup>& observed,
@@ -722,18 +775,40 @@ Result<std::vector<VariantFit>> CompareObserverVariants(
     const std::function<void(int, std::string_view)>& progress) {
   int subjects = 0;
   for (const ObservedGroup& g : observed) subjects += g.n;
+  std::vector<ObserverFitOptions> variant_options;
+  for (const ObserverVariant& variant : variants) {
+    ObserverFitOptions o = options;
+    o.base = VariantObserver(variant, options.base);
+    o.fit_spread = variant.spread && options.fit_spread;
+    variant_options.push_back(o);
+  }
+  // Every (variant, group) is a fit of its own: all at once.
+  const std::size_t groups = observed.size();
+  std::vector<Result<ObserverFit>> results(variants.size() * groups,
+                                           Error{"not fitted"});
+  int finished = 0;
+  RunFits(
+      static_cast<int>(results.size()), options.jobs,
+      [&](int i) {
+        const std::size_t k = static_cast<std::size_t>(i);
+        results[k] = FitObservers(protocol, observed[k % groups],
+                                  variant_options[k / groups], pool);
+      },
+      [&](int i) {
+        if (progress) {
+          progress(++finished,
+                   variants[static_cast<std::size_t>(i) / groups].name);
+        }
+      });
   std::vector<VariantFit> compared;
   for (std::size_t i = 0; i < variants.size(); ++i) {
-    if (progress) progress(static_cast<int>(i), variants[i].name);
+    const ObserverFitOptions& o = variant_options[i];
     VariantFit v;
     v.variant = variants[i];
-    ObserverFitOptions o = options;
-    o.base = VariantObserver(v.variant, options.base);
-    o.fit_spread = v.variant.spread && options.fit_spread;
     v.observer = o.base;
     v.fit_spread = o.fit_spread;
-    for (const ObservedGroup& g : observed) {
-      Result<ObserverFit> fit = FitObservers(protocol, g, o, pool);
+    for (std::size_t g = 0; g < groups; ++g) {
+      Result<ObserverFit>& fit = results[i * groups + g];
       if (!fit.ok()) return fit.error();
       v.log_likelihood += fit->log_likelihood;
       v.fits.push_back(std::move(*fit));

@@ -50,6 +50,9 @@ struct ObserverFitOptions {
   // intervals; false: the moment fit and its interval from mean +- 1.96 SEM.
   bool maximum_likelihood = true;
   protocols::ObserverParams base;  // lapse, criterion, ... (W is replaced)
+  // Fits run at once (FitObserverGroups, CompareObserverVariants: each block
+  // and variant is its own fit); the results do not depend on it.
+  int jobs = 1;
 };
 
 struct ObserverFit {
@@ -130,8 +133,10 @@ struct VariantFit {
 
 // Fits each of `variants` (VariantObserver over options.base; its spread
 // fitted where the variant has one and options.fit_spread allows) to every
-// observed group, in order; `progress` (may be empty) is told each variant
-// before it is fitted. Sorted by AIC, best first (stable).
+// observed group, options.jobs fits at once; `progress` (may be empty) is
+// told (fits done, of variants x groups, the variant of the last one done),
+// one call at a time. Sorted by AIC, best first (stable); an error is the
+// first in the order of variants and groups.
 Result<std::vector<VariantFit>> CompareObserverVariants(
     const protocols::Protocol& protocol,
     const std::vector<ObservedGroup>& observed,
@@ -156,6 +161,12 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
                                  const ObservedGroup& observed,
                                  const ObserverFitOptions& options,
                                  CuePool& pool);
+// FitObservers of each observed group, options.jobs at once, in their order
+// (an error is the first group's that failed).
+Result<std::vector<ObserverFit>> FitObserverGroups(
+    const protocols::Protocol& protocol,
+    const std::vector<ObservedGroup>& observed,
+    const ObserverFitOptions& options, CuePool& pool);
 
 // The population fitted blocks describe, for virtual or simulated studies:
 // each cue takes the Weber fraction and spread of the block of its task

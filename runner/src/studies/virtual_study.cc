@@ -40,8 +40,13 @@ Result<const std::vector<double>*> CuePool::Cues(
   const stimuli::IntervalOptions o =
       IntervalOptionsFor(protocol, radius_mm_, trial, set, duration_s, 0);
   std::string key = StimulusKey(o, PooledExploration(e, o.task));
-  auto it = cues_.find(key);
-  if (it != cues_.end()) return &it->second;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = cues_.find(key);
+    if (it != cues_.end()) return &it->second;
+  }
+  // Rendered outside the lock (the rendering pool renders each once, for
+  // whichever thread asks first); the first to store its cues keeps them.
   Result<std::vector<double>> cues = renderings_->Cues(o, e);
   if (!cues.ok()) {
     return Error{fmt::format("rendering {} ({}, {} s): {}", set.name,
@@ -49,6 +54,7 @@ Result<const std::vector<double>*> CuePool::Cues(
                              cues.error().message)};
   }
   for (double& c : *cues) c = protocols::FeltCue(c);
+  std::lock_guard<std::mutex> lock(mutex_);
   return &cues_.emplace(std::move(key), std::move(*cues)).first->second;
 }
 

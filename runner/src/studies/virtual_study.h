@@ -16,6 +16,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -32,7 +33,7 @@ namespace burrlab::runner {
 
 // Cues of rendered intervals, cached by stimulus; the renderings come from
 // a RenderingPool, its own or one shared with simulated sessions (then
-// virtual and simulated studies feel the same renderings).
+// virtual and simulated studies feel the same renderings). Thread-safe.
 class CuePool {
  public:
   // `samples` renderings per stimulus (erosion seeds derived from `seed`).
@@ -56,6 +57,7 @@ class CuePool {
   std::unique_ptr<RenderingPool> own_;
   RenderingPool* renderings_;
   double radius_mm_;
+  std::mutex mutex_;  // guards cues_ (whose values never move)
   std::map<std::string, std::vector<double>> cues_;
 };
 

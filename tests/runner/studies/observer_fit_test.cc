@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "example_protocol.h"
 
@@ -245,6 +247,91 @@ TEST(ObserverFit, ADrillBlockFitsTheRemovalCue) {
   EXPECT_LE(fit->weber_low, 1.5);
   EXPECT_GE(fit->weber_high, 1.5);
   EXPECT_NEAR(fit->fitted_mean, observed.mean, 0.15);
+}
+
+// Fits on several threads (--jobs) are the fits made one after another, to
+// the last bit: each fit draws only from its own seeds, and the threads share
+// a cue cache they fill as they go (a fresh one for each run here).
+TEST(ObserverFit, FitsOnSeveralThreadsAreTheFitsMadeInTurn) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("same_different_pvc_vs_bone.toml");
+  const std::vector<ObservedGroup> observed = {{9.3, 0.4, 20, "probe"},
+                                               {9.6, 0.5, 20, "drill"}};
+  std::vector<ObserverVariant> variants;
+  for (const char* name : {"fixed", "likelihood_alike"}) {
+    Result<ObserverVariant> v = FindObserverVariant(name);
+    ASSERT_TRUE(v.ok()) << v.error().message;
+    variants.push_back(*v);
+  }
+  ObserverFitOptions options;
+#if defined(__SANITIZE_ADDRESS__)
+  options.virtual_subjects = 30;
+#else
+  options.virtual_subjects = 100;
+#endif
+  options.seed = 3;
+  options.base = protocols::ObserverParamsFrom(protocol.observer);
+  RenderingPool renderings(2, 5);
+  const auto compare = [&](int jobs, std::vector<int>* progress) {
+    CuePool pool(renderings, 2.0);
+    ObserverFitOptions o = options;
+    o.jobs = jobs;
+    return CompareObserverVariants(
+        protocol, observed, variants, o, pool,
+        [&](int done, std::string_view) { progress->push_back(done); });
+  };
+  std::vector<int> progress_1, progress_3;
+  Result<std::vector<VariantFit>> one = compare(1, &progress_1);
+  Result<std::vector<VariantFit>> three = compare(3, &progress_3);
+  ASSERT_TRUE(one.ok()) << one.error().message;
+  ASSERT_TRUE(three.ok()) << three.error().message;
+  EXPECT_EQ(progress_1, (std::vector<int>{1, 2, 3, 4}));
+  EXPECT_EQ(progress_3, (std::vector<int>{1, 2, 3, 4}));
+  ASSERT_EQ(one->size(), 2u);
+  ASSERT_EQ(three->size(), 2u);
+  for (std::size_t i = 0; i < one->size(); ++i) {
+    const VariantFit& a = (*one)[i];
+    const VariantFit& b = (*three)[i];
+    EXPECT_EQ(a.variant.name, b.variant.name);
+    EXPECT_EQ(a.log_likelihood, b.log_likelihood);
+    EXPECT_EQ(a.aic, b.aic);
+    ASSERT_EQ(a.fits.size(), 2u);
+    ASSERT_EQ(b.fits.size(), 2u);
+    for (std::size_t g = 0; g < 2; ++g) {
+      EXPECT_EQ(a.fits[g].block, observed[g].block);
+      EXPECT_EQ(b.fits[g].block, observed[g].block);
+      EXPECT_EQ(a.fits[g].weber, b.fits[g].weber);
+      EXPECT_EQ(a.fits[g].weber_low, b.fits[g].weber_low);
+      EXPECT_EQ(a.fits[g].weber_high, b.fits[g].weber_high);
+      EXPECT_EQ(a.fits[g].weber_spread, b.fits[g].weber_spread);
+      EXPECT_EQ(a.fits[g].spread_high, b.fits[g].spread_high);
+      EXPECT_EQ(a.fits[g].log_likelihood, b.fits[g].log_likelihood);
+    }
+  }
+  // FitObserverGroups too, and its fits are the variant's.
+  CuePool pool(renderings, 2.0);
+  ObserverFitOptions o = options;
+  o.base = VariantObserver(variants[1], options.base);
+  o.fit_spread = false;
+  o.jobs = 2;
+  Result<std::vector<ObserverFit>> groups =
+      FitObserverGroups(protocol, observed, o, pool);
+  ASSERT_TRUE(groups.ok()) << groups.error().message;
+  const VariantFit& alike =
+      (*one)[0].variant.name == "likelihood_alike" ? (*one)[0] : (*one)[1];
+  ASSERT_EQ(groups->size(), 2u);
+  for (std::size_t g = 0; g < 2; ++g) {
+    EXPECT_EQ((*groups)[g].weber, alike.fits[g].weber);
+    EXPECT_EQ((*groups)[g].log_likelihood, alike.fits[g].log_likelihood);
+  }
+  // An error is the first group's, whichever thread met it first.
+  const std::vector<ObservedGroup> wrong = {{9.3, 0.4, 20, "nope"},
+                                            {13.0, 0.5, 20, "drill"}};
+  Result<std::vector<ObserverFit>> refused =
+      FitObserverGroups(protocol, wrong, o, pool);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().message,
+            "the protocol has no block \"nope\" (blocks: probe, drill)");
 }
 
 TEST(ObserverFit, PopulationTakesEachCueFromTheBlockOfItsTask) {

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <boost/math/distributions/binomial.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -29,6 +30,7 @@
 #include "burrlab/results_schema/dataset_layout.h"
 #include "cli/flags.h"
 #include "cli/json_number.h"
+#include "studies/fit_recovery.h"
 #include "studies/observer_fit.h"
 #include "studies/progress.h"
 #include "studies/session.h"
@@ -1511,6 +1513,13 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                    100000, &predict_subjects);
   flags.AddInteger("--runs", "predicted studies (default 200)", 1, 1000000,
                    &runs);
+  int recovery = 0;
+  flags.AddInteger(
+      "--recovery",
+      "check the intervals: simulate N published results of the observed n "
+      "subjects from the fitted population, fit each back the same way and "
+      "count how often each 95 % interval holds the truth (N fits per block)",
+      1, 100000, &recovery);
   flags.AddPositive("--alpha", "significance level (default 0.05)", "", &alpha,
                     0.5);
   flags.AddSwitch("--json", "print the results as JSON", &json);
@@ -1637,6 +1646,41 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   for (std::size_t i = 0; i < fits.size(); ++i) {
     fits_json.push_back(fit_json(observed[i], fits[i]));
   }
+  if (recovery > 0) {
+    // The range of k (studies whose interval holds the truth) a 95 % interval
+    // gives in 95 % of such checks: the smallest k where Binomial(N, 0.95)'s
+    // CDF reaches 0.025, and where it reaches 0.975.
+    const boost::math::binomial_distribution<double> chance(recovery, 0.95);
+    int chance_low = -1, chance_high = -1;
+    for (int k = 0; k <= recovery && chance_high < 0; ++k) {
+      const double cdf = boost::math::cdf(chance, k);
+      if (chance_low < 0 && cdf >= 0.025) chance_low = k;
+      if (cdf >= 0.975) chance_high = k;
+    }
+    for (std::size_t i = 0; i < fits.size(); ++i) {
+      RecoveryOptions r;
+      r.studies = recovery;
+      r.seed = options.seed;
+      r.renderings = cue_samples;
+      ProgressBar bar(err, recovery);
+      Result<Recovery> checked = CheckRecovery(
+          loaded->protocol, observed[i], fits[i], options, pool, r,
+          [&](int done) {
+            bar.Update(done, fmt::format("recovery of block {}: study {}",
+                                         fits[i].block, done));
+          });
+      if (!checked.ok()) {
+        return Fail(err, "analyze fit-observers: " + checked.error().message);
+      }
+      fits_json[i]["recovery"] = {{"studies", checked->studies},
+                                  {"weber_covered", checked->weber_covered},
+                                  {"spread_covered", checked->spread_covered},
+                                  {"both_covered", checked->both_covered},
+                                  {"weber_at_limit", checked->weber_at_limit},
+                                  {"spread_at_limit", checked->spread_at_limit},
+                                  {"chance_95", {chance_low, chance_high}}};
+    }
+  }
   Json j;
   j["protocol"] = protocol_path;
   j["lapse"] = options.base.lapse;
@@ -1749,6 +1793,18 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
         f["observed"]["n"].get<int>(), f["observed"]["mean"].get<double>(),
         f["observed"]["sem"].get<double>(),
         f["published_probability"].get<double>());
+    if (f.contains("recovery")) {
+      const Json& r = f["recovery"];
+      out << fmt::format(
+          "recovery {} published results simulated from this fit and fitted "
+          "back: W's interval held the truth in {}, the spread's in {}, both "
+          "in {} (a 95 % interval: {} to {} by chance); intervals at a search "
+          "limit: W {}, spread {}\n",
+          r["studies"].get<int>(), r["weber_covered"].get<int>(),
+          r["spread_covered"].get<int>(), r["both_covered"].get<int>(),
+          r["chance_95"][0].get<int>(), r["chance_95"][1].get<int>(),
+          r["weber_at_limit"].get<int>(), r["spread_at_limit"].get<int>());
+    }
     for (const Json& note : f["notes"]) {
       out << "note     " << note.get<std::string>() << '\n';
     }

@@ -5,22 +5,20 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <optional>
 #include <string_view>
-#include <thread>
 #include <utility>
 #include <vector>
 
 #include "burrlab/analysis/box_search.h"
 #include "burrlab/analysis/published_scores.h"
+#include "studies/parallel_for.h"
 
 namespace burrlab::runner {
 namespace {
@@ -717,42 +715,13 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
   return fit;
 }
 
-namespace {
-
-// Runs task(0) ... task(n - 1) on up to `jobs` threads; `done` (may be empty)
-// is called after each with the index finished, one call at a time.
-void RunFits(int n, int jobs, const std::function<void(int)>& task,
-             const std::function<void(int)>& done) {
-  std::atomic<int> next{0};
-  std::mutex mutex;
-  const auto worker = [&]() {
-    for (int i = next.fetch_add(1); i < n; i = next.fetch_add(1)) {
-      task(i);
-      if (done) {
-        std::lock_guard<std::mutex> lock(mutex);
-        done(i);
-      }
-    }
-  };
-  const int threads = std::clamp(jobs, 1, std::max(1, n));
-  if (threads == 1) {
-    worker();
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-  for (std::thread& t : pool) t.join();
-}
-
-}  // namespace
-
 Result<std::vector<ObserverFit>> FitObserverGroups(
     const protocols::Protocol& protocol,
     const std::vector<ObservedGroup>& observed,
     const ObserverFitOptions& options, CuePool& pool) {
   std::vector<Result<ObserverFit>> results(observed.size(),
                                            Error{"not fitted"});
-  RunFits(
+  ParallelFor(
       static_cast<int>(observed.size()), options.jobs,
       [&](int i) {
         const std::size_t k = static_cast<std::size_t>(i);
@@ -787,7 +756,7 @@ Result<std::vector<VariantFit>> CompareObserverVariants(
   std::vector<Result<ObserverFit>> results(variants.size() * groups,
                                            Error{"not fitted"});
   int finished = 0;
-  RunFits(
+  ParallelFor(
       static_cast<int>(results.size()), options.jobs,
       [&](int i) {
         const std::size_t k = static_cast<std::size_t>(i);

@@ -52,6 +52,7 @@ class CuePool {
                                           const protocols::Exploration& e = {});
   // Simulated intervals rendered so far.
   int rendered() const { return renderings_->rendered(); }
+  double radius_mm() const { return radius_mm_; }
 
  private:
   std::unique_ptr<RenderingPool> own_;

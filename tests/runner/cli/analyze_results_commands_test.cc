@@ -982,9 +982,20 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
   run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
                     "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
                     "--cue-samples", "1", "--virtual-subjects", "50", "--json",
-                    "--no-spread"});
+                    "--no-spread", "--recovery", "3"});
   ASSERT_EQ(run.code, 0) << run.err;
   const nlohmann::json j = nlohmann::json::parse(run.out);
+  // --recovery: three published results simulated from the fit and fitted
+  // back. By chance, a 95 % interval holds the truth in 2 or 3 of 3 (the
+  // 2.5 and 97.5 % points of Binomial(3, 0.95): P(k <= 1) = 0.007, P(k <= 2)
+  // = 0.143, by hand).
+  const nlohmann::json& recovery = j["fits"][0]["recovery"];
+  EXPECT_EQ(recovery["studies"], 3);
+  EXPECT_LE(recovery["weber_covered"].get<int>(), 3);
+  EXPECT_EQ(recovery["spread_covered"], 3);  // not fitted
+  EXPECT_EQ(recovery["both_covered"], recovery["weber_covered"]);
+  EXPECT_EQ(recovery["spread_at_limit"], 0);
+  EXPECT_EQ(recovery["chance_95"], nlohmann::json::array({2, 3}));
   ASSERT_EQ(j["fits"].size(), 1u);
   EXPECT_EQ(j["fits"][0]["block"], "probe2afc");
   EXPECT_EQ(j["fits"][0]["cue"], "stiffness");
@@ -1037,6 +1048,13 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
   }
   EXPECT_GT(alike_aic, best_aic);
   EXPECT_NE(compared["observer"]["rule"], "");
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
+                    "--recovery", "0"});
+  EXPECT_EQ(run.code, 1);
+  EXPECT_EQ(run.err,
+            "burrlab: --recovery must be a whole number from 1 to 100000, "
+            "got '0'\n");
   run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
                     "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
                     "--variant", "optimal"});

@@ -1455,7 +1455,8 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       ->type_name("FILE")
       ->required();
   app.add_option("--observed", observed_texts,
-                 "a group result, [block=NAME,]mean=M,sem=S,n=N (once per "
+                 "a group result, [block=NAME,]mean=M,sem=S,n=N, or each "
+                 "subject's score, [block=NAME,]scores=S1/S2/... (once per "
                  "block)")
       ->type_name("[block=NAME,]mean=M,sem=S,n=N")
       ->allow_extra_args(false)
@@ -1587,6 +1588,7 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     f["trials_per_subject"] = fit.trials_per_subject;
     f["observed"] = {
         {"mean", g.mean}, {"sem", g.sem}, {"n", g.n}, {"sd", fit.observed_sd}};
+    if (!g.scores.empty()) f["observed"]["scores"] = g.scores;
     f["weber"] = fit.weber;
     f["weber_ci"] = {fit.weber_low, fit.weber_high};
     f["weber_spread"] = fit.weber_spread;
@@ -1770,12 +1772,17 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                         e.subject_speed_spread)
           : std::string("fixed"));
   for (const Json& f : j["fits"]) {
+    const bool scores = f["observed"].contains("scores");
+    const double mean = f["observed"]["mean"].get<double>(),
+                 sem = f["observed"]["sem"].get<double>();
     out << fmt::format(
-        "block {} ({} trials, {} cue): observed {} +- {} (n {}, SD {:.3g})\n",
+        "block {} ({} trials, {} cue): observed {} (n {}, SD {:.3g})\n",
         f["block"].get<std::string>(), f["trials_per_subject"].get<int>(),
-        f["cue"].get<std::string>(), f["observed"]["mean"].get<double>(),
-        f["observed"]["sem"].get<double>(), f["observed"]["n"].get<int>(),
-        f["observed"]["sd"].get<double>());
+        f["cue"].get<std::string>(),
+        scores ? fmt::format("{:.2f} +- {:.2f}, each subject's score given",
+                             mean, sem)
+               : fmt::format("{} +- {}", mean, sem),
+        f["observed"]["n"].get<int>(), f["observed"]["sd"].get<double>());
     out << fmt::format(
         "fitted   Weber {:.3g} [{:.3g}, {:.3g}], spread {:.3g} [{:.3g}, "
         "{:.3g}] (SD of ln W; 95 % {} intervals), lapse {}\n",
@@ -1787,11 +1794,15 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
         options.base.lapse);
     out << fmt::format(
         "         population mean {:.2f}, SD {:.2f} ({} virtual subjects, {} "
-        "virtual studies); P({} subjects report {} +- {}) = {:.3g}\n",
+        "virtual studies); {} = {:.3g}\n",
         f["fitted"]["mean"].get<double>(), f["fitted"]["sd"].get<double>(),
         options.virtual_subjects, f["virtual_studies"].get<int>(),
-        f["observed"]["n"].get<int>(), f["observed"]["mean"].get<double>(),
-        f["observed"]["sem"].get<double>(),
+        scores ? fmt::format("P(these {} scores, in this order)",
+                             f["observed"]["n"].get<int>())
+               : fmt::format("P({} subjects report {} +- {})",
+                             f["observed"]["n"].get<int>(),
+                             f["observed"]["mean"].get<double>(),
+                             f["observed"]["sem"].get<double>()),
         f["published_probability"].get<double>());
     if (f.contains("recovery")) {
       const Json& r = f["recovery"];

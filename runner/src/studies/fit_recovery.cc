@@ -80,8 +80,13 @@ Result<Recovery> CheckRecovery(const protocols::Protocol& protocol,
               Error{fmt::format("block \"{}\" was not scored", truth.block)};
           return;
         }
+        // Published as the observed result is: each subject's score, or the
+        // rounded mean and SEM.
         const ObservedGroup published =
-            PublishedResult(block->correct, truth.block, observed.decimals);
+            observed.scores.empty()
+                ? PublishedResult(block->correct, truth.block,
+                                  observed.decimals)
+                : ObservedScores(block->correct, truth.block);
         // Fitted back as the observed result was, with a seed of its own.
         ObserverFitOptions o = fit_options;
         o.block = truth.block;

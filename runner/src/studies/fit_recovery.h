@@ -53,8 +53,10 @@ ObservedGroup PublishedResult(const std::vector<int>& correct,
 
 // Simulates options.studies published results of observed.n subjects of the
 // population `truth` describes (its block's W and spread, over
-// fit_options.base) and fits each back with `fit_options` (its own seed per
-// study) on renderings of `fit_pool`; fit_options.jobs studies at once.
+// fit_options.base), published as `observed` is (each subject's score where
+// it gives scores, else the mean and SEM rounded to its decimals), and fits
+// each back with `fit_options` (its own seed per study) on renderings of
+// `fit_pool`; fit_options.jobs studies at once.
 // `progress` (may be empty) is told the studies done.
 Result<Recovery> CheckRecovery(const protocols::Protocol& protocol,
                                const ObservedGroup& observed,

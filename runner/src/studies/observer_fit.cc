@@ -231,13 +231,25 @@ class PopulationFitter {
       total += p.back();
     }
     for (double& x : p) x /= total;  // exact sum for the check
-    Result<double> probability = analysis::PublishedScoresProbability(
-        p, {observed.mean, observed.sem, observed.n,
-            std::min(observed.decimals, 6)});
-    if (!probability.ok()) return probability.error();
-    const double ll = *probability > 0.0
-                          ? std::log(*probability)
-                          : -std::numeric_limits<double>::infinity();
+    double ll = 0.0;
+    if (!observed.scores.empty()) {
+      // Each subject's score, independent draws from the distribution.
+      for (int score : observed.scores) {
+        const auto k = static_cast<std::size_t>(score);
+        if (score < 0 || k >= p.size()) {
+          return Error{fmt::format("a score of {} is outside 0 to {}", score,
+                                   p.size() - 1)};
+        }
+        ll += std::log(p[k]);
+      }
+    } else {
+      Result<double> probability = analysis::PublishedScoresProbability(
+          p, {observed.mean, observed.sem, observed.n,
+              std::min(observed.decimals, 6)});
+      if (!probability.ok()) return probability.error();
+      ll = *probability > 0.0 ? std::log(*probability)
+                              : -std::numeric_limits<double>::infinity();
+    }
     log_likelihoods_.emplace(key, ll);
     by_distribution_.emplace(m->distribution, ll);
     return ll;
@@ -503,6 +515,25 @@ Status RefineByLikelihood(PopulationFitter& fitter,
 
 }  // namespace
 
+ObservedGroup ObservedScores(std::vector<int> scores, std::string block) {
+  ObservedGroup g;
+  double sum = 0.0, sum2 = 0.0;
+  for (int c : scores) {
+    sum += c;
+    sum2 += static_cast<double>(c) * c;
+  }
+  const double count = static_cast<double>(scores.size());
+  g.n = static_cast<int>(scores.size());
+  g.mean = count > 0.0 ? sum / count : 0.0;
+  g.sem = count > 1.0 ? std::sqrt(std::max(0.0, (sum2 - sum * sum / count) /
+                                                    (count - 1.0) / count))
+                      : 0.0;
+  g.decimals = 6;
+  g.block = std::move(block);
+  g.scores = std::move(scores);
+  return g;
+}
+
 Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
   ObservedGroup g;
   g.decimals = 0;
@@ -510,9 +541,11 @@ Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
   const auto bad = [&] {
     return Error{fmt::format(
         "--observed must be [block=NAME,]mean=M,sem=S,n=N (M >= 0, S > 0, "
-        "N >= 2), got '{}'",
+        "N >= 2) or [block=NAME,]scores=S1/S2/... (each subject's score, at "
+        "least two), got '{}'",
         text)};
   };
+  bool scores = false;
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t comma = std::min(text.find(',', start), text.size());
@@ -524,6 +557,23 @@ Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
     if (key == "block") {
       if (value.empty() || !g.block.empty()) return bad();
       g.block = std::string(value);
+      start = comma + 1;
+      continue;
+    }
+    if (key == "scores") {
+      if (scores) return bad();
+      scores = true;
+      std::size_t from = 0;
+      while (from <= value.size()) {
+        const std::size_t slash = std::min(value.find('/', from), value.size());
+        int score = 0;
+        const char* first = value.data() + from;
+        const char* last = value.data() + slash;
+        const auto [end, ec] = std::from_chars(first, last, score);
+        if (ec != std::errc() || end != last || score < 0) return bad();
+        g.scores.push_back(score);
+        from = slash + 1;
+      }
       start = comma + 1;
       continue;
     }
@@ -549,6 +599,10 @@ Result<ObservedGroup> ParseObservedGroup(std::string_view text) {
       return bad();
     }
     start = comma + 1;
+  }
+  if (scores) {
+    if (mean || sem || n || g.scores.size() < 2) return bad();
+    return ObservedScores(std::move(g.scores), g.block);
   }
   if (!mean || !sem || !n || g.mean < 0.0 || !(g.sem > 0.0)) return bad();
   return g;
@@ -616,6 +670,13 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
   fit.trials_per_subject = fitter.trials();
   for (const protocols::Block& b : protocol.blocks) {
     if (b.name == fit.block) fit.task = b.task;
+  }
+  for (int score : observed.scores) {
+    if (score > fit.trials_per_subject) {
+      return Error{fmt::format(
+          "an observed score of {} is above the {} trials of block \"{}\"",
+          score, fit.trials_per_subject, fit.block)};
+    }
   }
   if (observed.mean > fit.trials_per_subject) {
     return Error{

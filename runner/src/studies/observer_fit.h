@@ -30,11 +30,19 @@ struct ObservedGroup {
   std::string block;  // the block scored; empty: not said
   int decimals = 1;   // the rounding of mean and sem as given (the most
                       // decimals of the two)
+  // Each subject's score, where known (raw data, or a histogram such as the
+  // dissertation's Fig. 13.1 read off): the likelihood is then that of these
+  // scores, and mean, sem and n are theirs (unrounded).
+  std::vector<int> scores = {};
 };
 
-// Parses "mean=9.3,sem=0.4,n=20" (keys in any order, all three required),
-// optionally with "block=probe".
+// Parses "mean=9.3,sem=0.4,n=20" (keys in any order, all three required), or
+// "scores=12/11/9/..." (each subject's score, at least two), optionally with
+// "block=probe".
 Result<ObservedGroup> ParseObservedGroup(std::string_view text);
+// The group of these scores: n, mean and SEM (sample SD over sqrt n) theirs,
+// unrounded.
+ObservedGroup ObservedScores(std::vector<int> scores, std::string block);
 
 struct ObserverFitOptions {
   std::string block;  // the block the scores are of; empty: the first

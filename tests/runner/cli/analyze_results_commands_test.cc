@@ -1004,6 +1004,18 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
   EXPECT_EQ(j["population"]["weber_removal"], j["fits"][0]["weber"]);
   EXPECT_EQ(j["population"]["notes"].size(), 1u);
   EXPECT_EQ(j["observer"]["rule"], "fixed");
+  // Each subject's score instead of the mean and SEM.
+  run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
+                    "--observed", "block=probe2afc,scores=12/10/9/9/8/7",
+                    "--cue-samples", "1", "--virtual-subjects", "50", "--json",
+                    "--no-spread"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const nlohmann::json by_scores = nlohmann::json::parse(run.out);
+  EXPECT_EQ(by_scores["fits"][0]["observed"]["scores"],
+            nlohmann::json::array({12, 10, 9, 9, 8, 7}));
+  EXPECT_EQ(by_scores["fits"][0]["observed"]["n"], 6);
+  EXPECT_DOUBLE_EQ(by_scores["fits"][0]["observed"]["mean"].get<double>(),
+                   55.0 / 6.0);
   // --observer chooses the model fitted, over the protocol's [observer].
   run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
                     "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",

@@ -129,9 +129,66 @@ TEST(ObserverFit, ObservedTextIsParsedStrictly) {
     ASSERT_FALSE(r.ok()) << bad;
     EXPECT_EQ(r.error().message,
               "--observed must be [block=NAME,]mean=M,sem=S,n=N (M >= 0, S > "
-              "0, N >= 2), got '" +
+              "0, N >= 2) or [block=NAME,]scores=S1/S2/... (each subject's "
+              "score, at least two), got '" +
                   bad + "'");
   }
+}
+
+// Each subject's score: n, mean and SEM are theirs (by hand: 8, 9, 10, 11
+// have mean 9.5 and SD sqrt(5/3), SEM sqrt(5/3) / 2), unrounded.
+TEST(ObserverFit, ObservedTextMayGiveEachSubjectsScore) {
+  Result<ObservedGroup> g = ParseObservedGroup("block=probe,scores=8/9/10/11");
+  ASSERT_TRUE(g.ok()) << g.error().message;
+  EXPECT_EQ(g->block, "probe");
+  EXPECT_EQ(g->scores, (std::vector<int>{8, 9, 10, 11}));
+  EXPECT_EQ(g->n, 4);
+  EXPECT_DOUBLE_EQ(g->mean, 9.5);
+  EXPECT_DOUBLE_EQ(g->sem, std::sqrt(5.0 / 3.0) / 2.0);
+  EXPECT_EQ(g->decimals, 6);
+  for (const std::string bad :
+       {"scores=9", "scores=9/x", "scores=9//10", "scores=9/-1",
+        "scores=9/10,n=2", "scores=9/10,mean=9.5", "scores=9/10,scores=9/10",
+        "scores="}) {
+    Result<ObservedGroup> r = ParseObservedGroup(bad);
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_NE(r.error().message.find("or [block=NAME,]scores=S1/S2/..."),
+              std::string::npos);
+  }
+}
+
+// The likelihood of each subject's score against that of the published mean
+// and SEM, at the same population. Truth, combinatorial: two subjects scoring
+// 8 and 11 are the only pair with mean 9.5 and SEM 1.5, reached in two orders,
+// so P(mean 9.5, SEM 1.5) = 2 p(8) p(11) = 2 P(scores 8, 11): the log
+// likelihoods differ by ln 2. The moment fits (same mean and SD) give the
+// same population.
+TEST(ObserverFit, EachSubjectsScoreIsTheMeanAndSemInOneOrder) {
+  const protocols::Protocol protocol =
+      ExampleProtocol("two_interval_2afc.toml");
+  CuePool pool(2, 2.0, 1);
+  ObserverFitOptions options;
+  options.virtual_subjects = 200;
+  options.maximum_likelihood = false;
+  options.fit_spread = false;
+  const Result<ObservedGroup> scores = ParseObservedGroup("scores=8/11");
+  ASSERT_TRUE(scores.ok());
+  Result<ObserverFit> by_scores =
+      FitObservers(protocol, *scores, options, pool);
+  Result<ObserverFit> by_mean =
+      FitObservers(protocol, {9.5, 1.5, 2, "", 1}, options, pool);
+  ASSERT_TRUE(by_scores.ok()) << by_scores.error().message;
+  ASSERT_TRUE(by_mean.ok()) << by_mean.error().message;
+  EXPECT_EQ(by_scores->weber, by_mean->weber);
+  EXPECT_NEAR(by_mean->log_likelihood - by_scores->log_likelihood,
+              std::log(2.0), 1e-12);
+  // A score above the block's trials is refused by name.
+  Result<ObserverFit> above =
+      FitObservers(protocol, ObservedScores({8, 13}, ""), options, pool);
+  ASSERT_FALSE(above.ok());
+  EXPECT_EQ(above.error().message,
+            "an observed score of 13 is above the 12 trials of block "
+            "\"probe2afc\"");
 }
 
 TEST(ObserverFit, ObservedTextMayNameItsBlock) {

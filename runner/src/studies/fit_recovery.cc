@@ -13,21 +13,12 @@ namespace burrlab::runner {
 
 ObservedGroup PublishedResult(const std::vector<int>& correct,
                               const std::string& block, int decimals) {
-  double sum = 0.0, sum2 = 0.0;
-  for (int c : correct) {
-    sum += c;
-    sum2 += static_cast<double>(c) * c;
-  }
-  const double n = static_cast<double>(correct.size());
+  ObservedGroup g = ObservedScores(correct, block);
   const double unit = std::pow(10.0, -decimals);
-  const double variance =
-      n > 1.0 ? std::max(0.0, (sum2 - sum * sum / n) / (n - 1.0)) : 0.0;
-  ObservedGroup g;
-  g.n = static_cast<int>(correct.size());
-  g.block = block;
+  g.mean = std::round(g.mean / unit) * unit;
+  g.sem = std::max(unit, std::round(g.sem / unit) * unit);
   g.decimals = decimals;
-  g.mean = std::round(sum / n / unit) * unit;
-  g.sem = std::max(unit, std::round(std::sqrt(variance / n) / unit) * unit);
+  g.scores.clear();  // only the mean and SEM are published
   return g;
 }
 

@@ -19,6 +19,7 @@ TEST(PublishedResult, RoundsAsAPaperDoes) {
   EXPECT_EQ(g.n, 4);
   EXPECT_EQ(g.block, "probe");
   EXPECT_EQ(g.decimals, 1);
+  EXPECT_TRUE(g.scores.empty());  // only the mean and SEM are published
   EXPECT_DOUBLE_EQ(g.mean, 9.5);
   EXPECT_DOUBLE_EQ(g.sem, 0.6);
   const ObservedGroup two = PublishedResult({8, 9, 10, 11}, "probe", 2);

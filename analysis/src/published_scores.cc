@@ -103,17 +103,40 @@ Result<double> PublishedScoresProbability(
                                                       static_cast<double>(m))) -
                              1);
   };
-  std::vector<double> dp(static_cast<std::size_t>(s_size * q_size), 0.0);
-  std::vector<double> next(dp.size(), 0.0);
-  std::vector<double> half;  // the table at m1
-  dp[0] = 1.0;
-  if (m1 == 0) half = dp;
+  // The tables (up to several MB each) are kept between calls on a thread,
+  // so that a fit's thousands of calls neither allocate nor clear them: only
+  // the entries a state of m subjects may occupy (rows s <= m k_max, columns
+  // q_first(s, m) to s k_max) are ever read, and those are cleared before
+  // they are filled.
+  thread_local std::vector<double> dp, next, half;  // half: the table at m1
+  const std::size_t table_size = static_cast<std::size_t>(s_size * q_size);
+  for (std::vector<double>* table : {&dp, &next, &half}) {
+    if (table->size() < table_size) table->resize(table_size);
+  }
+  // Clears the entries of states of m subjects in `table` (copies them from
+  // `from` when given).
+  const auto clear_band = [&](std::vector<double>& table, int m,
+                              const std::vector<double>* from) {
+    for (long s = 0; s <= static_cast<long>(m) * k_max; ++s) {
+      const std::size_t first = static_cast<std::size_t>(s * q_size +
+                                                         q_first(s, m)),
+                        last = static_cast<std::size_t>(s * q_size + s * k_max +
+                                                        1);
+      if (from == nullptr) {
+        std::fill(table.begin() + static_cast<std::ptrdiff_t>(first),
+                  table.begin() + static_cast<std::ptrdiff_t>(last), 0.0);
+      } else {
+        std::copy(from->begin() + static_cast<std::ptrdiff_t>(first),
+                  from->begin() + static_cast<std::ptrdiff_t>(last),
+                  table.begin() + static_cast<std::ptrdiff_t>(first));
+      }
+    }
+  };
+  dp[0] = 1.0;  // no subjects: sum 0, sum of squares 0
+  if (m1 == 0) clear_band(half, 0, &dp);
   for (int m = 0; m < m2; ++m) {
     const long s_reach = static_cast<long>(m) * k_max;
-    std::fill(next.begin(),
-              next.begin() +
-                  static_cast<std::ptrdiff_t>((s_reach + k_max + 1) * q_size),
-              0.0);
+    clear_band(next, m + 1, nullptr);
     for (long s = 0; s <= s_reach; ++s) {
       const long q_last = s * k_max;
       for (long q = q_first(s, m); q <= q_last; ++q) {
@@ -127,7 +150,7 @@ Result<double> PublishedScoresProbability(
       }
     }
     dp.swap(next);
-    if (m + 1 == m1) half = dp;
+    if (m + 1 == m1) clear_band(half, m1, &dp);
   }
   // dp: the table at m2; half: at m1.
   double probability = 0.0;

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <boost/math/distributions/binomial.hpp>
 #include <cmath>
 #include <filesystem>
@@ -1491,8 +1492,10 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   flags
       .AddText("--variant",
                "a named observer model (fixed, differencing, likelihood, "
-               "likelihood_varied, likelihood_alike): its rule, exploration "
-               "and whether W spreads across subjects, over --observer",
+               "likelihood_varied, likelihood_alike, likelihood_lapse): its "
+               "rule, exploration, whether W spreads across subjects and "
+               "whether a lapse shared by the blocks is fitted, over "
+               "--observer",
                &variant_name)
       ->type_name("NAME");
   flags.AddSwitch("--compare-variants",
@@ -1603,6 +1606,11 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   };
   Json comparison = Json::array();
   std::vector<ObserverFit> fits;
+  // The chosen variant fits a lapse shared by the blocks: its interval and
+  // notes.
+  bool lapse_fitted = false;
+  std::array<double, 2> lapse_ci{};
+  std::vector<std::string> lapse_notes;
   Json fits_json = Json::array();
   if (!variant_name.empty() || compare_variants) {
     std::vector<ObserverVariant> variants;
@@ -1614,7 +1622,8 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
       if (!v.ok()) return Fail(err, "--variant: " + v.error().message);
       variants.push_back(*v);
     }
-    const int total = static_cast<int>(variants.size() * observed.size());
+    const int total =
+        FitsToCompare(variants, static_cast<int>(observed.size()));
     ProgressBar bar(err, total);
     Result<std::vector<VariantFit>> compared = CompareObserverVariants(
         loaded->protocol, observed, variants, options, pool,
@@ -1626,17 +1635,33 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
     }
     bar.Update(total, "variants fitted");
     for (const VariantFit& v : *compared) {
-      comparison.push_back({{"variant", std::string(v.variant.name)},
-                            {"parameters", v.parameters},
-                            {"log_likelihood", v.log_likelihood},
-                            {"aic", v.aic},
-                            {"bic", v.bic},
-                            {"delta_aic", v.delta_aic}});
+      Json c = {{"variant", std::string(v.variant.name)},
+                {"parameters", v.parameters},
+                {"log_likelihood", v.log_likelihood},
+                {"aic", v.aic},
+                {"bic", v.bic},
+                {"delta_aic", v.delta_aic}};
+      if (v.variant.lapse) {
+        c["lapse"] = v.observer.lapse;
+        c["lapse_ci"] = {v.lapse_low, v.lapse_high};
+        c["lapse_profile"] = Json::array();
+        for (const auto& [rate, ll] : v.lapse_profile) {
+          c["lapse_profile"].push_back(
+              {{"lapse", rate}, {"log_likelihood", ll}});
+        }
+        c["notes"] = v.notes;
+      }
+      comparison.push_back(c);
     }
     const VariantFit& best = compared->front();
     options.base = best.observer;
     options.fit_spread = best.fit_spread;
     fits = best.fits;
+    if (best.variant.lapse) {
+      lapse_fitted = true;
+      lapse_ci = {best.lapse_low, best.lapse_high};
+      lapse_notes = best.notes;
+    }
   } else {
     Result<std::vector<ObserverFit>> fitted =
         FitObserverGroups(loaded->protocol, observed, options, pool);
@@ -1686,6 +1711,10 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
   Json j;
   j["protocol"] = protocol_path;
   j["lapse"] = options.base.lapse;
+  if (lapse_fitted) {
+    j["lapse_ci"] = lapse_ci;
+    j["lapse_notes"] = lapse_notes;
+  }
   const protocols::Exploration& e = options.base.exploration;
   j["observer"] = {
       {"rule",
@@ -1756,6 +1785,17 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
           v["log_likelihood"].get<double>(), v["aic"].get<double>(),
           v["bic"].get<double>(), v["delta_aic"].get<double>());
     }
+    for (const Json& v : sorted) {
+      if (!v.contains("lapse")) continue;
+      out << fmt::format(
+          "  {}: lapse {:.3g} [{:.3g}, {:.3g}] shared by the blocks (95 % "
+          "profile interval)\n",
+          v["variant"].get<std::string>(), v["lapse"].get<double>(),
+          v["lapse_ci"][0].get<double>(), v["lapse_ci"][1].get<double>());
+      for (const Json& note : v["notes"]) {
+        out << "    note: " << note.get<std::string>() << '\n';
+      }
+    }
     out << fmt::format("best: {} (below)\n",
                        sorted.front()["variant"].get<std::string>());
   }
@@ -1771,6 +1811,8 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
                         e.force_spread, e.subject_force_spread, e.speed_spread,
                         e.subject_speed_spread)
           : std::string("fixed"));
+  for (const std::string& note : lapse_notes)
+    out << "note     " << note << '\n';
   for (const Json& f : j["fits"]) {
     const bool scores = f["observed"].contains("scores");
     const double mean = f["observed"]["mean"].get<double>(),
@@ -1791,7 +1833,11 @@ int RunFitObservers(const Args& args, std::ostream& out, std::ostream& err) {
         f["spread_ci"][0].get<double>(), f["spread_ci"][1].get<double>(),
         f["method"].get<std::string>() == "moments" ? "moment"
                                                     : "profile-likelihood",
-        options.base.lapse);
+        lapse_fitted
+            ? fmt::format("{:.3g} [{:.3g}, {:.3g}] (fitted, shared by the "
+                          "blocks)",
+                          options.base.lapse, lapse_ci[0], lapse_ci[1])
+            : fmt::format("{}", options.base.lapse));
     out << fmt::format(
         "         population mean {:.2f}, SD {:.2f} ({} virtual subjects, {} "
         "virtual studies); {} = {:.3g}\n",

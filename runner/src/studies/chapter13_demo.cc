@@ -310,7 +310,7 @@ Result<DemoReport> RunChapter13Demo(const DemoOptions& options) {
     fit_options.base = protocol_observer;
     fit_options.jobs = options.jobs;
     ProgressBar bar(progress,
-                    static_cast<int>(variants.size() * observed.size()));
+                    FitsToCompare(variants, static_cast<int>(observed.size())));
     Result<std::vector<VariantFit>> compared = CompareObserverVariants(
         pvc->protocol, observed, variants, fit_options, cues,
         [&](int done, std::string_view name) {

@@ -445,7 +445,7 @@ class LikelihoodFit {
 // does not close inside the search range.
 Status RefineByLikelihood(PopulationFitter& fitter,
                           const ObservedGroup& observed, bool fit_spread,
-                          ObserverFit* fit) {
+                          bool intervals, ObserverFit* fit) {
   LikelihoodFit ml(fitter, observed, fit_spread);
   if (!ml.Maximise(std::log(fit->weber), fit->weber_spread)) {
     return *ml.error();
@@ -456,6 +456,13 @@ Status RefineByLikelihood(PopulationFitter& fitter,
         "makes {} subjects reporting {} +- {} possible",
         kMinWeber, kMaxWeber, fit_spread ? kMaxWeberSpread : 0.0, observed.n,
         observed.mean, observed.sem)};
+  }
+  if (!intervals) {
+    const auto [ln_w, spread] = ml.best();
+    fit->maximum_likelihood = true;
+    fit->weber = fit->weber_low = fit->weber_high = std::exp(ln_w);
+    fit->weber_spread = fit->spread_low = fit->spread_high = spread;
+    return Status{};
   }
   // The profiles may find a higher likelihood than the search stopped at
   // (the likelihood is estimated by simulation, so its surface is rough on
@@ -740,8 +747,8 @@ Result<ObserverFit> FitObservers(const protocols::Protocol& protocol,
   fit.weber_spread = spread;
   fit.spread_low = fit.spread_high = spread;
   if (options.maximum_likelihood) {
-    if (Status s =
-            RefineByLikelihood(fitter, observed, options.fit_spread, &fit);
+    if (Status s = RefineByLikelihood(fitter, observed, options.fit_spread,
+                                      options.intervals, &fit);
         !s.ok()) {
       return s.error();
     }
@@ -797,6 +804,170 @@ Result<std::vector<ObserverFit>> FitObserverGroups(
   return fits;
 }
 
+int FitsToCompare(std::span<const ObserverVariant> variants, int groups) {
+  int fits = 0;
+  for (const ObserverVariant& v : variants) {
+    fits += groups * (v.lapse ? kLapseFitsPerGroup : 1);
+  }
+  return fits;
+}
+
+namespace {
+
+// A variant's summary: its log likelihood, parameters, AIC and BIC over
+// `subjects` observed subjects.
+void Score(int groups, int subjects, VariantFit* v) {
+  v->log_likelihood = 0.0;
+  for (const ObserverFit& f : v->fits) v->log_likelihood += f.log_likelihood;
+  v->parameters = groups * (v->fit_spread ? 2 : 1) + (v->variant.lapse ? 1 : 0);
+  v->aic = 2.0 * v->parameters - 2.0 * v->log_likelihood;
+  v->bic = v->parameters * std::log(static_cast<double>(subjects)) -
+           2.0 * v->log_likelihood;
+}
+
+// The shared lapse of `v` (CompareObserverVariants): its profile over the
+// lapse, each point every group fitted at its maximum, options.jobs fits at
+// once; `done` is told of each fit. Fills v->fits, observer.lapse and the
+// interval.
+Status FitSharedLapse(const protocols::Protocol& protocol,
+                      const std::vector<ObservedGroup>& observed,
+                      const ObserverFitOptions& options, CuePool& pool,
+                      const std::function<void()>& done, VariantFit* v) {
+  const std::size_t groups = observed.size();
+  ObserverFitOptions point = options;
+  point.intervals = false;
+  // The profile log likelihood at each lapse of `lapses`, all fits at once.
+  std::map<double, double> profile;
+  const auto evaluate = [&](const std::vector<double>& lapses) -> Status {
+    std::vector<Result<ObserverFit>> results(lapses.size() * groups,
+                                             Error{"not fitted"});
+    ParallelFor(
+        static_cast<int>(results.size()), options.jobs,
+        [&](int i) {
+          const std::size_t k = static_cast<std::size_t>(i);
+          ObserverFitOptions o = point;
+          o.base.lapse = lapses[k / groups];
+          results[k] = FitObservers(protocol, observed[k % groups], o, pool);
+        },
+        [&](int) {
+          if (done) done();
+        });
+    for (std::size_t l = 0; l < lapses.size(); ++l) {
+      double sum = 0.0;
+      for (std::size_t g = 0; g < groups; ++g) {
+        Result<ObserverFit>& r = results[l * groups + g];
+        if (!r.ok()) return r.error();
+        sum += r->log_likelihood;
+      }
+      profile[lapses[l]] = sum;
+    }
+    return Status{};
+  };
+  const auto at = [&](double lapse) -> Result<double> {
+    if (auto it = profile.find(lapse); it != profile.end()) return it->second;
+    if (Status s = evaluate({lapse}); !s.ok()) return s.error();
+    return profile.at(lapse);
+  };
+  const std::vector<double> grid(std::begin(kLapseGrid), std::end(kLapseGrid));
+  if (Status s = evaluate(grid); !s.ok()) return s;
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < grid.size(); ++i) {
+    if (profile[grid[i]] > profile[grid[best]]) best = i;
+  }
+  // Golden-section steps between the best grid point's neighbours.
+  double lo = grid[best > 0 ? best - 1 : 0];
+  double hi = grid[std::min(best + 1, grid.size() - 1)];
+  const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+  double a = hi - ratio * (hi - lo), b = lo + ratio * (hi - lo);
+  Result<double> fa = at(a);
+  if (!fa.ok()) return fa.error();
+  Result<double> fb = at(b);
+  if (!fb.ok()) return fb.error();
+  for (int step = 2; step < kLapseGoldenSteps; ++step) {
+    if (*fa >= *fb) {  // the maximum is in [lo, b]
+      hi = b;
+      b = a;
+      fb = fa;
+      a = hi - ratio * (hi - lo);
+      fa = at(a);
+      if (!fa.ok()) return fa.error();
+    } else {  // in [a, hi]
+      lo = a;
+      a = b;
+      fa = fb;
+      b = lo + ratio * (hi - lo);
+      fb = at(b);
+      if (!fb.ok()) return fb.error();
+    }
+  }
+  double lapse = grid[best];
+  for (const auto& [l, ll] : profile) {
+    if (ll > profile[lapse]) lapse = l;
+  }
+  const double peak = profile[lapse];
+  // Each end: bisection between the last lapse within 1.92 of the peak and
+  // the first beyond it, going out from the fit; none beyond: the interval
+  // runs to the grid's end.
+  const auto end = [&](int direction, double* bound) -> Result<bool> {
+    double inside = lapse;
+    double outside = -1.0;
+    for (const auto& [l, ll] : profile) {
+      if ((l - lapse) * direction <= 0.0) continue;
+      if (ll < peak - kProfileDrop) {
+        if (outside < 0.0 || std::abs(l - lapse) < std::abs(outside - lapse))
+          outside = l;
+      }
+    }
+    if (outside < 0.0) {
+      *bound = direction < 0 ? grid.front() : grid.back();
+      return false;
+    }
+    for (const auto& [l, ll] : profile) {
+      if ((l - lapse) * direction > 0.0 &&
+          std::abs(l - lapse) < std::abs(outside - lapse) &&
+          std::abs(l - lapse) > std::abs(inside - lapse)) {
+        inside = l;
+      }
+    }
+    for (int step = 0; step < kLapseBisections; ++step) {
+      const double mid = 0.5 * (inside + outside);
+      Result<double> f = at(mid);
+      if (!f.ok()) return f.error();
+      (*f < peak - kProfileDrop ? outside : inside) = mid;
+    }
+    *bound = 0.5 * (inside + outside);
+    return true;
+  };
+  Result<bool> low_closed = end(-1, &v->lapse_low);
+  if (!low_closed.ok()) return low_closed.error();
+  Result<bool> high_closed = end(+1, &v->lapse_high);
+  if (!high_closed.ok()) return high_closed.error();
+  if (!*low_closed) {
+    v->notes.push_back(
+        "the lapse's interval reaches 0: observers that never lapse are not "
+        "rejected");
+  }
+  if (!*high_closed) {
+    v->notes.push_back(fmt::format(
+        "the lapse is not identified above the fit: the profile likelihood "
+        "stays within {:.2f} of its maximum out to {} (the interval stops "
+        "there)",
+        kProfileDrop, grid.back()));
+  }
+  // The blocks at the fitted lapse, with their intervals (at that lapse).
+  ObserverFitOptions final_options = options;
+  final_options.base.lapse = lapse;
+  Result<std::vector<ObserverFit>> fits =
+      FitObserverGroups(protocol, observed, final_options, pool);
+  if (!fits.ok()) return fits.error();
+  v->observer.lapse = lapse;
+  v->fits = std::move(*fits);
+  v->lapse_profile.assign(profile.begin(), profile.end());
+  return Status{};
+}
+
+}  // namespace
+
 Result<std::vector<VariantFit>> CompareObserverVariants(
     const protocols::Protocol& protocol,
     const std::vector<ObservedGroup>& observed,
@@ -805,6 +976,7 @@ Result<std::vector<VariantFit>> CompareObserverVariants(
     const std::function<void(int, std::string_view)>& progress) {
   int subjects = 0;
   for (const ObservedGroup& g : observed) subjects += g.n;
+  const std::size_t groups = observed.size();
   std::vector<ObserverFitOptions> variant_options;
   for (const ObserverVariant& variant : variants) {
     ObserverFitOptions o = options;
@@ -812,22 +984,27 @@ Result<std::vector<VariantFit>> CompareObserverVariants(
     o.fit_spread = variant.spread && options.fit_spread;
     variant_options.push_back(o);
   }
-  // Every (variant, group) is a fit of its own: all at once.
-  const std::size_t groups = observed.size();
+  // Every (variant, group) of a variant without a shared lapse is a fit of
+  // its own: all at once.
+  std::vector<std::size_t> plain;
+  for (std::size_t i = 0; i < variants.size(); ++i) {
+    if (!variants[i].lapse) plain.push_back(i);
+  }
   std::vector<Result<ObserverFit>> results(variants.size() * groups,
                                            Error{"not fitted"});
   int finished = 0;
   ParallelFor(
-      static_cast<int>(results.size()), options.jobs,
+      static_cast<int>(plain.size() * groups), options.jobs,
       [&](int i) {
-        const std::size_t k = static_cast<std::size_t>(i);
-        results[k] = FitObservers(protocol, observed[k % groups],
-                                  variant_options[k / groups], pool);
+        const std::size_t v = plain[static_cast<std::size_t>(i) / groups];
+        const std::size_t g = static_cast<std::size_t>(i) % groups;
+        results[v * groups + g] =
+            FitObservers(protocol, observed[g], variant_options[v], pool);
       },
       [&](int i) {
         if (progress) {
           progress(++finished,
-                   variants[static_cast<std::size_t>(i) / groups].name);
+                   variants[plain[static_cast<std::size_t>(i) / groups]].name);
         }
       });
   std::vector<VariantFit> compared;
@@ -837,16 +1014,30 @@ Result<std::vector<VariantFit>> CompareObserverVariants(
     v.variant = variants[i];
     v.observer = o.base;
     v.fit_spread = o.fit_spread;
-    for (std::size_t g = 0; g < groups; ++g) {
-      Result<ObserverFit>& fit = results[i * groups + g];
-      if (!fit.ok()) return fit.error();
-      v.log_likelihood += fit->log_likelihood;
-      v.fits.push_back(std::move(*fit));
+    if (variants[i].lapse) {
+      // Its profile's fits, then the rest of its count at once.
+      const int allotted = static_cast<int>(groups) * kLapseFitsPerGroup;
+      int used = 0;
+      Status s = FitSharedLapse(
+          protocol, observed, o, pool,
+          [&] {
+            if (used < allotted - 1) {
+              ++used;
+              if (progress) progress(++finished, v.variant.name);
+            }
+          },
+          &v);
+      if (!s.ok()) return s.error();
+      finished += allotted - used;
+      if (progress) progress(finished, v.variant.name);
+    } else {
+      for (std::size_t g = 0; g < groups; ++g) {
+        Result<ObserverFit>& fit = results[i * groups + g];
+        if (!fit.ok()) return fit.error();
+        v.fits.push_back(std::move(*fit));
+      }
     }
-    v.parameters = static_cast<int>(observed.size()) * (o.fit_spread ? 2 : 1);
-    v.aic = 2.0 * v.parameters - 2.0 * v.log_likelihood;
-    v.bic = v.parameters * std::log(static_cast<double>(subjects)) -
-            2.0 * v.log_likelihood;
+    Score(static_cast<int>(groups), subjects, &v);
     compared.push_back(std::move(v));
   }
   std::stable_sort(

@@ -11,9 +11,11 @@
 
 #include <cstdint>
 #include <functional>
+#include <iterator>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "burrlab/base/result.h"
@@ -61,6 +63,10 @@ struct ObserverFitOptions {
   // Fits run at once (FitObserverGroups, CompareObserverVariants: each block
   // and variant is its own fit); the results do not depend on it.
   int jobs = 1;
+  // Maximum likelihood: also the profile intervals of W and its spread
+  // (false: the maximum alone, each interval the point; for profiles over
+  // another parameter).
+  bool intervals = true;
 };
 
 struct ObserverFit {
@@ -99,23 +105,29 @@ struct ObserverFit {
 // (--variant, --compare-variants): a same-different decision rule, how the
 // simulated hand explores, and whether the Weber fraction spreads across
 // subjects. Each fits one Weber fraction per observed block (the block's cue)
-// and, with `spread`, its spread; the rest (lapse, criterion, bias) stays at
-// the protocol's [observer] values.
+// and, with `spread`, its spread; with `lapse`, one lapse rate shared by the
+// blocks as well (a profile over the lapse). The rest (the lapse otherwise,
+// criterion, bias) stays at the protocol's [observer] values.
 struct ObserverVariant {
   std::string_view name;
   protocols::SameDifferentRule rule;
   bool varied_exploration;  // kVariedExploration (§12.3), else every
                             // interval alike
   bool spread;              // fit the spread of W across subjects
+  bool lapse;               // fit a lapse rate shared by the blocks
 };
 inline constexpr ObserverVariant kObserverVariants[] = {
-    {"fixed", protocols::SameDifferentRule::kFixed, false, true},
-    {"differencing", protocols::SameDifferentRule::kDifferencing, false, true},
-    {"likelihood", protocols::SameDifferentRule::kLikelihood, false, true},
-    {"likelihood_varied", protocols::SameDifferentRule::kLikelihood, true,
-     true},
-    {"likelihood_alike", protocols::SameDifferentRule::kLikelihood, false,
+    {"fixed", protocols::SameDifferentRule::kFixed, false, true, false},
+    {"differencing", protocols::SameDifferentRule::kDifferencing, false, true,
      false},
+    {"likelihood", protocols::SameDifferentRule::kLikelihood, false, true,
+     false},
+    {"likelihood_varied", protocols::SameDifferentRule::kLikelihood, true, true,
+     false},
+    {"likelihood_alike", protocols::SameDifferentRule::kLikelihood, false,
+     false, false},
+    {"likelihood_lapse", protocols::SameDifferentRule::kLikelihood, false, true,
+     true},
 };
 // The variant named `name`, or an error listing the names.
 Result<ObserverVariant> FindObserverVariant(std::string_view name);
@@ -129,9 +141,19 @@ protocols::ObserverParams VariantObserver(const ObserverVariant& variant,
 // 2 ln L and BIC = k ln N - 2 ln L with N the observed subjects over blocks.
 struct VariantFit {
   ObserverVariant variant;
-  protocols::ObserverParams observer;  // the variant's observer over the base
+  // The variant's observer over the base (with the fitted lapse where it
+  // fits one).
+  protocols::ObserverParams observer;
   bool fit_spread = true;
   std::vector<ObserverFit> fits;  // one per observed block, in their order
+  // variant.lapse: the shared lapse rate's 95 % profile interval (the fit is
+  // observer.lapse), and notes on its bounds.
+  double lapse_low = 0.0;
+  double lapse_high = 0.0;
+  // The profile: (lapse, summed log likelihood of the blocks at their
+  // maximum) at every lapse tried, in increasing lapse.
+  std::vector<std::pair<double, double>> lapse_profile = {};
+  std::vector<std::string> notes = {};
   int parameters = 0;
   double log_likelihood = 0.0;
   double aic = 0.0;
@@ -142,15 +164,35 @@ struct VariantFit {
 // Fits each of `variants` (VariantObserver over options.base; its spread
 // fitted where the variant has one and options.fit_spread allows) to every
 // observed group, options.jobs fits at once; `progress` (may be empty) is
-// told (fits done, of variants x groups, the variant of the last one done),
-// one call at a time. Sorted by AIC, best first (stable); an error is the
-// first in the order of variants and groups.
+// told (fits done, of FitsToCompare(variants, groups), the variant of the
+// last one done), one call at a time. A variant with a shared lapse fits it
+// by profile likelihood: every block fitted (W and spread at their maximum)
+// at each lapse of kLapseGrid, the summed log likelihood's maximum refined
+// by golden-section steps between the best grid point's neighbours, each end
+// of its 95 % interval (1.92 below the maximum) by bisection between the
+// lapses that bracket it, then the blocks fitted with their intervals at the
+// fitted lapse; k counts the lapse once. Sorted by AIC, best first (stable);
+// an error is the first in the order of variants and groups.
 Result<std::vector<VariantFit>> CompareObserverVariants(
     const protocols::Protocol& protocol,
     const std::vector<ObservedGroup>& observed,
     std::span<const ObserverVariant> variants,
     const ObserverFitOptions& options, CuePool& pool,
     const std::function<void(int, std::string_view)>& progress);
+
+// Where a shared lapse's profile starts (the observer takes lapses in [0,
+// 0.5)), its refinement steps, and the fits per block it makes at most: the
+// grid, the golden-section steps, the bisections of each end and the final
+// fit.
+inline constexpr double kLapseGrid[] = {0.0,  0.02, 0.05, 0.1, 0.15, 0.2,
+                                        0.25, 0.3,  0.35, 0.4, 0.45};
+inline constexpr int kLapseGoldenSteps = 5;
+inline constexpr int kLapseBisections = 4;
+inline constexpr int kLapseFitsPerGroup =
+    static_cast<int>(std::size(kLapseGrid)) + kLapseGoldenSteps +
+    2 * kLapseBisections + 1;
+// The fits CompareObserverVariants makes of `groups` observed blocks.
+int FitsToCompare(std::span<const ObserverVariant> variants, int groups);
 
 // Search range of W and of its spread (SD of ln W).
 inline constexpr double kMinWeber = 0.01;

@@ -1037,7 +1037,7 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
                     "--compare-variants"});
   ASSERT_EQ(run.code, 0) << run.err;
   const nlohmann::json compared = nlohmann::json::parse(run.out);
-  ASSERT_EQ(compared["variants"].size(), 5u);
+  ASSERT_EQ(compared["variants"].size(), 6u);
   double alike_aic = 0.0, best_aic = 1e300;
   for (const nlohmann::json& v : compared["variants"]) {
     const double aic = v["aic"].get<double>();
@@ -1054,8 +1054,15 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
     if (v["variant"] == "likelihood_alike") {
       alike_aic = aic;
       EXPECT_EQ(v["parameters"], 1);
+    } else if (v["variant"] == "likelihood_lapse") {
+      // W, its spread and the lapse, with the lapse's profile and interval.
+      EXPECT_EQ(v["parameters"], 3);
+      EXPECT_LE(v["lapse_ci"][0].get<double>(), v["lapse"].get<double>());
+      EXPECT_GE(v["lapse_ci"][1].get<double>(), v["lapse"].get<double>());
+      EXPECT_GE(v["lapse_profile"].size(), 11u);  // at least its grid
     } else {
       EXPECT_EQ(v["parameters"], 2);
+      EXPECT_FALSE(v.contains("lapse"));
     }
   }
   EXPECT_GT(alike_aic, best_aic);
@@ -1074,7 +1081,7 @@ TEST(FitObserversCommand, FitsEachNamedBlockAndRefusesAmbiguousFlags) {
   EXPECT_EQ(run.err,
             "burrlab: --variant: no observer variant \"optimal\" (variants: "
             "fixed, differencing, likelihood, likelihood_varied, "
-            "likelihood_alike)\n");
+            "likelihood_alike, likelihood_lapse)\n");
   run = RunBurrlab({"analyze", "fit-observers", "--protocol", protocol,
                     "--observed", "block=probe2afc,mean=9,sem=0.4,n=20",
                     "--observer", "simulated:rule=optimal"});

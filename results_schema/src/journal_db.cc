@@ -95,17 +95,26 @@ Status StepDone(sqlite3* db, sqlite3_stmt* stmt, std::string_view what,
   return {};
 }
 
-// Row-major little-endian float64, zlib-compressed.
+// Row-major little-endian float64, zlib-compressed. (Each value is copied
+// whole where the machine is little-endian, byte by byte elsewhere: the same
+// bytes; a session's journal writes every interval's trace.)
 Result<std::string> EncodeSamples(const TraceSamples& trace) {
-  std::string raw;
-  raw.reserve(trace.rows.size() * trace.columns.size() * 8);
+  std::size_t values = 0;
+  for (const auto& row : trace.rows) values += row.size();
+  std::string raw(values * 8, '\0');
+  char* out = raw.data();
   for (const auto& row : trace.rows) {
     for (double value : row) {
       auto bits = std::bit_cast<std::uint64_t>(value);
-      for (int k = 0; k < 8; ++k) {
-        raw += static_cast<char>(bits & 0xFFu);
-        bits >>= 8;
+      if constexpr (std::endian::native == std::endian::little) {
+        std::memcpy(out, &bits, 8);
+      } else {
+        for (int k = 0; k < 8; ++k) {
+          out[k] = static_cast<char>(bits & 0xFFu);
+          bits >>= 8;
+        }
       }
+      out += 8;
     }
   }
   uLongf size = compressBound(static_cast<uLong>(raw.size()));
@@ -146,16 +155,19 @@ Status DecodeSamples(const void* blob, std::size_t blob_size,
   }
   trace->rows.assign(static_cast<std::size_t>(row_count),
                      std::vector<double>(columns));
-  std::size_t at = 0;
+  const char* in = raw.data();
   for (auto& row : trace->rows) {
     for (double& value : row) {
       std::uint64_t bits = 0;
-      for (int k = 7; k >= 0; --k) {
-        bits = (bits << 8) | static_cast<unsigned char>(
-                                 raw[at + static_cast<std::size_t>(k)]);
+      if constexpr (std::endian::native == std::endian::little) {
+        std::memcpy(&bits, in, 8);
+      } else {
+        for (int k = 7; k >= 0; --k) {
+          bits = (bits << 8) | static_cast<unsigned char>(in[k]);
+        }
       }
       value = std::bit_cast<double>(bits);
-      at += 8;
+      in += 8;
     }
   }
   return {};
